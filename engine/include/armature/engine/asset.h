@@ -1,0 +1,54 @@
+// What one imported file yields: named skeletons, clips and meshes. Parsed
+// once at import (import-time data); the server hands the parts out as
+// shared_ptr<const …> so a delete never breaks an in-flight call.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "armature/engine/clip.h"
+#include "armature/engine/skeleton.h"
+#include "armature/engine/status.h"
+
+namespace armature {
+
+struct Mesh;  // engine/include/armature/engine/mesh.h
+
+enum class AssetFormat { kBvh, kGltf, kGlb, kObj };
+
+std::string_view FormatName(AssetFormat f);  // "bvh", "gltf", "glb", "obj"
+std::string_view FormatExtension(AssetFormat f);  // ".bvh" …
+
+struct NamedSkeleton {
+  std::string name;
+  std::shared_ptr<const Skeleton> skeleton;
+};
+struct NamedClip {
+  std::string name;
+  std::string skeleton;  // the NamedSkeleton it animates
+  std::shared_ptr<const Clip> clip;
+};
+struct NamedMesh {
+  std::string name;
+  std::string skeleton;  // empty when the mesh has no skin
+  std::shared_ptr<const Mesh> mesh;
+};
+
+struct AssetContents {
+  std::vector<NamedSkeleton> skeletons;
+  std::vector<NamedClip> clips;
+  std::vector<NamedMesh> meshes;
+};
+
+// Format from an explicit name ("bvh", "gltf", "glb", "obj"), else the
+// filename's extension, else the content's first bytes.
+StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string_view filename,
+                                   std::string_view bytes);
+
+// Parses `bytes` into named parts. Parts are named after `name` (a BVH file
+// "walk" gives skeleton "walk" and clip "walk").
+StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name);
+
+}  // namespace armature

@@ -1,0 +1,86 @@
+#include "armature/engine/asset.h"
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include "armature/engine/bvh.h"
+
+namespace armature {
+
+std::string_view FormatName(AssetFormat f) {
+  switch (f) {
+    case AssetFormat::kBvh: return "bvh";
+    case AssetFormat::kGltf: return "gltf";
+    case AssetFormat::kGlb: return "glb";
+    case AssetFormat::kObj: return "obj";
+  }
+  return "?";
+}
+
+std::string_view FormatExtension(AssetFormat f) {
+  switch (f) {
+    case AssetFormat::kBvh: return ".bvh";
+    case AssetFormat::kGltf: return ".gltf";
+    case AssetFormat::kGlb: return ".glb";
+    case AssetFormat::kObj: return ".obj";
+  }
+  return "";
+}
+
+namespace {
+
+std::string Lower(std::string_view s) {
+  std::string r(s);
+  std::transform(r.begin(), r.end(), r.begin(), [](unsigned char c) { return std::tolower(c); });
+  return r;
+}
+
+std::optional<AssetFormat> FromName(std::string_view name) {
+  const std::string n = Lower(name);
+  for (AssetFormat f : {AssetFormat::kBvh, AssetFormat::kGltf, AssetFormat::kGlb, AssetFormat::kObj})
+    if (n == FormatName(f)) return f;
+  return std::nullopt;
+}
+
+}  // namespace
+
+StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string_view filename,
+                                   std::string_view bytes) {
+  if (!explicit_format.empty()) {
+    if (auto f = FromName(explicit_format)) return *f;
+    return Status::InvalidArgument("format: unknown format '" + std::string(explicit_format) +
+                                   "' (expected bvh, gltf, glb or obj)");
+  }
+  if (auto dot = filename.rfind('.'); dot != std::string_view::npos)
+    if (auto f = FromName(filename.substr(dot + 1))) return *f;
+  // Content sniffing.
+  if (bytes.size() >= 4 && bytes.substr(0, 4) == "glTF") return AssetFormat::kGlb;
+  size_t i = 0;
+  while (i < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[i]))) ++i;
+  const std::string_view rest = bytes.substr(i);
+  if (rest.substr(0, 9) == "HIERARCHY") return AssetFormat::kBvh;
+  if (!rest.empty() && rest[0] == '{' && rest.substr(0, 4096).find("\"asset\"") != std::string_view::npos)
+    return AssetFormat::kGltf;
+  if (rest.substr(0, 2) == "v " || rest.substr(0, 1) == "#" || rest.substr(0, 2) == "o ")
+    return AssetFormat::kObj;
+  return Status::InvalidArgument("cannot tell the file's format from its name '" + std::string(filename) +
+                                 "' or content; pass format (bvh, gltf, glb or obj)");
+}
+
+StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name) {
+  switch (format) {
+    case AssetFormat::kBvh: {
+      auto bvh = ParseBvh(bytes);
+      if (!bvh.ok()) return bvh.status();
+      AssetContents c;
+      c.skeletons.push_back({std::string(name), bvh->skeleton});
+      c.clips.push_back({std::string(name), std::string(name), bvh->clip});
+      return c;
+    }
+    default:
+      return Status(StatusCode::kUnimplemented, std::string(FormatName(format)) + " import is not available yet");
+  }
+}
+
+}  // namespace armature
