@@ -68,7 +68,8 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
                                  "' or content; pass format (bvh, gltf, glb or obj)");
 }
 
-StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name) {
+StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
+                                   const ResourceMap& /*resources*/) {
   switch (format) {
     case AssetFormat::kBvh: {
       auto bvh = ParseBvh(bytes);

@@ -3,6 +3,7 @@
 // shared_ptr<const …> so a delete never breaks an in-flight call.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -47,8 +48,13 @@ struct AssetContents {
 StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string_view filename,
                                    std::string_view bytes);
 
+// Further files a main file refers to (a .gltf's external .bin buffers),
+// keyed by the uri the main file uses.
+using ResourceMap = std::map<std::string, std::string, std::less<>>;
+
 // Parses `bytes` into named parts. Parts are named after `name` (a BVH file
 // "walk" gives skeleton "walk" and clip "walk").
-StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name);
+StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
+                                   const ResourceMap& resources = {});
 
 }  // namespace armature
