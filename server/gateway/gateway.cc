@@ -1,0 +1,325 @@
+#include "server/gateway/gateway.h"
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <set>
+
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+
+#include "server/gateway/error_mapping.h"
+#include "server/gateway/generic_call.h"
+#include "server/gateway/openapi.h"
+#include "server/gateway/sse.h"
+
+namespace armature::server::gateway {
+namespace {
+
+namespace pb = google::protobuf;
+
+// HTTP headers that travel to the gRPC handlers as metadata.
+constexpr const char* kForwardedHeaders[] = {"authorization", "x-request-id", "traceparent", "tracestate"};
+
+std::string MediaType(const httplib::Request& req) {
+  std::string type = req.get_header_value("Content-Type");
+  type = type.substr(0, type.find(';'));
+  type.erase(std::remove_if(type.begin(), type.end(), [](unsigned char c) { return std::isspace(c); }), type.end());
+  std::transform(type.begin(), type.end(), type.begin(), [](unsigned char c) { return std::tolower(c); });
+  return type;
+}
+
+// gRPC's timeout header: up to 8 digits and a unit (H, M, S, m, u, n).
+std::optional<std::chrono::nanoseconds> ParseGrpcTimeout(const std::string& text) {
+  if (text.size() < 2 || text.size() > 9) return std::nullopt;
+  int64_t value = 0;
+  for (size_t i = 0; i + 1 < text.size(); ++i) {
+    if (!std::isdigit(static_cast<unsigned char>(text[i]))) return std::nullopt;
+    value = value * 10 + (text[i] - '0');
+  }
+  using namespace std::chrono;
+  switch (text.back()) {
+    case 'H': return hours(value);
+    case 'M': return minutes(value);
+    case 'S': return seconds(value);
+    case 'm': return milliseconds(value);
+    case 'u': return microseconds(value);
+    case 'n': return nanoseconds(value);
+    default: return std::nullopt;
+  }
+}
+
+bool IsPrintableAscii(const std::string& s) {
+  return std::all_of(s.begin(), s.end(), [](unsigned char c) { return c >= 0x20 && c < 0x7f; });
+}
+
+bool IsRawBytesBody(const HttpBinding& b, const std::string& content_type) {
+  if (b.body_field.empty()) return false;
+  const pb::FieldDescriptor* f = b.body_field.front();
+  const bool json = content_type.empty() || content_type == "application/json" || IsNdjson(content_type) ||
+                    (content_type.size() > 5 && content_type.compare(content_type.size() - 5, 5, "+json") == 0);
+  return f->type() == pb::FieldDescriptor::TYPE_BYTES && !f->is_repeated() && !json;
+}
+
+std::string TooLarge(size_t size, size_t limit, bool raw) {
+  return "request body: " + std::to_string(size) + " bytes exceed the limit of " + std::to_string(limit) +
+         " bytes (" + (raw ? "--max-upload-mb" : "--max-request-kb") + ")";
+}
+
+}  // namespace
+
+Gateway::Gateway(GatewayOptions options, pb::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel)
+    : options_(std::move(options)), factory_(factory), channel_(std::move(channel)),
+      stub_(std::make_unique<grpc::GenericStub>(channel_)), cors_(options_.cors_origins) {}
+
+StatusOr<std::unique_ptr<Gateway>> Gateway::Create(const std::vector<const pb::ServiceDescriptor*>& services,
+                                                   pb::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel,
+                                                   GatewayOptions options) {
+  std::unique_ptr<Gateway> g(new Gateway(std::move(options), factory, std::move(channel)));
+  std::map<std::string, std::string> claimed;  // "GET /v1/x/{}" → method
+  for (const auto* service : services) {
+    for (int i = 0; i < service->method_count(); ++i) {
+      auto bindings = BindingsOf(service->method(i));
+      if (!bindings.ok()) return bindings.status();
+      for (auto& b : *bindings) {
+        const std::string key = b.http_method + " " + b.path.Simplified();
+        if (auto [it, fresh] = claimed.emplace(key, b.method->full_name()); !fresh)
+          return Status::InvalidArgument("(google.api.http): " + key + " is bound to both " + it->second + " and " +
+                                         b.method->full_name());
+        g->bindings_.push_back(std::move(b));
+      }
+    }
+  }
+  g->openapi_ = OpenApiDocument(g->bindings_, {}).dump(2);
+  return g;
+}
+
+std::optional<Gateway::Route> Gateway::Match(const std::string& http_method, const RequestPath& path) const {
+  std::optional<Route> best;
+  PathBindings variables;
+  for (const HttpBinding& b : bindings_) {
+    if (b.http_method != http_method || !b.path.Match(path, &variables)) continue;
+    if (!best || b.path.specificity() > best->binding->path.specificity()) best = Route{&b, variables};
+  }
+  return best;
+}
+
+std::string Gateway::AllowedMethods(const RequestPath& path) const {
+  std::set<std::string> methods;
+  PathBindings ignored;
+  for (const HttpBinding& b : bindings_)
+    if (b.path.Match(path, &ignored)) methods.insert(b.http_method);
+  if (methods.count("GET")) methods.insert("HEAD");
+  std::string out;
+  for (const auto& m : methods) out += (out.empty() ? "" : ", ") + m;
+  return out;
+}
+
+size_t Gateway::BodyLimit(const HttpBinding& binding, const std::string& content_type) const {
+  return IsRawBytesBody(binding, content_type) ? options_.max_upload_bytes : options_.max_request_bytes;
+}
+
+grpc::Status Gateway::MakeContext(const httplib::Request& req, const HttpBinding& binding,
+                                  std::unique_ptr<grpc::ClientContext>* context) const {
+  auto ctx = std::make_unique<grpc::ClientContext>();
+  std::optional<std::chrono::nanoseconds> timeout;
+  if (req.has_header("grpc-timeout")) {
+    timeout = ParseGrpcTimeout(req.get_header_value("grpc-timeout"));
+    if (!timeout)
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          "header grpc-timeout: expected up to 8 digits and a unit H, M, S, m, u or n, e.g. 500m");
+  } else if (!binding.server_streaming()) {
+    timeout = options_.default_timeout;
+  }
+  if (timeout)
+    ctx->set_deadline(std::chrono::system_clock::now() +
+                      std::chrono::duration_cast<std::chrono::system_clock::duration>(*timeout));
+  for (const char* name : kForwardedHeaders) {
+    if (!req.has_header(name)) continue;
+    const std::string value = req.get_header_value(name);
+    if (!IsPrintableAscii(value))
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, std::string("header ") + name + ": must be printable ASCII");
+    ctx->AddMetadata(name, value);
+  }
+  *context = std::move(ctx);
+  return grpc::Status::OK;
+}
+
+void Gateway::Register(httplib::Server& http) {
+  using httplib::Server;
+  http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    cors_.Decorate(req, res);
+    if (req.has_header("x-request-id")) res.set_header("x-request-id", req.get_header_value("x-request-id"));
+    if (req.method != "OPTIONS") return Server::HandlerResponse::Unhandled;
+    auto path = RequestPath::Parse(req.target);
+    std::string allowed = path.ok() ? AllowedMethods(*path) : "";
+    // Paths outside the API (health, viewer, openapi.json) are read-only.
+    cors_.AnswerOptions(req, res, (allowed.empty() ? "GET, HEAD" : allowed) + ", OPTIONS");
+    return Server::HandlerResponse::Handled;
+  });
+  http.set_expect_100_continue_handler(
+      [this](const httplib::Request& req, httplib::Response& res) { return ExpectContinue(req, res); });
+  // Errors cpp-httplib produces itself (bad request line, oversized URI) get the JSON shape too.
+  http.set_error_handler(Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+    if (!res.body.empty() || res.is_chunked_content_provider_) return Server::HandlerResponse::Unhandled;
+    const grpc::StatusCode code = res.status == 404   ? grpc::StatusCode::NOT_FOUND
+                                  : res.status == 413 ? grpc::StatusCode::RESOURCE_EXHAUSTED
+                                  : res.status < 500  ? grpc::StatusCode::INVALID_ARGUMENT
+                                                      : grpc::StatusCode::INTERNAL;
+    const std::string what = res.status == 400   ? "bad request"
+                             : res.status == 413 ? "request too large"
+                             : res.status == 414 ? "request URI too long"
+                                                 : "HTTP error " + std::to_string(res.status);
+    WriteError(res, res.status, code, what);
+    return Server::HandlerResponse::Handled;
+  }));
+  http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+    std::string what = "unknown exception";
+    try {
+      std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    spdlog::error("gateway: {} {}: {}", req.method, req.path, what);
+    WriteError(res, 500, grpc::StatusCode::INTERNAL, "internal error");
+  });
+
+  http.Get("/openapi.json", [this](const httplib::Request&, httplib::Response& res) {
+    res.set_content(openapi_, "application/json");
+  });
+  auto plain = [this](const httplib::Request& req, httplib::Response& res) { Handle(req, res, nullptr); };
+  auto reading = [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
+    Handle(req, res, &reader);
+  };
+  http.Get(".*", plain);
+  http.Post(".*", plain).Post(".*", reading);
+  http.Put(".*", plain).Put(".*", reading);
+  http.Patch(".*", plain).Patch(".*", reading);
+  http.Delete(".*", plain).Delete(".*", reading);
+}
+
+int Gateway::ExpectContinue(const httplib::Request& req, httplib::Response& res) const {
+  // Refuse an oversized body before the client sends it.
+  auto path = RequestPath::Parse(req.target);
+  if (!path.ok()) return 100;
+  auto route = Match(req.method, *path);
+  if (!route || !req.has_header("Content-Length")) return 100;
+  const std::string type = MediaType(req);
+  const size_t limit = BodyLimit(*route->binding, type);
+  const size_t length = req.get_header_value<uint64_t>("Content-Length");
+  if (length <= limit) return 100;
+  WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(length, limit, IsRawBytesBody(*route->binding, type)));
+  res.set_header("Connection", "close");
+  return 413;
+}
+
+void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader* reader) {
+  auto path = RequestPath::Parse(req.target);
+  if (!path.ok()) return WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT, path.status().message());
+  const std::string method = req.method == "HEAD" ? "GET" : req.method;
+  auto route = Match(method, *path);
+  if (!route) {
+    const std::string allowed = AllowedMethods(*path);
+    if (allowed.empty())
+      return WriteError(res, 404, grpc::StatusCode::NOT_FOUND, "no such resource: " + req.method + " " + req.path);
+    res.set_header("Allow", allowed + ", OPTIONS");
+    return WriteError(res, 405, grpc::StatusCode::UNIMPLEMENTED,
+                      req.method + " is not allowed on " + req.path + " (allowed: " + allowed + ")");
+  }
+  const HttpBinding& binding = *route->binding;
+
+  HttpRequestParts parts;
+  parts.path = std::move(route->variables);
+  parts.content_type = MediaType(req);
+  for (const auto& [k, v] : req.params) parts.query.emplace_back(k, v);
+  const size_t limit = BodyLimit(binding, parts.content_type);
+  const bool raw = IsRawBytesBody(binding, parts.content_type);
+  if (req.has_header("Content-Length") && req.get_header_value<uint64_t>("Content-Length") > limit) {
+    res.set_header("Connection", "close");
+    return WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED,
+                      TooLarge(req.get_header_value<uint64_t>("Content-Length"), limit, raw));
+  }
+  std::string body;
+  if (reader) {
+    bool too_large = false;
+    (*reader)([&](const char* data, size_t n) {
+      if (body.size() + n > limit) return !(too_large = true);
+      body.append(data, n);
+      return true;
+    });
+    if (too_large) {
+      res.set_header("Connection", "close");
+      return WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(body.size(), limit, raw));
+    }
+  } else {
+    body = req.body;
+  }
+  parts.body = body;
+
+  std::vector<std::string> requests;
+  if (auto st = TranscodeRequest(binding, Prototype(binding.method->input_type()), parts,
+                                 options_.upload_chunk_bytes, &requests);
+      !st.ok())
+    return WriteError(res, st);
+  std::unique_ptr<grpc::ClientContext> context;
+  if (auto st = MakeContext(req, binding, &context); !st.ok()) return WriteError(res, st);
+  if (binding.server_streaming())
+    CallStreaming(binding, std::move(context), std::move(requests), res);
+  else
+    CallUnary(binding, std::move(context), std::move(requests), res);
+}
+
+void Gateway::CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
+                        std::vector<std::string> requests, httplib::Response& res) {
+  auto call = GenericCall::Start(*stub_, binding.grpc_method(), std::move(context), std::move(requests));
+  std::vector<std::string> responses;
+  const grpc::Status status = call->Drain(&responses);
+  if (!status.ok()) return WriteError(res, status);
+  if (responses.size() != 1)
+    return WriteError(res, grpc::Status(grpc::StatusCode::INTERNAL, binding.method->full_name() + " returned " +
+                                                                        std::to_string(responses.size()) + " responses"));
+  HttpBody body;
+  if (auto st = TranscodeResponse(binding, Prototype(binding.method->output_type()), responses[0], &body); !st.ok())
+    return WriteError(res, st);
+  res.status = 200;
+  res.set_content(std::move(body.content), body.content_type);
+}
+
+void Gateway::CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
+                            std::vector<std::string> requests, httplib::Response& res) {
+  if (open_streams_.fetch_add(1) >= options_.max_streams) {
+    --open_streams_;
+    return WriteError(res, grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                                        "too many open streams (" + std::to_string(options_.max_streams) +
+                                            "); try again later"));
+  }
+  std::shared_ptr<GenericCall> call =
+      GenericCall::Start(*stub_, binding.grpc_method(), std::move(context), std::move(requests));
+  SseStream stream;
+  // Wait briefly for the first response so that a request the handler
+  // rejects outright gets a real HTTP error status.
+  std::string first;
+  switch (call->Read(&first, options_.first_response_wait)) {
+    case GenericCall::Next::kMessage: stream.already_read.push_back(std::move(first)); break;
+    case GenericCall::Next::kEnd:
+      if (!call->status().ok()) {
+        --open_streams_;
+        return WriteError(res, call->status());
+      }
+      break;
+    case GenericCall::Next::kTimeout: break;
+  }
+  stream.call = std::move(call);
+  const pb::Message* prototype = &Prototype(binding.method->output_type());
+  stream.to_json = [&binding, prototype](const std::string& serialized) {
+    HttpBody body;
+    const grpc::Status st = TranscodeResponse(binding, *prototype, serialized, &body);
+    return st.ok() ? body.content : ErrorJson(st.error_code(), st.error_message());
+  };
+  stream.heartbeat = options_.sse_heartbeat;
+  stream.on_close = [this] { --open_streams_; };
+  SendSse(res, std::move(stream));
+}
+
+}  // namespace armature::server::gateway

@@ -1,0 +1,21 @@
+// proto3 JSON both ways (protobuf's own mapping), with errors that say where:
+// malformed JSON gets its line and column, a bad value names its field.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include <google/protobuf/message.h>
+#include <grpcpp/grpcpp.h>
+
+namespace armature::server::gateway {
+
+// Parses JSON into `message` (which is cleared first). Either field-name
+// spelling is accepted, enums by name or number; unknown fields are an
+// error. `where` prefixes messages, e.g. "request body".
+grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* message, const std::string& where);
+
+// lowerCamelCase names, enums by name, default values printed.
+std::string MessageToJson(const google::protobuf::Message& message);
+
+}  // namespace armature::server::gateway
