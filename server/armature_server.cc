@@ -8,8 +8,8 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include "grpc/health/v1/health.pb.h"
 #include "server/gateway/http_rule.h"
-
 #include "server/demo_assets.h"
 #include "server/services.h"
 
@@ -30,6 +30,8 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   }
 
   grpc::EnableDefaultHealthCheckService(true);
+  // Links health.proto's descriptor in, so reflection can describe the health service.
+  (void)grpc::health::v1::HealthCheckRequest::descriptor();
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   builder.AddListeningPort(config.host + ":" + std::to_string(config.grpc_port), grpc::InsecureServerCredentials(),
@@ -100,7 +102,9 @@ void ArmatureServer::Shutdown() {
   grpc_->GetHealthCheckService()->SetServingStatus(false);
   grpc_->Shutdown(std::chrono::system_clock::now() +
                   std::chrono::milliseconds(static_cast<int64_t>(config_.shutdown_grace_seconds * 1000)));
+  spdlog::debug("gRPC shut down");
   if (http_) http_->Stop();
+  spdlog::debug("HTTP stopped");
   grpc_->Wait();
   spdlog::info("stopped");
 }

@@ -85,7 +85,7 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
   if (Status st = ValidateStreamRequest(r, limits_); !st.ok()) return new FailedStream(st);
   auto joints = ResolveJoints(*ref->part->clip->skeleton, r.joints(), "joints");
   if (!joints.ok()) return new FailedStream(joints.status());
-  return new StreamClipReactor(std::move(*ref), std::move(r), std::move(*joints));
+  return new StreamClipReactor(scheduler_, std::move(*ref), std::move(r), std::move(*joints));
 }
 
 }  // namespace armature::server

@@ -3,6 +3,7 @@
 
 #include "armature/v1/poses.grpc.pb.h"
 #include "server/asset_store.h"
+#include "server/frame_scheduler.h"
 #include "server/limits.h"
 
 namespace armature::server {
@@ -22,6 +23,7 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
  private:
   AssetStore& store_;
   const Limits& limits_;
+  FrameScheduler scheduler_;  // paces StreamClip
 };
 
 // The handlers' work, callable without gRPC (benchmarks, tests).

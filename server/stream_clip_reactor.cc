@@ -2,12 +2,15 @@
 
 #include <cmath>
 
+#include <spdlog/spdlog.h>
+
 #include "armature/engine/clip.h"
 
 namespace armature::server {
 
-StreamClipReactor::StreamClipReactor(PartRef<NamedClip> clip, v1::StreamClipRequest request, std::vector<int> joints)
-    : clip_(std::move(clip)), request_(std::move(request)), joints_(std::move(joints)),
+StreamClipReactor::StreamClipReactor(FrameScheduler& scheduler, PartRef<NamedClip> clip,
+                                     v1::StreamClipRequest request, std::vector<int> joints)
+    : clip_(std::move(clip)), request_(std::move(request)), joints_(std::move(joints)), scheduler_(scheduler),
       start_(std::chrono::steady_clock::now()) {
   ws_.Resize(clip_.part->clip->skeleton->size());
   std::lock_guard lock(mu_);
@@ -42,32 +45,38 @@ void StreamClipReactor::SendNext() {
   }
   PackPose(*clip.skeleton, request_.space(), joints_, ws_, frame_.mutable_pose());
   ++index_;
+  write_pending_ = true;
   StartWrite(&frame_);
 }
 
 void StreamClipReactor::OnWriteDone(bool ok) {
   std::lock_guard lock(mu_);
+  write_pending_ = false;
   if (!ok) return FinishOnce(grpc::Status(grpc::StatusCode::CANCELLED, "the client went away"));
-  if (cancelled_) return FinishOnce(grpc::Status::CANCELLED);
-  // Frame k is due at start + k/fps; a late frame is sent at once (no burst
-  // catch-up beyond that, since each waits for the previous write).
+  if (cancelled_ || finished_) return FinishOnce(grpc::Status::CANCELLED);
+  // Frame k is due at start + k/fps; a late frame goes at once.
   const auto due = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                 std::chrono::duration<double>(static_cast<double>(index_) / request_.fps()));
-  // grpc::Alarm takes system_clock deadlines.
-  const auto due_system = std::chrono::system_clock::now() +
-                          std::chrono::duration_cast<std::chrono::system_clock::duration>(
-                              due - std::chrono::steady_clock::now());
-  alarm_.Set(due_system, [this](bool fired) {
-    std::lock_guard lock(mu_);
-    if (!fired) return FinishOnce(grpc::Status::CANCELLED);
-    SendNext();
+  Ref();
+  scheduler_.Schedule(due, [this] {
+    {
+      std::lock_guard lock(mu_);
+      if (!finished_) SendNext();
+    }
+    Unref();
   });
 }
 
 void StreamClipReactor::OnCancel() {
   std::lock_guard lock(mu_);
   cancelled_ = true;
-  alarm_.Cancel();  // a pending alarm fires with fired=false and finishes
+  // Waiting for a scheduled frame: finish now rather than at its due time.
+  if (!write_pending_) FinishOnce(grpc::Status::CANCELLED);
+}
+
+void StreamClipReactor::OnDone() {
+  spdlog::debug("stream of '{}' done after {} frames", clip_.part->name, index_);
+  Unref();
 }
 
 void StreamClipReactor::FinishOnce(grpc::Status status) {

@@ -46,7 +46,7 @@ def main():
     for order, offset in (("XZY", "3.5,-2,7.25"), ("YXZ", "-10,4,1")):
         path = os.path.join(work, f"cmu_{order.lower()}.bvh")
         subprocess.run([sys.executable, os.path.join(HERE, "bvh_reorder.py"), cmu, path, "--order", order,
-                        "--root-offset", offset], check=True)
+                        f"--root-offset={offset}"], check=True)
         variants[f"cmu_{order.lower()}"] = (path, order)
 
     original = reference(cmu, TIMES)

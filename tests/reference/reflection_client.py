@@ -23,9 +23,13 @@ def reflection_module():
     include = "/usr/share/grpc-proto"
     if protoc.main(["protoc", f"-I{include}", f"--python_out={out}", REFLECTION_PROTO]) != 0:
         raise RuntimeError("protoc failed")
-    sys.path.insert(0, out)
-    from grpc.reflection.v1alpha import reflection_pb2  # noqa
-    return reflection_pb2
+    # Loaded by path: a "grpc" package on sys.path would shadow grpcio's.
+    import importlib.util
+    path = os.path.join(out, "grpc", "reflection", "v1alpha", "reflection_pb2.py")
+    spec = importlib.util.spec_from_file_location("reflection_pb2", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def main():
