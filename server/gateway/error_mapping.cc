@@ -25,7 +25,8 @@ int HttpStatusOf(grpc::StatusCode code) {
 
 std::string ErrorJson(grpc::StatusCode code, const std::string& message) {
   // "replace" keeps a message with stray non-UTF-8 bytes printable.
-  return nlohmann::json{{"code", static_cast<int>(code)}, {"message", message}, {"details", nlohmann::json::array()}}
+  return nlohmann::ordered_json{
+      {"code", static_cast<int>(code)}, {"message", message}, {"details", nlohmann::ordered_json::array()}}
       .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

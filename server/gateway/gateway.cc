@@ -53,14 +53,6 @@ bool IsPrintableAscii(const std::string& s) {
   return std::all_of(s.begin(), s.end(), [](unsigned char c) { return c >= 0x20 && c < 0x7f; });
 }
 
-bool IsRawBytesBody(const HttpBinding& b, const std::string& content_type) {
-  if (b.body_field.empty()) return false;
-  const pb::FieldDescriptor* f = b.body_field.front();
-  const bool json = content_type.empty() || content_type == "application/json" || IsNdjson(content_type) ||
-                    (content_type.size() > 5 && content_type.compare(content_type.size() - 5, 5, "+json") == 0);
-  return f->type() == pb::FieldDescriptor::TYPE_BYTES && !f->is_repeated() && !json;
-}
-
 std::string TooLarge(size_t size, size_t limit, bool raw) {
   return "request body: " + std::to_string(size) + " bytes exceed the limit of " + std::to_string(limit) +
          " bytes (" + (raw ? "--max-upload-mb" : "--max-request-kb") + ")";
@@ -94,21 +86,30 @@ StatusOr<std::unique_ptr<Gateway>> Gateway::Create(const std::vector<const pb::S
   return g;
 }
 
-std::optional<Gateway::Route> Gateway::Match(const std::string& http_method, const RequestPath& path) const {
-  std::optional<Route> best;
+// A path can match several templates: "/v1/clips/a:evaluate" matches
+// "/v1/clips/{clip}:evaluate" and, as a clip named "a:evaluate",
+// "/v1/clips/{clip}". Only the most specific ones count, whatever their method.
+std::vector<Gateway::Route> Gateway::BestMatches(const RequestPath& path) const {
+  std::vector<Route> best;
   PathBindings variables;
   for (const HttpBinding& b : bindings_) {
-    if (b.http_method != http_method || !b.path.Match(path, &variables)) continue;
-    if (!best || b.path.specificity() > best->binding->path.specificity()) best = Route{&b, variables};
+    if (!b.path.Match(path, &variables)) continue;
+    if (!best.empty() && b.path.specificity() < best.front().binding->path.specificity()) continue;
+    if (!best.empty() && b.path.specificity() > best.front().binding->path.specificity()) best.clear();
+    best.push_back(Route{&b, variables});
   }
   return best;
 }
 
+std::optional<Gateway::Route> Gateway::Match(const std::string& http_method, const RequestPath& path) const {
+  for (auto& route : BestMatches(path))
+    if (route.binding->http_method == http_method) return std::move(route);
+  return std::nullopt;
+}
+
 std::string Gateway::AllowedMethods(const RequestPath& path) const {
   std::set<std::string> methods;
-  PathBindings ignored;
-  for (const HttpBinding& b : bindings_)
-    if (b.path.Match(path, &ignored)) methods.insert(b.http_method);
+  for (const auto& route : BestMatches(path)) methods.insert(route.binding->http_method);
   if (methods.count("GET")) methods.insert("HEAD");
   std::string out;
   for (const auto& m : methods) out += (out.empty() ? "" : ", ") + m;
@@ -157,8 +158,6 @@ void Gateway::Register(httplib::Server& http) {
     cors_.AnswerOptions(req, res, (allowed.empty() ? "GET, HEAD" : allowed) + ", OPTIONS");
     return Server::HandlerResponse::Handled;
   });
-  http.set_expect_100_continue_handler(
-      [this](const httplib::Request& req, httplib::Response& res) { return ExpectContinue(req, res); });
   // Errors cpp-httplib produces itself (bad request line, oversized URI) get the JSON shape too.
   http.set_error_handler(Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty() || res.is_chunked_content_provider_) return Server::HandlerResponse::Unhandled;
@@ -199,21 +198,6 @@ void Gateway::Register(httplib::Server& http) {
   http.Delete(".*", plain).Delete(".*", reading);
 }
 
-int Gateway::ExpectContinue(const httplib::Request& req, httplib::Response& res) const {
-  // Refuse an oversized body before the client sends it.
-  auto path = RequestPath::Parse(req.target);
-  if (!path.ok()) return 100;
-  auto route = Match(req.method, *path);
-  if (!route || !req.has_header("Content-Length")) return 100;
-  const std::string type = MediaType(req);
-  const size_t limit = BodyLimit(*route->binding, type);
-  const size_t length = req.get_header_value<uint64_t>("Content-Length");
-  if (length <= limit) return 100;
-  WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(length, limit, IsRawBytesBody(*route->binding, type)));
-  res.set_header("Connection", "close");
-  return 413;
-}
-
 void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader* reader) {
   auto path = RequestPath::Parse(req.target);
   if (!path.ok()) return WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT, path.status().message());
@@ -235,25 +219,37 @@ void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const 
   for (const auto& [k, v] : req.params) parts.query.emplace_back(k, v);
   const size_t limit = BodyLimit(binding, parts.content_type);
   const bool raw = IsRawBytesBody(binding, parts.content_type);
-  if (req.has_header("Content-Length") && req.get_header_value<uint64_t>("Content-Length") > limit) {
+  // An oversized body is still read (and dropped) up to kDrainBytes past the
+  // limit, so the connection stays in step for the next request; beyond
+  // that the client gets its 413 without being read.
+  constexpr size_t kDrainBytes = 64u << 20;
+  const uint64_t declared = req.get_header_value<uint64_t>("Content-Length");
+  if (declared > limit + kDrainBytes) {
     res.set_header("Connection", "close");
-    return WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED,
-                      TooLarge(req.get_header_value<uint64_t>("Content-Length"), limit, raw));
+    return WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(declared, limit, raw));
   }
   std::string body;
   if (reader) {
-    bool too_large = false;
-    (*reader)([&](const char* data, size_t n) {
-      if (body.size() + n > limit) return !(too_large = true);
-      body.append(data, n);
-      return true;
+    size_t dropped = 0;
+    const bool complete = (*reader)([&](const char* data, size_t n) {
+      if (dropped == 0 && body.size() + n <= limit) {
+        body.append(data, n);
+        return true;
+      }
+      dropped += n;
+      return dropped <= kDrainBytes;
     });
-    if (too_large) {
-      res.set_header("Connection", "close");
-      return WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(body.size(), limit, raw));
+    if (dropped > 0 || res.status == 413) {
+      if (!complete) res.set_header("Connection", "close");
+      return WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        TooLarge(std::max<size_t>(declared, body.size() + dropped), limit, raw));
     }
+    if (!complete)
+      return WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT, "request body: could not be read (cut short?)");
   } else {
     body = req.body;
+    if (body.size() > limit)
+      return WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(body.size(), limit, raw));
   }
   parts.body = body;
 

@@ -70,6 +70,7 @@ class Gateway {
   };
 
   Gateway(GatewayOptions options, google::protobuf::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel);
+  std::vector<Route> BestMatches(const RequestPath& path) const;
   std::optional<Route> Match(const std::string& http_method, const RequestPath& path) const;
   std::string AllowedMethods(const RequestPath& path) const;  // "GET, DELETE" or ""
   size_t BodyLimit(const HttpBinding& binding, const std::string& content_type) const;
@@ -81,7 +82,6 @@ class Gateway {
                  std::vector<std::string> requests, httplib::Response& res);
   void CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
                      std::vector<std::string> requests, httplib::Response& res);
-  int ExpectContinue(const httplib::Request& req, httplib::Response& res) const;
 
   const google::protobuf::Message& Prototype(const google::protobuf::Descriptor* type) const {
     return *factory_->GetPrototype(type);

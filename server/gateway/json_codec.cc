@@ -6,17 +6,17 @@
 namespace armature::server::gateway {
 namespace {
 
-// "(times[1]): invalid value …" → "field 'times[1]': invalid value …".
-std::string NameTheField(const std::string& message) {
-  if (message.empty() || message[0] != '(') return message;
+// protobuf says "(times[1]): invalid value …"; we say "<label> 'times[1]': invalid value …".
+std::string NameTheField(const std::string& message, const std::string& where, const std::string& label) {
   const size_t close = message.find("): ");
-  if (close == std::string::npos) return message;
-  return "field '" + message.substr(1, close - 1) + "': " + message.substr(close + 3);
+  if (message.empty() || message[0] != '(' || close == std::string::npos) return where + ": " + message;
+  return label + " '" + message.substr(1, close - 1) + "': " + message.substr(close + 3);
 }
 
 }  // namespace
 
-grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* message, const std::string& where) {
+grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* message, const std::string& where,
+                           const std::string& field_label) {
   // protobuf's parser shows an excerpt but no position; nlohmann's gives the
   // line and column, so it checks the syntax first.
   try {
@@ -37,7 +37,7 @@ grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* mes
       google::protobuf::StringPiece(json.data(), json.size()), message, options);
   if (!status.ok())
     return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        where + ": " + NameTheField(std::string(status.message())));
+                        NameTheField(std::string(status.message()), where, field_label));
   return grpc::Status::OK;
 }
 

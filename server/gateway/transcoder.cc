@@ -55,7 +55,7 @@ grpc::Status ParamsMessage(const HttpBinding& binding, const HttpRequestParts& h
       return Invalid(where + ": " + binding.http_method + " " + binding.path.text() +
                      " takes every field from the JSON body, none from the query");
     auto path = ResolveFieldPath(type, name);
-    if (!path.ok()) return Invalid(where + ": " + path.status().message());
+    if (!path.ok()) return Invalid("query parameter " + path.status().message());
     const pb::FieldDescriptor* leaf = path->back();
     if (leaf->is_map()) return Invalid(where + ": map fields cannot be set from the query");
     if (leaf->type() == pb::FieldDescriptor::TYPE_MESSAGE)
@@ -79,32 +79,28 @@ grpc::Status ParamsMessage(const HttpBinding& binding, const HttpRequestParts& h
   std::unique_ptr<pb::Message> part(params->New());
   std::string text;
   if (auto st = Dump(from_query, "query parameters", &text); !st.ok()) return st;
-  if (auto st = JsonToMessage(text, part.get(), "query parameter"); !st.ok()) return st;
+  if (auto st = JsonToMessage(text, part.get(), "query parameters", "query parameter"); !st.ok()) return st;
   params->MergeFrom(*part);
   // Path last, so it wins over anything else naming the same field.
   if (auto st = Dump(from_path, "path", &text); !st.ok()) return st;
-  if (auto st = JsonToMessage(text, part.get(), "path parameter"); !st.ok()) return st;
+  if (auto st = JsonToMessage(text, part.get(), "path", "path parameter"); !st.ok()) return st;
   params->MergeFrom(*part);
   return grpc::Status::OK;
 }
 
-bool IsJson(const std::string& content_type) {
-  return content_type.empty() || content_type == "application/json" || IsNdjson(content_type) ||
-         (content_type.size() > 5 && content_type.compare(content_type.size() - 5, 5, "+json") == 0);
-}
-
 // One JSON value of the body into `message` according to the body rule.
 grpc::Status BodyInto(const HttpBinding& binding, std::string_view body, const std::string& where, pb::Message* message) {
-  if (binding.body == "*") return JsonToMessage(body, message, where);
+  const std::string label = where + " field";
+  if (binding.body == "*") return JsonToMessage(body, message, where, label);
   const pb::FieldDescriptor* field = binding.body_field.front();
   if (field->type() == pb::FieldDescriptor::TYPE_MESSAGE && !field->is_repeated())
-    return JsonToMessage(body, message->GetReflection()->MutableMessage(message, field), where);
+    return JsonToMessage(body, message->GetReflection()->MutableMessage(message, field), where, label);
   // A scalar or repeated field: parse it as {"field": <body>}.
   std::string wrapped = "{\"" + field->name() + "\":";
   wrapped.append(body.data(), body.size());
   wrapped += "}";
   std::unique_ptr<pb::Message> part(message->New());
-  if (auto st = JsonToMessage(wrapped, part.get(), where); !st.ok()) return st;
+  if (auto st = JsonToMessage(wrapped, part.get(), where, label); !st.ok()) return st;
   message->MergeFrom(*part);
   return grpc::Status::OK;
 }
@@ -128,6 +124,17 @@ bool IsNdjson(const std::string& content_type) {
          content_type == "application/jsonl" || content_type == "application/x-jsonlines";
 }
 
+bool IsJsonType(const std::string& content_type) {
+  return content_type == "application/json" || IsNdjson(content_type) ||
+         (content_type.size() > 5 && content_type.compare(content_type.size() - 5, 5, "+json") == 0);
+}
+
+bool IsRawBytesBody(const HttpBinding& binding, const std::string& content_type) {
+  if (binding.body_field.empty() || content_type.empty() || IsJsonType(content_type)) return false;
+  const pb::FieldDescriptor* f = binding.body_field.front();
+  return f->type() == pb::FieldDescriptor::TYPE_BYTES && !f->is_repeated();
+}
+
 grpc::Status TranscodeRequest(const HttpBinding& binding, const pb::Message& prototype, const HttpRequestParts& http,
                               size_t chunk_bytes, std::vector<std::string>* requests) {
   std::unique_ptr<pb::Message> first(prototype.New());
@@ -144,8 +151,7 @@ grpc::Status TranscodeRequest(const HttpBinding& binding, const pb::Message& pro
   }
 
   const pb::FieldDescriptor* body_field = binding.body_field.empty() ? nullptr : binding.body_field.front();
-  if (body_field && body_field->type() == pb::FieldDescriptor::TYPE_BYTES && !body_field->is_repeated() &&
-      !IsJson(http.content_type)) {
+  if (IsRawBytesBody(binding, http.content_type)) {
     // The raw body is the bytes field; a streaming RPC gets it in chunks.
     const size_t chunk = binding.client_streaming() && chunk_bytes > 0 ? chunk_bytes : http.body.size();
     size_t offset = 0;
@@ -158,13 +164,6 @@ grpc::Status TranscodeRequest(const HttpBinding& binding, const pb::Message& pro
     } while (offset < http.body.size());
     return grpc::Status::OK;
   }
-  if (!IsJson(http.content_type))
-    return Invalid("request body: content type '" + http.content_type + "' is not JSON (send application/json" +
-                   std::string(body_field && body_field->type() == pb::FieldDescriptor::TYPE_BYTES
-                                   ? ", or raw bytes as application/octet-stream"
-                                   : "") +
-                   ")");
-
   if (binding.client_streaming() && IsNdjson(http.content_type)) {
     const auto lines = Lines(http.body);
     for (size_t i = 0; i < lines.size(); ++i) {

@@ -4,6 +4,7 @@
 //    nested fields, repeated fields repeat the parameter, enums by name);
 //  - body "*": the JSON body is the request; body "field": the body is that
 //    field; a bytes field with a non-JSON content type takes the raw body;
+//    any other body is read as JSON whatever its content type;
 //  - client-streaming (and bidi) RPCs get one message per line of an
 //    application/x-ndjson body, or one message; a raw bytes body is cut into
 //    chunks, the first message carrying the other fields and later ones only
@@ -31,6 +32,10 @@ struct HttpRequestParts {
 
 // True for the content types whose body is one JSON value per line.
 bool IsNdjson(const std::string& content_type);
+// True when the body rule names a bytes field and the content type is given
+// and not JSON: the raw body is that field. Any other body is read as JSON
+// whatever its content type says (curl -d sends form encoding).
+bool IsRawBytesBody(const HttpBinding& binding, const std::string& content_type);
 
 // The serialized request messages. INVALID_ARGUMENT naming the parameter or
 // body field on bad input.
