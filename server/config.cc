@@ -59,14 +59,9 @@ std::string DefaultWebDir() {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const fs::path installed = exe.parent_path().parent_path() / "share" / "armature" / "web";
-    if (fs::exists(installed / "index.html", ec)) return installed.string();
-  }
-#ifdef ARMATURE_BUILD_WEB_DIR
-  if (fs::exists(fs::path(ARMATURE_BUILD_WEB_DIR) / "index.html", ec)) return ARMATURE_BUILD_WEB_DIR;
-#endif
-  return "";
+  if (ec) return "";
+  const fs::path dir = exe.parent_path().parent_path() / "share" / "armature" / "web";
+  return fs::exists(dir / "index.html", ec) ? dir.string() : "";
 }
 
 }  // namespace armature::server

@@ -27,9 +27,9 @@ struct ServerConfig {
 // exit (e.g. --help printed, or a bad flag), -1 to go on.
 int ParseConfig(int argc, char** argv, ServerConfig& config);
 
-// Where the viewer's files are when --web-dir is not given: next to an
-// installed binary (<prefix>/share/armature/web), else the build tree's
-// output. Empty when neither exists.
+// Where the viewer's files are when --web-dir is not given:
+// <the binary's dir>/../share/armature/web, which is where both the build
+// tree (build/bin, build/share) and an install put them. Empty when absent.
 std::string DefaultWebDir();
 
 }  // namespace armature::server
