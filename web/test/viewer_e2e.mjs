@@ -58,6 +58,7 @@ async function boneStats(page, png) {
   }, png.toString('base64'));
 }
 
+mkdirSync(path.dirname(path.resolve(screenshot)), { recursive: true });
 const server = await startServer(serverBin, ['--web-dir', webDir]);
 const profile = mkdtempSync(path.join(tmpdir(), 'armature-chromium-'));
 let context;
@@ -117,14 +118,21 @@ try {
   const shown = await page.textContent('#time');
   check(/t = 1\.500/.test(shown), `scrubbing shows the pose at the slider's time (${shown})`);
 
-  // Speed: a new stream at twice the speed advances clip time twice as fast per frame.
+  // Speed 2×: the new stream's frames step 2/30 s of clip time each.
+  await page.evaluate(() => {
+    window.__frameTimes = [];
+    window.armatureViewer.player.addEventListener('pose', (e) => e.detail.frame && window.__frameTimes.push(e.detail.time));
+  });
   await page.selectOption('#speed', '2');
   await page.click('#play');
-  await page.waitForFunction(() => window.armatureViewer.player.time > 1.6, null, { timeout: 30000 });
+  await page.waitForFunction(() => window.__frameTimes.length >= 6, null, { timeout: 30000 });
   await page.click('#play');
+  const times = await page.evaluate(() => window.__frameTimes.slice(0, 6));
+  const steps = times.slice(1).map((t, i) => t - times[i]);
+  check(Math.abs(times[0] - 1.5) < 1e-6 && steps.every((d) => Math.abs(d - 2 / 30) < 1e-6),
+        `playing at 2× from the scrubbed time steps ${steps.map((d) => d.toFixed(4)).join(', ')} s per frame`);
 
   check(problems.length === 0, `no console errors${problems.length ? ':\n  ' + problems.join('\n  ') : ''}`);
-  mkdirSync(path.dirname(path.resolve(screenshot)), { recursive: true });
   console.log(`screenshot: ${path.resolve(screenshot)}`);
 } catch (error) {
   failed = true;
