@@ -9,6 +9,8 @@ namespace armature::server {
 
 HttpServer::HttpServer(size_t max_threads) : http_(std::make_unique<httplib::Server>()) {
   http_->new_task_queue = [max_threads] { return new ElasticThreadPool(max_threads); };
+  // Small writes (SSE frames) go out at once instead of waiting on Nagle and delayed ACKs.
+  http_->set_tcp_nodelay(true);
   http_->Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
     res.set_content("{\"status\":\"ok\"}\n", "application/json");
   });
