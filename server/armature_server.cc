@@ -98,10 +98,15 @@ void ArmatureServer::Shutdown() {
   if (stopped_) return;
   stopped_ = true;
   spdlog::info("shutting down: finishing in-flight calls (up to {} s)", config_.shutdown_grace_seconds);
+  const auto deadline = std::chrono::system_clock::now() +
+                        std::chrono::milliseconds(static_cast<int64_t>(config_.shutdown_grace_seconds * 1000));
+  if (gateway_) gateway_->BeginDrain();  // before readiness drops, so /readyz 503 means REST refuses too
   if (http_) http_->SetReady(false);
   grpc_->GetHealthCheckService()->SetServingStatus(false);
-  grpc_->Shutdown(std::chrono::system_clock::now() +
-                  std::chrono::milliseconds(static_cast<int64_t>(config_.shutdown_grace_seconds * 1000)));
+  // REST calls ride the in-process channel, which the gRPC shutdown drops at
+  // once: they get their grace period first.
+  if (gateway_) gateway_->Drain(deadline);
+  grpc_->Shutdown(deadline);
   spdlog::debug("gRPC shut down");
   if (http_) http_->Stop();
   spdlog::debug("HTTP stopped");

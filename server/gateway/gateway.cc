@@ -53,6 +53,8 @@ bool IsPrintableAscii(const std::string& s) {
   return std::all_of(s.begin(), s.end(), [](unsigned char c) { return c >= 0x20 && c < 0x7f; });
 }
 
+grpc::Status ShuttingDown() { return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the server is shutting down"); }
+
 std::string TooLarge(size_t size, size_t limit, bool raw) {
   return "request body: " + std::to_string(size) + " bytes exceed the limit of " + std::to_string(limit) +
          " bytes (" + (raw ? "--max-upload-mb" : "--max-request-kb") + ")";
@@ -260,6 +262,7 @@ void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const 
     return WriteError(res, st);
   std::unique_ptr<grpc::ClientContext> context;
   if (auto st = MakeContext(req, binding, &context); !st.ok()) return WriteError(res, st);
+  if (calls_.draining()) return WriteError(res, ShuttingDown());
   if (binding.server_streaming())
     CallStreaming(binding, std::move(context), std::move(requests), res);
   else
@@ -269,8 +272,10 @@ void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const 
 void Gateway::CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
                         std::vector<std::string> requests, httplib::Response& res) {
   auto call = GenericCall::Start(*stub_, binding.grpc_method(), std::move(context), std::move(requests));
+  if (!calls_.Add(call.get())) return WriteError(res, ShuttingDown());
   std::vector<std::string> responses;
   const grpc::Status status = call->Drain(&responses);
+  calls_.Remove(call.get());
   if (!status.ok()) return WriteError(res, status);
   if (responses.size() != 1)
     return WriteError(res, grpc::Status(grpc::StatusCode::INTERNAL, binding.method->full_name() + " returned " +
@@ -292,6 +297,10 @@ void Gateway::CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::Cl
   }
   std::shared_ptr<GenericCall> call =
       GenericCall::Start(*stub_, binding.grpc_method(), std::move(context), std::move(requests));
+  if (!calls_.Add(call.get())) {
+    --open_streams_;
+    return WriteError(res, ShuttingDown());
+  }
   SseStream stream;
   // Wait briefly for the first response so that a request the handler
   // rejects outright gets a real HTTP error status.
@@ -301,12 +310,12 @@ void Gateway::CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::Cl
     case GenericCall::Next::kEnd:
       if (!call->status().ok()) {
         --open_streams_;
+        calls_.Remove(call.get());
         return WriteError(res, call->status());
       }
       break;
     case GenericCall::Next::kTimeout: break;
   }
-  stream.call = std::move(call);
   const pb::Message* prototype = &Prototype(binding.method->output_type());
   stream.to_json = [&binding, prototype](const std::string& serialized) {
     HttpBody body;
@@ -314,7 +323,11 @@ void Gateway::CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::Cl
     return st.ok() ? body.content : ErrorJson(st.error_code(), st.error_message());
   };
   stream.heartbeat = options_.sse_heartbeat;
-  stream.on_close = [this] { --open_streams_; };
+  stream.on_close = [this, raw = call.get()] {
+    calls_.Remove(raw);
+    --open_streams_;
+  };
+  stream.call = std::move(call);
   SendSse(res, std::move(stream));
 }
 

@@ -19,6 +19,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "armature/engine/status.h"
+#include "server/gateway/call_registry.h"
 #include "server/gateway/cors.h"
 #include "server/gateway/http_rule.h"
 #include "server/gateway/transcoder.h"
@@ -60,6 +61,12 @@ class Gateway {
   // registered before stay first; static files still win for GET.
   void Register(httplib::Server& http);
 
+  // Shutdown, first step: new REST calls get 503 from now on.
+  void BeginDrain() { calls_.BeginDrain(); }
+  // Lets the calls in flight finish until `deadline`, then cancels the rest.
+  // Call before shutting the gRPC server down, which drops in-process calls.
+  void Drain(std::chrono::system_clock::time_point deadline) { calls_.Drain(deadline); }
+
   const std::vector<HttpBinding>& bindings() const { return bindings_; }
   const std::string& openapi_json() const { return openapi_; }
 
@@ -95,6 +102,7 @@ class Gateway {
   std::vector<HttpBinding> bindings_;
   std::string openapi_;
   std::atomic<size_t> open_streams_{0};
+  CallRegistry calls_;
 };
 
 }  // namespace armature::server::gateway

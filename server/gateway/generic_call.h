@@ -37,7 +37,8 @@ class GenericCall {
   grpc::Status Drain(std::vector<std::string>* responses);
   grpc::Status status() const;  // OK until the call has ended
 
-  // Cancels the call (e.g. the HTTP client went away). Idempotent.
+  // Cancels the call (the HTTP client went away, or shutdown). Idempotent;
+  // unlike Read, any thread may call it.
   void Cancel();
 
  private:

@@ -2,9 +2,11 @@
 // httplib::Client (and raw sockets for clients that misbehave), numbers
 // checked against the gRPC path and against hand-derived values.
 #include <netinet/in.h>
+#include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -497,6 +499,37 @@ TEST_F(Gateway, SlowAndVanishedStreamClientsBlockNobody) {
       return r ? r->status : -1;
     }));
   for (auto& s : streams) EXPECT_EQ(s.get(), 200);
+}
+
+TEST_F(Gateway, ShutdownGivesRestCallsTheGracePeriodThenCancelsStreams) {
+  ServerProcess server(data_.path(), {"--shutdown-grace", "1"});
+  std::atomic<int> frames{0};
+  std::atomic<int> frames_at_signal{-1};
+  std::string text;
+  std::thread stream([&] {
+    auto http = Http(server);
+    http.Get("/v1/clips/demo_walk:stream?fps=10&loop=true", [&](const char* data, size_t n) {
+      const std::string chunk(data, n);
+      for (size_t at = chunk.find("\"index\""); at != std::string::npos; at = chunk.find("\"index\"", at + 1)) ++frames;
+      text += chunk;  // read by the main thread only after join
+      return true;
+    });
+  });
+  while (frames < 3) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  frames_at_signal = frames.load();
+  ASSERT_EQ(::kill(server.pid(), SIGTERM), 0);
+  auto http = Http(server);
+  // Not ready any more, and new REST calls are refused...
+  while (http.Get("/readyz")->status != 503) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ExpectError(http.Get("/v1/clips"), 503, grpc::StatusCode::UNAVAILABLE, "shutting down");
+  // ...while the open stream plays on through the grace period, then ends cancelled.
+  EXPECT_EQ(server.Stop(SIGTERM, 30), 0);
+  stream.join();
+  EXPECT_GT(frames.load(), frames_at_signal.load() + 2) << "the stream was cut at once";
+  const auto events = ParseSse(text);
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.back().event, "status");
+  EXPECT_EQ(json::parse(events.back().data)["code"], static_cast<int>(grpc::StatusCode::CANCELLED));
 }
 
 TEST_F(Gateway, OpenApiIsGeneratedFromTheDescriptors) {
