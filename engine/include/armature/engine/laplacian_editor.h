@@ -52,8 +52,8 @@ class DeformationSolver {
   // `out`: x,y,z per vertex (caller-owned). Hard handles and fixed vertices
   // land exactly on their targets; vertices outside the region of interest
   // keep their rest positions. Const and thread-safe: one solver can serve
-  // concurrent drags. Under the handle basis it allocates only a
-  // (unknowns × 3) scratch.
+  // concurrent drags. Scratch: handles × 4 doubles under the handle basis,
+  // unknowns × 3 under back-substitution.
   Status Solve(std::span<const double> handle_positions, std::span<double> out) const;
   Status Solve(std::span<const float> handle_positions, std::span<float> out) const;
 
