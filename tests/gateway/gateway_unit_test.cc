@@ -12,6 +12,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "../common/sse_events.h"
 #include "google/api/annotations.pb.h"
 #include "server/gateway/gateway.h"
 #include "server/gateway/path_template.h"
@@ -190,19 +191,12 @@ class DynamicGateway : public ::testing::Test {
   std::thread thread_;
 };
 
+// The data of the message events, and of the final status event into `status`.
 std::vector<std::string> DataEvents(const std::string& sse, std::string* status) {
   std::vector<std::string> data;
-  bool is_status = false;
-  size_t start = 0;
-  while (start < sse.size()) {
-    const size_t end = std::min(sse.find('\n', start), sse.size());
-    const std::string line = sse.substr(start, end - start);
-    start = end + 1;
-    if (line == "event: status") is_status = true;
-    if (line.rfind("data: ", 0) != 0) continue;
-    if (is_status) *status = line.substr(6);
-    else data.push_back(line.substr(6));
-    is_status = false;
+  for (const auto& e : testing::ParseSse(sse)) {
+    if (e.event == "status") *status = e.data;
+    else data.push_back(e.data);
   }
   return data;
 }

@@ -19,6 +19,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "../common/sse_events.h"
 #include "armature/client.h"
 #include "server_process.h"
 
@@ -79,35 +80,6 @@ void ExpectError(const httplib::Result& r, int http_status, grpc::StatusCode cod
   EXPECT_NE(j.value("message", std::string()).find(fragment), std::string::npos)
       << "message lacks '" << fragment << "': " << r->body;
   EXPECT_TRUE(j["details"].is_array() && j["details"].empty()) << r->body;
-}
-
-struct SseEvent {
-  std::string event;  // "" for message events
-  std::string data;
-};
-
-std::vector<SseEvent> ParseSse(const std::string& text) {
-  std::vector<SseEvent> events;
-  SseEvent current;
-  bool any = false;
-  size_t start = 0;
-  while (start < text.size()) {
-    const size_t end = std::min(text.find('\n', start), text.size());
-    const std::string line = text.substr(start, end - start);
-    start = end + 1;
-    if (line.empty()) {
-      if (any) events.push_back(current);
-      current = {};
-      any = false;
-    } else if (line.rfind("data: ", 0) == 0) {
-      current.data += (current.data.empty() ? "" : "\n") + line.substr(6);
-      any = true;
-    } else if (line.rfind("event: ", 0) == 0) {
-      current.event = line.substr(7);
-      any = true;
-    }
-  }
-  return events;
 }
 
 // A JSON array of numbers as floats, the way a JSON client reads them.
