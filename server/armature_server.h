@@ -10,7 +10,9 @@
 #include "armature/engine/status.h"
 #include "server/asset_store.h"
 #include "server/config.h"
+#include "server/bearer_tokens.h"
 #include "server/http_server.h"
+#include "server/metrics.h"
 
 namespace armature::server {
 
@@ -25,12 +27,15 @@ class ArmatureServer {
   int grpc_port() const { return grpc_port_; }
   int http_port() const { return http_port_; }
   AssetStore& store() { return *store_; }
+  Metrics& metrics() { return *metrics_; }
 
  private:
   ArmatureServer() = default;
 
   ServerConfig config_;
   std::unique_ptr<AssetStore> store_;
+  std::unique_ptr<Metrics> metrics_;              // outlives the gRPC server, whose interceptors use it
+  std::shared_ptr<const BearerTokens> tokens_;  // null: no auth
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> grpc_;
   std::unique_ptr<HttpServer> http_;

@@ -17,6 +17,9 @@ struct ServerConfig {
   bool demo = true;                 // seed demo assets into an empty data dir
   double shutdown_grace_seconds = 10;
   std::string port_file;  // when set, {"grpc":…,"http":…} is written there once serving
+  std::string auth_token_file;  // when set, API calls need "authorization: Bearer <a token in it>"
+  std::string tls_cert_file;    // PEM certificate chain: TLS on the gRPC and HTTP ports
+  std::string tls_key_file;     // PEM private key of tls_cert_file
   Limits limits;
 };
 

@@ -5,7 +5,14 @@
 
 namespace armature::server {
 
-HttpServer::HttpServer() : http_(std::make_unique<httplib::Server>()) {
+HttpServer::HttpServer() : http_(std::make_unique<httplib::Server>()) { AddHealthRoutes(); }
+
+HttpServer::HttpServer(const std::string& tls_cert_file, const std::string& tls_key_file)
+    : http_(std::make_unique<httplib::SSLServer>(tls_cert_file.c_str(), tls_key_file.c_str())) {
+  AddHealthRoutes();
+}
+
+void HttpServer::AddHealthRoutes() {
   http_->Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
     res.set_content("{\"status\":\"ok\"}\n", "application/json");
   });
@@ -18,6 +25,7 @@ HttpServer::HttpServer() : http_(std::make_unique<httplib::Server>()) {
 HttpServer::~HttpServer() { Stop(); }
 
 int HttpServer::Start(const std::string& host, int port) {
+  if (!http_->is_valid()) return -1;
   const int bound = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
   if (bound < 0) return -1;
   thread_ = std::thread([this] { http_->listen_after_bind(); });

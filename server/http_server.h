@@ -17,15 +17,20 @@ namespace armature::server {
 class HttpServer {
  public:
   HttpServer();
+  // Serves HTTPS with a PEM certificate chain and key (--tls-cert, --tls-key).
+  HttpServer(const std::string& tls_cert_file, const std::string& tls_key_file);
   ~HttpServer();
 
   httplib::Server& routes() { return *http_; }
-  // Binds and starts serving on a thread; returns the bound port or -1.
+  // Binds and starts serving on a thread; returns the bound port or -1
+  // (also when the TLS certificate or key could not be loaded).
   int Start(const std::string& host, int port);
   void Stop();
   void SetReady(bool ready) { ready_ = ready; }
 
  private:
+  void AddHealthRoutes();
+
   std::unique_ptr<httplib::Server> http_;
   std::thread thread_;
   std::atomic<bool> ready_{false};
