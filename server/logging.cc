@@ -56,8 +56,11 @@ void LogEvent(spdlog::level::level_enum level, std::string_view message, const n
     return;
   }
   std::string line(message);
-  for (const auto& [key, value] : fields.items())
-    line += " " + key + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
+  for (const auto& [key, value] : fields.items()) {
+    // Strings with spaces (error messages) are quoted, so a line still splits into key=value pairs.
+    const bool bare = value.is_string() && value.get<std::string>().find_first_of(" =\"") == std::string::npos;
+    line += " " + key + "=" + (bare ? value.get<std::string>() : value.dump());
+  }
   spdlog::log(level, "{}", line);
 }
 
