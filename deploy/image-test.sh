@@ -61,8 +61,14 @@ echo "image-test: building on $build_image, running on $base_image"
 phase "base images"
 
 # 2. The multi-stage build (docker format, so HEALTHCHECK is kept).
+previous=$(podman image inspect --format '{{.Id}}' "$tag" 2>/dev/null || true)
 podman build --format docker "${run_flags[@]}" --build-arg BUILD_IMAGE="$build_image" \
   --build-arg BASE_IMAGE="$base_image" --build-arg JOBS="${JOBS:-2}" -f deploy/Dockerfile -t "$tag" .
+# The build stage (about 900 MB) is not needed once the image is made.
+podman image prune -f --filter label=org.armature.stage=build >/dev/null || true
+if [[ -n "$previous" && "$previous" != "$(podman image inspect --format '{{.Id}}' "$tag")" ]]; then
+  podman rmi "$previous" >/dev/null 2>&1 || true  # the last run's image, now untagged
+fi
 phase "image build"
 
 # 3. Run it with a named data volume, ports on free host ports.
@@ -133,7 +139,7 @@ podman stop -t 10 "$name-2" >/dev/null
 phase "shutdown, volume"
 
 # 6. Kubernetes manifests and compose.yaml, offline.
-podman run --rm "${run_flags[@]}" "$tag" --help | grep -oE 'ARMATURE_[A-Z_]+' | sort -u > /tmp/$name.env
+podman run --rm "${run_flags[@]}" -v "$volume:/var/lib/armature/data" "$tag" --help | grep -oE 'ARMATURE_[A-Z_]+' | sort -u > /tmp/$name.env
 if [[ ! -d deploy/k8s-validate/node_modules ]]; then
   (cd deploy/k8s-validate && npm ci --no-audit --no-fund --loglevel=error)
 fi

@@ -11,7 +11,8 @@ namespace armature::server {
 
 StatusOr<DataDirLock> DataDirLock::Acquire(const std::filesystem::path& data_dir, Mode mode) {
   const std::filesystem::path path = data_dir / ".lock";
-  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);  // a read-only data dir: flock needs no write access
   if (fd < 0) return Status::Internal("cannot open " + path.string() + ": " + std::strerror(errno));
   int rc;
   do {

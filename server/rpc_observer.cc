@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include <google/protobuf/descriptor.h>
 #include <spdlog/spdlog.h>
 
 #include "server/grpc_status.h"
@@ -31,12 +32,26 @@ std::string RequestIdFrom(const std::multimap<grpc::string_ref, grpc::string_ref
   return id;
 }
 
+// The metric label of a method: itself when this binary knows it (a
+// bounded set), else "unknown", so clients calling made-up methods cannot
+// grow the label set without bound.
+std::string MetricLabelOf(const std::string& method) {
+  const auto slash = method.find('/');
+  if (slash != std::string::npos) {
+    const auto* service =
+        google::protobuf::DescriptorPool::generated_pool()->FindServiceByName(method.substr(0, slash));
+    if (service != nullptr && service->FindMethodByName(method.substr(slash + 1)) != nullptr) return method;
+  }
+  return "unknown";
+}
+
 class RpcObserver final : public grpc::experimental::Interceptor {
  public:
   RpcObserver(grpc::experimental::ServerRpcInfo* info, Metrics& metrics)
       : info_(info),
         metrics_(metrics),
-        method_(info->method() != nullptr && info->method()[0] == '/' ? info->method() + 1 : info->method()),
+        method_(info->method() == nullptr ? "" : info->method()[0] == '/' ? info->method() + 1 : info->method()),
+        label_(MetricLabelOf(method_)),
         streaming_(info->type() != grpc::experimental::ServerRpcInfo::Type::UNARY),
         health_(method_.starts_with("grpc.health.v1.")) {}
 
@@ -51,7 +66,7 @@ class RpcObserver final : public grpc::experimental::Interceptor {
       request_id_ = RequestIdFrom(*methods->GetRecvInitialMetadata());
       peer_ = info_->server_context()->peer();  // now: the context is gone when a cancelled call ends
       started_ = true;
-      metrics_.RpcStarted(method_, streaming_);
+      metrics_.RpcStarted(label_, streaming_);
     }
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_INITIAL_METADATA) &&
         !request_id_.empty())
@@ -66,7 +81,7 @@ class RpcObserver final : public grpc::experimental::Interceptor {
     finished_ = true;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const char* code = GrpcCodeName(status.error_code());
-    metrics_.RpcFinished(method_, streaming_, code, seconds);
+    metrics_.RpcFinished(label_, streaming_, code, seconds);
     nlohmann::json fields = {{"method", method_},
                              {"code", code},
                              {"duration_ms", std::round(seconds * 1e6) / 1e3},
@@ -78,7 +93,8 @@ class RpcObserver final : public grpc::experimental::Interceptor {
 
   grpc::experimental::ServerRpcInfo* info_;
   Metrics& metrics_;
-  std::string method_;  // "armature.v1.PoseService/EvaluateClip"
+  std::string method_;  // "armature.v1.PoseService/EvaluateClip", as called
+  std::string label_;   // method_ or "unknown"
   bool streaming_;
   bool health_;
   bool started_ = false;

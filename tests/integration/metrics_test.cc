@@ -5,6 +5,7 @@
 #include <sstream>
 #include <thread>
 
+#include <grpcpp/generic/generic_stub.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -84,6 +85,34 @@ TEST(Metrics, HistogramsCountsAndAssetGauges) {
   // A 1000-frame clip adds at least its 2 × 1000 rotation keys.
   client.Import({"long.bvh", ArmBvhWithFrames(1000)});
   EXPECT_GE(Scrape(server).at("armature_assets_memory_bytes") - small, 2 * 1000 * (8 + 32));
+}
+
+// A call to a method the server does not have, through gRPC's generic stub.
+grpc::StatusCode CallUnknownMethod(Client& client, const std::string& method) {
+  grpc::GenericStub stub(client.channel());
+  grpc::CompletionQueue cq;
+  grpc::ClientContext context;
+  client.Prepare(context);
+  grpc::ByteBuffer request, response;
+  grpc::Status status;
+  auto call = stub.PrepareUnaryCall(&context, method, request, &cq);
+  call->StartCall();
+  call->Finish(&response, &status, nullptr);
+  void* tag = nullptr;
+  bool ok = false;
+  cq.Next(&tag, &ok);
+  return status.error_code();
+}
+
+TEST(Metrics, MadeUpMethodsShareOneLabel) {
+  TempDir data;
+  ServerProcess server(data.path());
+  Client client(OptionsFor(server));
+  for (int i = 0; i < 3; ++i)
+    EXPECT_EQ(CallUnknownMethod(client, "/made.Up/Method" + std::to_string(i)), grpc::StatusCode::UNIMPLEMENTED);
+  const HttpResponse r = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
+  EXPECT_EQ(r.body.find("made.Up"), std::string::npos) << r.body;
+  EXPECT_EQ(ParseSamples(r.body).at("armature_rpc_requests_total{method=\"unknown\",code=\"UNIMPLEMENTED\"}"), 3);
 }
 
 TEST(Metrics, StreamsInFlightGauge) {
