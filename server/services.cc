@@ -5,10 +5,10 @@
 
 namespace armature::server {
 
-std::vector<std::unique_ptr<grpc::Service>> MakeServices(AssetStore& store, const Limits& limits) {
-  std::vector<std::unique_ptr<grpc::Service>> services;
-  services.push_back(std::make_unique<AssetServiceImpl>(store, limits));
-  services.push_back(std::make_unique<PoseServiceImpl>(store, limits));
+std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits) {
+  std::vector<ServiceEntry> services;
+  services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
+  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits));
   return services;
 }
 
