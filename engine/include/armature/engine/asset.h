@@ -3,6 +3,8 @@
 // shared_ptr<const …> so a delete never breaks an in-flight call.
 #pragma once
 
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -40,7 +42,13 @@ struct AssetContents {
   std::vector<NamedSkeleton> skeletons;
   std::vector<NamedClip> clips;
   std::vector<NamedMesh> meshes;
+  // Problems the importer repaired (e.g. skin weights not summing to 1, normalized).
+  std::vector<std::string> warnings;
 };
+
+// Extra files an asset refers to (a .gltf's external .bin buffers), as bytes
+// keyed by the uri the asset uses. The engine does no file I/O.
+using AssetResources = std::map<std::string, std::string, std::less<>>;
 
 // Format from an explicit name ("bvh", "gltf", "glb", "obj"), else the
 // filename's extension, else the content's first bytes.
@@ -49,6 +57,11 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
 
 // Parses `bytes` into named parts. Parts are named after `name` (a BVH file
 // "walk" gives skeleton "walk" and clip "walk").
-StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name);
+// glTF: one skeleton `name` made of all nodes, a clip per animation
+// ("<name>.<animation name or index>") and a mesh per glTF mesh
+// ("<name>.<mesh name or index>"); see gltf.h. OBJ: one unbound mesh `name`.
+// A resource the asset needs but `resources` lacks is INVALID_ARGUMENT naming its uri.
+StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
+                                   const AssetResources& resources = {});
 
 }  // namespace armature
