@@ -72,7 +72,7 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
 }
 
 StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
-                                   const AssetResources& resources) {
+                                   const ResourceMap& resources) {
   switch (format) {
     case AssetFormat::kBvh: {
       auto bvh = ParseBvh(bytes);

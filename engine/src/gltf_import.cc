@@ -44,7 +44,7 @@ std::string UrlDecode(std::string_view s) {
 }
 
 struct ResourceFiles {
-  const AssetResources* resources;
+  const ResourceMap* resources;
   std::vector<std::string> missing;
 
   // tinygltf asks for the url-decoded uri, possibly as "./uri".
@@ -90,7 +90,7 @@ std::string Trim(std::string s) {
   return s;
 }
 
-StatusOr<tinygltf::Model> Load(std::string_view bytes, bool binary, const AssetResources& resources) {
+StatusOr<tinygltf::Model> Load(std::string_view bytes, bool binary, const ResourceMap& resources) {
   if (bytes.size() > std::numeric_limits<unsigned int>::max())
     return Status::InvalidArgument("glTF: file is larger than 4 GiB");
   ResourceFiles files{&resources, {}};
@@ -734,7 +734,7 @@ class Importer {
 }  // namespace
 
 StatusOr<AssetContents> ParseGltf(std::string_view bytes, bool binary, std::string_view name,
-                                  const AssetResources& resources) {
+                                  const ResourceMap& resources) {
   auto model = Load(bytes, binary, resources);
   if (!model.ok()) return model.status();
   return Importer(*model, name).Run();

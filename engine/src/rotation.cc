@@ -14,6 +14,17 @@ double WrapNear(double angle, double hint) {
   return angle + two_pi * std::round((hint - angle) / two_pi);
 }
 
+// Slerp without choosing the shorter arc. The angle comes from atan2 of the
+// chord lengths, accurate at small angles where acos(dot) loses half its digits.
+Eigen::Quaterniond SlerpNoFlip(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b, double t) {
+  const double theta = 2.0 * std::atan2((a.coeffs() - b.coeffs()).norm(), (a.coeffs() + b.coeffs()).norm());
+  const double s = std::sin(theta);
+  if (theta < 1e-10) return Eigen::Quaterniond((a.coeffs() + t * (b.coeffs() - a.coeffs())).normalized());
+  if (s < 1e-15) return a;  // b = −a: the same rotation
+  const double wa = std::sin((1.0 - t) * theta) / s, wb = std::sin(t * theta) / s;
+  return Eigen::Quaterniond(wa * a.coeffs() + wb * b.coeffs());
+}
+
 double AngularDistance(std::span<const double> a, std::span<const double> b) {
   double d = 0;
   for (size_t i = 0; i < a.size(); ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
@@ -69,7 +80,12 @@ bool QuaternionToEuler(const Eigen::Quaterniond& q, std::span<const Axis> axes, 
   }
   const size_t m = std::min<size_t>(n, 3);
   double* best = s1;
-  if (!hint.empty()) {
+  if (n == 2) {
+    // Only the solution whose (dropped) third angle is ~0 reproduces the rotation.
+    if (std::cos(s2[2]) > std::cos(s1[2])) best = s2;
+    for (size_t i = 0; i < 2; ++i)
+      best[i] = hint.size() > i ? WrapNear(best[i], hint[i]) : std::remainder(best[i], 2.0 * std::numbers::pi);
+  } else if (!hint.empty()) {
     for (double* s : {s1, s2})
       for (size_t i = 0; i < 3 && i < hint.size(); ++i) s[i] = WrapNear(s[i], hint[i]);
     std::span<const double> h = hint.first(std::min(hint.size(), m));
@@ -125,17 +141,8 @@ Eigen::Quaterniond SameHemisphere(const Eigen::Quaterniond& q, const Eigen::Quat
   return q.dot(reference) < 0 ? Eigen::Quaterniond(-q.coeffs()) : q;
 }
 
-Eigen::Quaterniond Slerp(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b_in, double t) {
-  const Eigen::Quaterniond b = SameHemisphere(b_in, a);
-  const double d = std::clamp(a.dot(b), -1.0, 1.0);
-  if (d > 0.9995) {  // nearly parallel: lerp + normalize is exact to rounding
-    Eigen::Quaterniond r(a.coeffs() + t * (b.coeffs() - a.coeffs()));
-    return r.normalized();
-  }
-  const double theta = std::acos(d);
-  const double s = std::sin(theta);
-  const double wa = std::sin((1.0 - t) * theta) / s, wb = std::sin(t * theta) / s;
-  return Eigen::Quaterniond(wa * a.coeffs() + wb * b.coeffs());
+Eigen::Quaterniond Slerp(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b, double t) {
+  return SlerpNoFlip(a, SameHemisphere(b, a), t);
 }
 
 Eigen::Matrix3d SlerpMatrix(const Eigen::Matrix3d& r1, const Eigen::Matrix3d& r2, double t) {
@@ -157,13 +164,30 @@ Eigen::Quaterniond Squad(const Eigen::Quaterniond& q1, const Eigen::Quaterniond&
   // Unlike Slerp, the inner interpolations must not flip hemispheres
   // independently, or the spline loses C¹ continuity; callers pass keys
   // already aligned to one hemisphere.
-  auto slerp_no_flip = [](const Eigen::Quaterniond& a, const Eigen::Quaterniond& b, double u) {
-    const double d = std::clamp(a.dot(b), -1.0, 1.0);
-    if (std::abs(d) > 0.9995) return Eigen::Quaterniond((a.coeffs() + u * (b.coeffs() - a.coeffs())).normalized());
-    const double theta = std::acos(d), s = std::sin(theta);
-    return Eigen::Quaterniond(std::sin((1 - u) * theta) / s * a.coeffs() + std::sin(u * theta) / s * b.coeffs());
-  };
-  return slerp_no_flip(slerp_no_flip(q1, q2, t), slerp_no_flip(s1, s2, t), 2.0 * t * (1.0 - t)).normalized();
+  return SlerpNoFlip(SlerpNoFlip(q1, q2, t), SlerpNoFlip(s1, s2, t), 2.0 * t * (1.0 - t)).normalized();
+}
+
+void SquadControlPoints(const Eigen::Quaterniond& prev, const Eigen::Quaterniond& q_in, const Eigen::Quaterniond& next,
+                        double dt_prev, double dt_next, Eigen::Quaterniond* s_in, Eigen::Quaterniond* s_out) {
+  const Eigen::Quaterniond q = q_in.normalized();
+  const Eigen::Quaterniond qi = q.conjugate();
+  const bool has_prev = dt_prev > 0, has_next = dt_next > 0;
+  // Rotation vectors from q to its neighbours, in q's frame.
+  const Eigen::Vector3d lp = has_prev ? LogQuaternion(qi * prev) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d ln = has_next ? LogQuaternion(qi * next) : Eigen::Vector3d::Zero();
+  // Angular velocity at the key (rotation vector per second).
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();
+  if (has_prev && has_next)
+    w = (ln * (dt_prev / dt_next) - lp * (dt_next / dt_prev)) / (dt_prev + dt_next);
+  else if (has_next)
+    w = ln / dt_next;
+  else if (has_prev)
+    w = -lp / dt_prev;
+  // Squad leaves a key with velocity log(q⁻¹q_next) + 2·log(q⁻¹s_out) per unit
+  // of segment parameter and enters one with −log(q⁻¹q_prev) − 2·log(q⁻¹s_in);
+  // solve both for the velocity w scaled by the segment's duration.
+  if (s_out) *s_out = has_next ? (q * ExpQuaternion(0.5 * (dt_next * w - ln))).normalized() : q;
+  if (s_in) *s_in = has_prev ? (q * ExpQuaternion(-0.5 * (dt_prev * w + lp))).normalized() : q;
 }
 
 }  // namespace armature

@@ -46,14 +46,14 @@ struct AssetContents {
   std::vector<std::string> warnings;
 };
 
-// Extra files an asset refers to (a .gltf's external .bin buffers), as bytes
-// keyed by the uri the asset uses. The engine does no file I/O.
-using AssetResources = std::map<std::string, std::string, std::less<>>;
-
 // Format from an explicit name ("bvh", "gltf", "glb", "obj"), else the
 // filename's extension, else the content's first bytes.
 StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string_view filename,
                                    std::string_view bytes);
+
+// Further files a main file refers to (a .gltf's external .bin buffers),
+// keyed by the uri the main file uses.
+using ResourceMap = std::map<std::string, std::string, std::less<>>;
 
 // Parses `bytes` into named parts. Parts are named after `name` (a BVH file
 // "walk" gives skeleton "walk" and clip "walk").
@@ -62,6 +62,6 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
 // ("<name>.<mesh name or index>"); see gltf.h. OBJ: one unbound mesh `name`.
 // A resource the asset needs but `resources` lacks is INVALID_ARGUMENT naming its uri.
 StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
-                                   const AssetResources& resources = {});
+                                   const ResourceMap& resources = {});
 
 }  // namespace armature

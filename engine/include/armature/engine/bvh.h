@@ -25,7 +25,11 @@ StatusOr<BvhData> ParseBvh(std::string_view text);
 // Writes `clip` sampled at its frame times (frame_time, or 1/30 s when the
 // clip has none) using each joint's channel list (a skeleton without channels
 // gets Xposition Yposition Zposition Zrotation Xrotation Yrotation on roots
-// and Zrotation Xrotation Yrotation elsewhere).
+// and Zrotation Xrotation Yrotation elsewhere). Joints are written depth
+// first; Euler angles follow the previous frame so curves stay continuous;
+// values have six decimals. Scale and motion a joint has no channel for are
+// dropped. Returns "" for a clip without a skeleton or with a track count
+// that differs from it (Clip::Validate catches both).
 std::string WriteBvh(const Clip& clip);
 
 }  // namespace armature

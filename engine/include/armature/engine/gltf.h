@@ -23,6 +23,6 @@ namespace armature {
 // field and accessor, e.g. "meshes[0].primitives[0].attributes.JOINTS_0:
 // accessor 7 has type VEC3, expected VEC4".
 StatusOr<AssetContents> ParseGltf(std::string_view bytes, bool binary, std::string_view name,
-                                  const AssetResources& resources = {});
+                                  const ResourceMap& resources = {});
 
 }  // namespace armature

@@ -48,6 +48,16 @@ Eigen::Quaterniond SquadControlPoint(const Eigen::Quaterniond& prev, const Eigen
 Eigen::Quaterniond Squad(const Eigen::Quaterniond& q1, const Eigen::Quaterniond& s1, const Eigen::Quaterniond& s2,
                          const Eigen::Quaterniond& q2, double t);
 
+// Squad control points for keys at uneven times: `dt_prev` and `dt_next` are
+// the seconds to the neighbouring keys. The key's angular velocity is the
+// derivative of the parabola through the three keys (in the key's tangent
+// space), and the incoming `s_in` and outgoing `s_out` control points differ so
+// the spline is C¹ in time, not just in the segment parameter. With equal
+// spacing both equal SquadControlPoint. A missing neighbour (pass dt ≤ 0) gives
+// a one-sided tangent. Either output may be null when not needed.
+void SquadControlPoints(const Eigen::Quaterniond& prev, const Eigen::Quaterniond& q, const Eigen::Quaterniond& next,
+                        double dt_prev, double dt_next, Eigen::Quaterniond* s_in, Eigen::Quaterniond* s_out);
+
 // Flips `q` to the hemisphere of `reference` (q and −q are the same rotation).
 Eigen::Quaterniond SameHemisphere(const Eigen::Quaterniond& q, const Eigen::Quaterniond& reference);
 

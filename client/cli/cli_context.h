@@ -1,0 +1,40 @@
+// What every `armature` subcommand shares: connection flags and output helpers.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <google/protobuf/message.h>
+#include <nlohmann/json.hpp>
+
+#include "armature/client.h"
+
+namespace armature::cli {
+
+struct CliContext {
+  std::string server;
+  std::string token;
+  std::string ca_file;
+  double timeout_seconds = 30;
+  std::function<int()> run;  // set by the chosen subcommand
+
+  Client MakeClient() const;
+};
+
+// proto3 JSON of a message (lowerCamelCase, defaults printed), as a json value.
+nlohmann::json ToJson(const google::protobuf::Message& message);
+// Prints JSON on stdout, indented when `pretty`.
+void PrintJson(const nlohmann::json& j, bool pretty = true);
+
+// Each subcommand registers itself on the app.
+void AddImportCommand(CLI::App& app, CliContext& ctx);
+void AddListCommand(CLI::App& app, CliContext& ctx);
+void AddInfoCommand(CLI::App& app, CliContext& ctx);
+void AddPoseCommand(CLI::App& app, CliContext& ctx);
+void AddStreamCommand(CLI::App& app, CliContext& ctx);
+void AddExportCommand(CLI::App& app, CliContext& ctx);
+void AddDeleteCommand(CLI::App& app, CliContext& ctx);
+void AddHealthCommand(CLI::App& app, CliContext& ctx);
+
+}  // namespace armature::cli

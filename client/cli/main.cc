@@ -1,0 +1,41 @@
+// `armature`: the command-line client. Every error exits non-zero with the
+// server's message.
+#include <iostream>
+
+#include "cli_context.h"
+
+int main(int argc, char** argv) {
+  using namespace armature::cli;
+  CLI::App app{"armature: command-line client of armature-server"};
+  CliContext ctx;
+  app.add_option("--server", ctx.server, "Server address HOST:PORT (default $ARMATURE_SERVER, else localhost:50051)");
+  app.add_option("--token", ctx.token, "Bearer token (default $ARMATURE_TOKEN)");
+  app.add_option("--ca-file", ctx.ca_file, "Use TLS, trusting this CA certificate (default $ARMATURE_CA_FILE)");
+  app.add_option("--timeout", ctx.timeout_seconds, "Deadline of each call, in seconds")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.require_subcommand(1);
+
+  AddImportCommand(app, ctx);
+  AddListCommand(app, ctx);
+  AddInfoCommand(app, ctx);
+  AddPoseCommand(app, ctx);
+  AddStreamCommand(app, ctx);
+  AddExportCommand(app, ctx);
+  AddDeleteCommand(app, ctx);
+  AddHealthCommand(app, ctx);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    return ctx.run ? ctx.run() : 0;
+  } catch (const armature::ClientError& e) {
+    std::cerr << "error: " << armature::StatusCodeName(e.code()) << ": " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}

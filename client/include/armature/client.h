@@ -1,0 +1,111 @@
+// libarmature-client: every Armature RPC from C++, with a deadline on every
+// call. Failures throw armature::ClientError carrying the gRPC status.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "armature/v1/assets.grpc.pb.h"
+#include "armature/v1/poses.grpc.pb.h"
+
+namespace armature {
+
+class ClientError : public std::runtime_error {
+ public:
+  explicit ClientError(const grpc::Status& status)
+      : std::runtime_error(status.error_message()), code_(status.error_code()) {}
+  grpc::StatusCode code() const { return code_; }
+
+ private:
+  grpc::StatusCode code_;
+};
+
+struct ClientOptions {
+  std::string target = "localhost:50051";      // host:port
+  std::chrono::milliseconds timeout{30000};    // deadline of unary calls
+  std::chrono::milliseconds stream_timeout{0};  // deadline of streams; 0 = none
+  std::string token;                           // sent as "authorization: Bearer <token>" when set
+  std::string ca_file;                         // use TLS, trusting this CA (PEM)
+  int max_message_bytes = 64 << 20;
+  size_t upload_chunk_bytes = 1 << 20;
+
+  // From ARMATURE_SERVER, ARMATURE_TOKEN and ARMATURE_CA_FILE when set.
+  static ClientOptions FromEnvironment();
+};
+
+// A file to upload: the main file, and for a .gltf its external resources.
+struct UploadFile {
+  std::string filename;
+  std::string bytes;
+};
+
+class Client {
+ public:
+  explicit Client(ClientOptions options = ClientOptions::FromEnvironment());
+  Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options);
+
+  // Imports a file from disk; a .gltf's relative buffer uris beside it are uploaded too.
+  v1::ImportAssetResponse ImportFile(const std::filesystem::path& path, const std::string& name = "",
+                                     bool replace = false);
+  v1::ImportAssetResponse Import(const UploadFile& main, const std::string& name = "", const std::string& format = "",
+                                 bool replace = false, const std::vector<UploadFile>& resources = {});
+  v1::ListAssetsResponse ListAssets();
+  v1::AssetInfo GetAsset(const std::string& name);
+  v1::AssetInfo DeleteAsset(const std::string& name);
+  v1::ListClipsResponse ListClips();
+  v1::ClipInfo GetClip(const std::string& clip);
+  v1::ListSkeletonsResponse ListSkeletons();
+  v1::Skeleton GetSkeleton(const std::string& skeleton);
+  v1::ExportClipResponse ExportClip(const std::string& clip);
+
+  v1::EvaluateClipResponse EvaluateClip(const v1::EvaluateClipRequest& request);
+  // Calls `on_frame` for each frame until the stream ends or it returns false
+  // (which cancels the stream).
+  void StreamClip(const v1::StreamClipRequest& request, const std::function<bool(const v1::PoseFrame&)>& on_frame);
+  v1::ComputeFkResponse ComputeFk(const v1::ComputeFkRequest& request);
+
+  // grpc.health.v1: true when the server reports SERVING.
+  bool Healthy();
+
+  const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
+  const ClientOptions& options() const { return options_; }
+
+  // A context with this client's deadline and credentials, for calls on other stubs.
+  void Prepare(grpc::ClientContext& context, bool streaming = false) const;
+
+  // One unary call on any stub with this client's deadline and credentials;
+  // throws ClientError on failure. Service-specific clients build on it.
+  template <class Stub, class Request, class Response>
+  Response Call(grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*), Stub& stub,
+                const Request& request) const;
+
+ private:
+  ClientOptions options_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<v1::AssetService::Stub> assets_;
+  std::unique_ptr<v1::PoseService::Stub> poses_;
+};
+
+// Throws ClientError unless `status` is OK.
+void Check(const grpc::Status& status);
+
+// "INVALID_ARGUMENT", "NOT_FOUND", …
+const char* StatusCodeName(grpc::StatusCode code);
+
+template <class Stub, class Request, class Response>
+Response Client::Call(grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*), Stub& stub,
+                      const Request& request) const {
+  grpc::ClientContext context;
+  Prepare(context);
+  Response response;
+  Check((stub.*method)(&context, request, &response));
+  return response;
+}
+
+}  // namespace armature

@@ -1,0 +1,212 @@
+#include "armature/client.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "grpc/health/v1/health.grpc.pb.h"
+
+namespace armature {
+namespace {
+
+std::string ReadFileOrThrow(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ClientError(grpc::Status(grpc::StatusCode::NOT_FOUND, "cannot read " + path.string()));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::shared_ptr<grpc::Channel> MakeChannel(const ClientOptions& o) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(o.max_message_bytes);
+  args.SetMaxSendMessageSize(o.max_message_bytes);
+  std::shared_ptr<grpc::ChannelCredentials> creds = grpc::InsecureChannelCredentials();
+  if (!o.ca_file.empty()) {
+    grpc::SslCredentialsOptions ssl;
+    ssl.pem_root_certs = ReadFileOrThrow(o.ca_file);
+    creds = grpc::SslCredentials(ssl);
+  }
+  return grpc::CreateCustomChannel(o.target, creds, args);
+}
+
+// Relative, local uris of a .gltf's buffers (data: uris are embedded).
+std::vector<std::string> ExternalBufferUris(const std::string& gltf_text) {
+  std::vector<std::string> uris;
+  const auto j = nlohmann::json::parse(gltf_text, nullptr, false);
+  if (j.is_discarded()) return uris;
+  for (const char* key : {"buffers", "images"}) {
+    if (!j.contains(key) || !j[key].is_array()) continue;
+    for (const auto& b : j[key]) {
+      if (!b.contains("uri") || !b["uri"].is_string()) continue;
+      const std::string uri = b["uri"];
+      if (uri.rfind("data:", 0) == 0 || uri.find("://") != std::string::npos) continue;
+      if (std::string(key) == "images") continue;  // images are not needed for animation
+      uris.push_back(uri);
+    }
+  }
+  return uris;
+}
+
+}  // namespace
+
+const char* StatusCodeName(grpc::StatusCode code) {
+  static const char* const kNames[] = {"OK",
+                                       "CANCELLED",
+                                       "UNKNOWN",
+                                       "INVALID_ARGUMENT",
+                                       "DEADLINE_EXCEEDED",
+                                       "NOT_FOUND",
+                                       "ALREADY_EXISTS",
+                                       "PERMISSION_DENIED",
+                                       "RESOURCE_EXHAUSTED",
+                                       "FAILED_PRECONDITION",
+                                       "ABORTED",
+                                       "OUT_OF_RANGE",
+                                       "UNIMPLEMENTED",
+                                       "INTERNAL",
+                                       "UNAVAILABLE",
+                                       "DATA_LOSS",
+                                       "UNAUTHENTICATED"};
+  const int i = static_cast<int>(code);
+  return i >= 0 && i <= 16 ? kNames[i] : "UNKNOWN";
+}
+
+void Check(const grpc::Status& status) {
+  if (!status.ok()) throw ClientError(status);
+}
+
+ClientOptions ClientOptions::FromEnvironment() {
+  ClientOptions o;
+  if (const char* s = std::getenv("ARMATURE_SERVER"); s && *s) o.target = s;
+  if (const char* s = std::getenv("ARMATURE_TOKEN"); s && *s) o.token = s;
+  if (const char* s = std::getenv("ARMATURE_CA_FILE"); s && *s) o.ca_file = s;
+  return o;
+}
+
+Client::Client(ClientOptions options) : Client(MakeChannel(options), options) {}
+
+Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
+    : options_(std::move(options)), channel_(std::move(channel)),
+      assets_(v1::AssetService::NewStub(channel_)), poses_(v1::PoseService::NewStub(channel_)) {}
+
+void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
+  const auto timeout = streaming ? options_.stream_timeout : options_.timeout;
+  if (timeout.count() > 0) context.set_deadline(std::chrono::system_clock::now() + timeout);
+  if (!options_.token.empty()) context.AddMetadata("authorization", "Bearer " + options_.token);
+}
+
+v1::ImportAssetResponse Client::ImportFile(const std::filesystem::path& path, const std::string& name,
+                                           bool replace) {
+  UploadFile main{path.filename().string(), ReadFileOrThrow(path)};
+  std::vector<UploadFile> resources;
+  if (path.extension() == ".gltf")
+    for (const std::string& uri : ExternalBufferUris(main.bytes))
+      resources.push_back({uri, ReadFileOrThrow(path.parent_path() / uri)});
+  return Import(main, name, "", replace, resources);
+}
+
+v1::ImportAssetResponse Client::Import(const UploadFile& main, const std::string& name, const std::string& format,
+                                       bool replace, const std::vector<UploadFile>& resources) {
+  grpc::ClientContext context;
+  Prepare(context);
+  v1::ImportAssetResponse response;
+  auto writer = assets_->ImportAsset(&context, &response);
+  const size_t chunk = std::max<size_t>(1, options_.upload_chunk_bytes);
+  auto send_file = [&](const UploadFile& file, bool is_main) {
+    size_t offset = 0;
+    do {
+      v1::ImportAssetRequest request;
+      if (offset == 0) {
+        if (is_main) {
+          request.set_filename(file.filename);
+          request.set_name(name);
+          request.set_format(format);
+          request.set_replace(replace);
+        } else {
+          request.set_resource(file.filename);
+        }
+      }
+      const size_t n = std::min(chunk, file.bytes.size() - offset);
+      request.set_data(file.bytes.substr(offset, n));
+      offset += n;
+      if (!writer->Write(request)) return false;  // the server ended the call early
+    } while (offset < file.bytes.size());
+    return true;
+  };
+  if (send_file(main, true))
+    for (const UploadFile& r : resources)
+      if (!send_file(r, false)) break;
+  writer->WritesDone();
+  Check(writer->Finish());
+  return response;
+}
+
+v1::ListAssetsResponse Client::ListAssets() { return Call(&v1::AssetService::Stub::ListAssets, *assets_, {}); }
+v1::AssetInfo Client::GetAsset(const std::string& name) {
+  v1::GetAssetRequest r;
+  r.set_name(name);
+  return Call(&v1::AssetService::Stub::GetAsset, *assets_, r);
+}
+v1::AssetInfo Client::DeleteAsset(const std::string& name) {
+  v1::DeleteAssetRequest r;
+  r.set_name(name);
+  return Call(&v1::AssetService::Stub::DeleteAsset, *assets_, r);
+}
+v1::ListClipsResponse Client::ListClips() { return Call(&v1::AssetService::Stub::ListClips, *assets_, {}); }
+v1::ClipInfo Client::GetClip(const std::string& clip) {
+  v1::GetClipRequest r;
+  r.set_clip(clip);
+  return Call(&v1::AssetService::Stub::GetClip, *assets_, r);
+}
+v1::ListSkeletonsResponse Client::ListSkeletons() {
+  return Call(&v1::AssetService::Stub::ListSkeletons, *assets_, {});
+}
+v1::Skeleton Client::GetSkeleton(const std::string& skeleton) {
+  v1::GetSkeletonRequest r;
+  r.set_skeleton(skeleton);
+  return Call(&v1::AssetService::Stub::GetSkeleton, *assets_, r);
+}
+v1::ExportClipResponse Client::ExportClip(const std::string& clip) {
+  v1::ExportClipRequest r;
+  r.set_clip(clip);
+  return Call(&v1::AssetService::Stub::ExportClip, *assets_, r);
+}
+v1::EvaluateClipResponse Client::EvaluateClip(const v1::EvaluateClipRequest& r) {
+  return Call(&v1::PoseService::Stub::EvaluateClip, *poses_, r);
+}
+v1::ComputeFkResponse Client::ComputeFk(const v1::ComputeFkRequest& r) {
+  return Call(&v1::PoseService::Stub::ComputeFk, *poses_, r);
+}
+
+void Client::StreamClip(const v1::StreamClipRequest& request,
+                        const std::function<bool(const v1::PoseFrame&)>& on_frame) {
+  grpc::ClientContext context;
+  Prepare(context, true);
+  auto reader = poses_->StreamClip(&context, request);
+  v1::PoseFrame frame;
+  while (reader->Read(&frame)) {
+    if (!on_frame(frame)) {
+      context.TryCancel();
+      while (reader->Read(&frame)) {
+      }
+      reader->Finish();
+      return;
+    }
+  }
+  Check(reader->Finish());
+}
+
+bool Client::Healthy() {
+  auto stub = grpc::health::v1::Health::NewStub(channel_);
+  grpc::ClientContext context;
+  Prepare(context);
+  grpc::health::v1::HealthCheckRequest request;
+  grpc::health::v1::HealthCheckResponse response;
+  const grpc::Status status = stub->Check(&context, request, &response);
+  return status.ok() && response.status() == grpc::health::v1::HealthCheckResponse::SERVING;
+}
+
+}  // namespace armature

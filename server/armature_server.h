@@ -1,0 +1,42 @@
+// armature-server assembled: asset store, gRPC services (with health and
+// reflection) and the HTTP side, started and stopped together.
+#pragma once
+
+#include <memory>
+
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/impl/codegen/service_type.h>
+
+#include "armature/engine/status.h"
+#include "server/asset_store.h"
+#include "server/config.h"
+#include "server/http_server.h"
+
+namespace armature::server {
+
+class ArmatureServer {
+ public:
+  static StatusOr<std::unique_ptr<ArmatureServer>> Start(const ServerConfig& config);
+  ~ArmatureServer();
+
+  // Stops accepting, lets in-flight calls finish for the grace period, then cancels them.
+  void Shutdown();
+
+  int grpc_port() const { return grpc_port_; }
+  int http_port() const { return http_port_; }
+  AssetStore& store() { return *store_; }
+
+ private:
+  ArmatureServer() = default;
+
+  ServerConfig config_;
+  std::unique_ptr<AssetStore> store_;
+  std::vector<std::unique_ptr<grpc::Service>> services_;
+  std::unique_ptr<grpc::Server> grpc_;
+  std::unique_ptr<HttpServer> http_;
+  int grpc_port_ = 0;
+  int http_port_ = -1;
+  bool stopped_ = false;
+};
+
+}  // namespace armature::server

@@ -1,0 +1,353 @@
+#include "server/asset_store.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+namespace armature::server {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+constexpr char kManifest[] = "manifest.json";
+
+std::string NowRfc3339() {
+  const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::string RandomSuffix() {
+  static thread_local std::mt19937_64 rng{std::random_device{}()};
+  std::ostringstream s;
+  s << std::hex << rng();
+  return s.str();
+}
+
+Status SyncFd(int fd, const fs::path& what) {
+  if (::fsync(fd) != 0) return Status::Internal("fsync " + what.string() + " failed");
+  return Status::Ok();
+}
+
+// Writes `bytes` to `path` atomically: a temporary file in the same
+// directory, fsync, rename, fsync of the directory.
+Status WriteFileAtomic(const fs::path& path, std::string_view bytes) {
+  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp-" + RandomSuffix());
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return Status::Internal("cannot create " + tmp.string());
+  size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n <= 0) {
+      ::close(fd);
+      fs::remove(tmp);
+      return Status::Internal("cannot write " + tmp.string());
+    }
+    written += static_cast<size_t>(n);
+  }
+  Status st = SyncFd(fd, tmp);
+  ::close(fd);
+  if (!st.ok()) {
+    fs::remove(tmp);
+    return st;
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp);
+    return Status::Internal("cannot rename into " + path.string() + ": " + ec.message());
+  }
+  const int dfd = ::open(path.parent_path().c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    (void)SyncFd(dfd, path.parent_path());
+    ::close(dfd);
+  }
+  return Status::Ok();
+}
+
+StatusOr<std::string> ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status::NotFound("cannot read " + path.string());
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string StemOf(std::string_view filename) {
+  std::string base(filename);
+  if (auto slash = base.find_last_of("/\\"); slash != std::string::npos) base = base.substr(slash + 1);
+  if (auto dot = base.rfind('.'); dot != std::string::npos && dot > 0) base = base.substr(0, dot);
+  return base;
+}
+
+// A file name for a stored resource uri ("textures/a b.bin" → "a_b.bin").
+std::string SafeFileName(std::string_view uri) {
+  std::string out;
+  for (char c : uri.substr(uri.find_last_of("/\\") == std::string_view::npos ? 0 : uri.find_last_of("/\\") + 1))
+    out += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') ? c : '_';
+  return out.empty() ? "resource" : out;
+}
+
+json RecordToJson(const AssetRecord& r) {
+  json j = {{"name", r.name},          {"format", FormatName(r.format)}, {"filename", r.filename},
+            {"file", r.file},          {"size_bytes", r.size_bytes},     {"imported_at", r.imported_at}};
+  if (!r.resources.empty()) j["resources"] = r.resources;
+  return j;
+}
+
+StatusOr<AssetRecord> RecordFromJson(const json& j) {
+  AssetRecord r;
+  try {
+    r.name = j.at("name").get<std::string>();
+    auto format = DetectFormat(j.at("format").get<std::string>(), "", "");
+    if (!format.ok()) return format.status();
+    r.format = *format;
+    r.filename = j.value("filename", "");
+    r.file = j.at("file").get<std::string>();
+    r.size_bytes = j.value("size_bytes", int64_t{0});
+    r.imported_at = j.value("imported_at", "");
+    if (j.contains("resources")) r.resources = j.at("resources").get<std::map<std::string, std::string>>();
+  } catch (const json::exception& e) {
+    return Status::InvalidArgument(std::string("manifest entry: ") + e.what());
+  }
+  return r;
+}
+
+// Reads a stored asset's files back and parses them.
+StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r) {
+  auto bytes = ReadFile(dir / r.file);
+  if (!bytes.ok()) return bytes.status();
+  ResourceMap resources;
+  for (const auto& [uri, file] : r.resources) {
+    auto data = ReadFile(dir / file);
+    if (!data.ok()) return data.status();
+    resources.emplace(uri, std::move(*data));
+  }
+  return ParseAsset(r.format, *bytes, r.name, resources);
+}
+
+template <class Part>
+Status IndexParts(const std::shared_ptr<const StoredAsset>& asset, const std::vector<Part>& parts,
+                  std::map<std::string, PartRef<Part>>& index, std::string_view kind) {
+  for (const Part& p : parts) {
+    auto [it, inserted] = index.emplace(p.name, PartRef<Part>{asset, &p});
+    if (!inserted)
+      return Status::AlreadyExists(std::string(kind) + " '" + p.name + "' already exists (from asset '" +
+                                   it->second.asset->record.name + "')");
+  }
+  return Status::Ok();
+}
+
+template <class Part>
+StatusOr<PartRef<Part>> FindIn(const std::map<std::string, PartRef<Part>>& index, std::string_view name,
+                               std::string_view kind) {
+  auto it = index.find(std::string(name));
+  if (it == index.end()) return Status::NotFound(std::string(kind) + " '" + std::string(name) + "' not found");
+  return it->second;
+}
+
+}  // namespace
+
+Status ValidateAssetName(std::string_view name) {
+  if (name.empty()) return Status::InvalidArgument("name: must not be empty");
+  if (name.size() > 128) return Status::InvalidArgument("name: longer than 128 characters");
+  if (name.front() == '.') return Status::InvalidArgument("name: must not start with '.'");
+  for (char c : name) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-'))
+      return Status::InvalidArgument("name: '" + std::string(name) +
+                                     "' may only use letters, digits, '.', '_' and '-' (no '/', no NUL)");
+  }
+  return Status::Ok();
+}
+
+StatusOr<PartRef<NamedClip>> Catalog::FindClip(std::string_view name) const { return FindIn(clips, name, "clip"); }
+StatusOr<PartRef<NamedSkeleton>> Catalog::FindSkeleton(std::string_view name) const {
+  return FindIn(skeletons, name, "skeleton");
+}
+StatusOr<PartRef<NamedMesh>> Catalog::FindMesh(std::string_view name) const { return FindIn(meshes, name, "mesh"); }
+
+StatusOr<std::shared_ptr<const StoredAsset>> Catalog::FindOwner(std::string_view name) const {
+  const std::string key(name);
+  if (auto it = assets.find(key); it != assets.end()) return it->second;
+  if (auto it = clips.find(key); it != clips.end()) return it->second.asset;
+  if (auto it = skeletons.find(key); it != skeletons.end()) return it->second.asset;
+  if (auto it = meshes.find(key); it != meshes.end()) return it->second.asset;
+  return Status::NotFound("no asset, clip, skeleton or mesh named '" + key + "'");
+}
+
+StatusOr<std::shared_ptr<Catalog>> BuildCatalog(std::map<std::string, std::shared_ptr<const StoredAsset>> assets) {
+  auto c = std::make_shared<Catalog>();
+  c->assets = std::move(assets);
+  for (const auto& [name, asset] : c->assets) {
+    ARMATURE_RETURN_IF_ERROR(IndexParts(asset, asset->contents.clips, c->clips, "clip"));
+    ARMATURE_RETURN_IF_ERROR(IndexParts(asset, asset->contents.skeletons, c->skeletons, "skeleton"));
+    ARMATURE_RETURN_IF_ERROR(IndexParts(asset, asset->contents.meshes, c->meshes, "mesh"));
+  }
+  return c;
+}
+
+StatusOr<std::unique_ptr<AssetStore>> AssetStore::Open(const fs::path& data_dir) {
+  std::error_code ec;
+  fs::create_directories(data_dir / "files", ec);
+  if (ec) return Status::FailedPrecondition("cannot create data dir " + data_dir.string() + ": " + ec.message());
+  std::unique_ptr<AssetStore> store(new AssetStore(fs::absolute(data_dir)));
+  ARMATURE_RETURN_IF_ERROR(store->Load());
+  return store;
+}
+
+Status AssetStore::Load() {
+  const fs::path manifest = dir_ / kManifest;
+  std::map<std::string, std::shared_ptr<const StoredAsset>> assets;
+  std::set<fs::path> referenced;  // every file a manifest entry names, loadable or not
+  if (!fs::exists(manifest)) {
+    fresh_ = true;
+  } else {
+    auto text = ReadFile(manifest);
+    if (!text.ok()) return text.status();
+    json j = json::parse(*text, nullptr, false);
+    if (j.is_discarded() || !j.contains("assets"))
+      return Status::FailedPrecondition(manifest.string() + " is not a valid manifest; refusing to start");
+    for (const json& entry : j["assets"]) {
+      auto record = RecordFromJson(entry);
+      if (!record.ok()) {
+        spdlog::error("manifest: skipping an entry: {}", record.status().message());
+        continue;
+      }
+      referenced.insert(dir_ / record->file);
+      for (const auto& [uri, file] : record->resources) referenced.insert(dir_ / file);
+      auto contents = LoadContents(dir_, *record);
+      if (!contents.ok()) {
+        spdlog::error("asset '{}' ({}) could not be loaded and is skipped: {}", record->name, record->file,
+                      contents.status().message());
+        continue;
+      }
+      assets[record->name] = std::make_shared<const StoredAsset>(StoredAsset{*record, std::move(*contents)});
+    }
+  }
+  // Leftovers of interrupted writes: temporary files, and stored files that
+  // no manifest entry took in (a crash between the two writes of an import).
+  for (const fs::path& d : {dir_, dir_ / "files"}) {
+    for (const auto& entry : fs::directory_iterator(d)) {
+      const std::string fname = entry.path().filename().string();
+      const bool temporary = fname.starts_with(".") && fname.find(".tmp-") != std::string::npos;
+      const bool orphan = d != dir_ && !referenced.contains(entry.path());
+      if (entry.is_regular_file() && (temporary || orphan)) {
+        spdlog::warn("removing leftover of an interrupted write: {}", entry.path().string());
+        fs::remove(entry.path());
+      }
+    }
+  }
+
+  auto catalog = BuildCatalog(std::move(assets));
+  if (!catalog.ok()) return catalog.status();
+  Publish(std::move(*catalog));
+  spdlog::info("loaded {} assets from {}", Snapshot()->assets.size(), dir_.string());
+  return Status::Ok();
+}
+
+std::shared_ptr<const Catalog> AssetStore::Snapshot() const {
+  std::lock_guard lock(snapshot_mu_);
+  return catalog_;
+}
+
+void AssetStore::Publish(std::shared_ptr<const Catalog> catalog) {
+  std::lock_guard lock(snapshot_mu_);
+  catalog_ = std::move(catalog);
+}
+
+Status AssetStore::WriteManifest(const Catalog& catalog) const {
+  json entries = json::array();
+  for (const auto& [name, asset] : catalog.assets) entries.push_back(RecordToJson(asset->record));
+  const json j = {{"version", 1}, {"assets", entries}};
+  return WriteFileAtomic(dir_ / kManifest, j.dump(2));
+}
+
+StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest request) {
+  if (request.name.empty()) request.name = StemOf(request.filename);
+  ARMATURE_RETURN_IF_ERROR(ValidateAssetName(request.name));
+  if (request.bytes.empty()) return Status::InvalidArgument("data: the file is empty");
+  auto format = DetectFormat(request.format, request.filename, request.bytes);
+  if (!format.ok()) return format.status();
+  const std::string label = request.filename.empty() ? request.name : request.filename;
+  auto contents = ParseAsset(*format, request.bytes, request.name, request.resources);
+  if (!contents.ok()) return contents.status().WithContext(label + ": ");
+
+  std::lock_guard write_lock(write_mu_);
+  const auto current = Snapshot();
+  auto assets = current->assets;
+  std::shared_ptr<const StoredAsset> replaced;
+  if (auto it = assets.find(request.name); it != assets.end()) {
+    if (!request.replace)
+      return Status::AlreadyExists("asset '" + request.name + "' already exists (set replace to overwrite it)");
+    replaced = it->second;
+    assets.erase(it);
+  }
+
+  AssetRecord record;
+  record.name = request.name;
+  record.format = *format;
+  record.filename = request.filename;
+  record.size_bytes = static_cast<int64_t>(request.bytes.size());
+  record.imported_at = NowRfc3339();
+  const std::string unique = RandomSuffix();
+  record.file = "files/" + request.name + "." + unique + std::string(FormatExtension(*format));
+  for (const auto& [uri, data] : request.resources) {
+    record.resources[uri] = "files/" + request.name + "." + unique + ".res." + SafeFileName(uri);
+    record.size_bytes += static_cast<int64_t>(data.size());
+  }
+  auto stored = std::make_shared<const StoredAsset>(StoredAsset{record, std::move(*contents)});
+  assets[record.name] = stored;
+  auto catalog = BuildCatalog(std::move(assets));  // catches part-name clashes with other assets
+  if (!catalog.ok()) return catalog.status();
+
+  // Persist the files, then the manifest that makes them part of the store.
+  ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_ / record.file, request.bytes));
+  for (const auto& [uri, file] : record.resources)
+    ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_ / file, request.resources.find(uri)->second));
+  if (Status st = WriteManifest(**catalog); !st.ok()) {
+    fs::remove(dir_ / record.file);
+    for (const auto& [uri, file] : record.resources) fs::remove(dir_ / file);
+    return st;
+  }
+  Publish(std::move(*catalog));
+  if (replaced) {
+    std::error_code ec;
+    fs::remove(dir_ / replaced->record.file, ec);
+    for (const auto& [uri, file] : replaced->record.resources) fs::remove(dir_ / file, ec);
+  }
+  spdlog::info("imported asset '{}' ({}, {} bytes)", record.name, FormatName(record.format), record.size_bytes);
+  return stored;
+}
+
+StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Delete(std::string_view name) {
+  std::lock_guard write_lock(write_mu_);
+  const auto current = Snapshot();
+  auto owner = current->FindOwner(name);
+  if (!owner.ok()) return owner.status();
+  auto assets = current->assets;
+  assets.erase((*owner)->record.name);
+  auto catalog = BuildCatalog(std::move(assets));
+  if (!catalog.ok()) return catalog.status();
+  ARMATURE_RETURN_IF_ERROR(WriteManifest(**catalog));
+  Publish(std::move(*catalog));
+  std::error_code ec;
+  fs::remove(dir_ / (*owner)->record.file, ec);
+  for (const auto& [uri, file] : (*owner)->record.resources) fs::remove(dir_ / file, ec);
+  spdlog::info("deleted asset '{}'", (*owner)->record.name);
+  return *owner;
+}
+
+}  // namespace armature::server

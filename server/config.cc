@@ -1,0 +1,44 @@
+#include "server/config.h"
+
+#include <CLI/CLI.hpp>
+
+namespace armature::server {
+
+int ParseConfig(int argc, char** argv, ServerConfig& c) {
+  CLI::App app{"armature-server: an animation server (pose evaluation, IK, skinning, deformation) over gRPC and HTTP"};
+  app.option_defaults()->always_capture_default();
+  app.add_option("--host", c.host, "Address to listen on")->envname("ARMATURE_HOST");
+  app.add_option("--grpc-port", c.grpc_port, "gRPC port (0: any free port)")
+      ->envname("ARMATURE_GRPC_PORT")->check(CLI::Range(0, 65535));
+  app.add_option("--http-port", c.http_port, "HTTP port for health, gateway and viewer (0: any free port, -1: off)")
+      ->envname("ARMATURE_HTTP_PORT")->check(CLI::Range(-1, 65535));
+  app.add_option("--data-dir", c.data_dir, "Where imported assets are persisted")->envname("ARMATURE_DATA_DIR");
+  app.add_option("--log-level", c.log_level, "trace, debug, info, warn or error")
+      ->envname("ARMATURE_LOG_LEVEL")->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+  app.add_option("--log-format", c.log_format, "text or json")
+      ->envname("ARMATURE_LOG_FORMAT")->check(CLI::IsMember({"text", "json"}));
+  double upload_mb = static_cast<double>(c.limits.max_upload_bytes) / (1 << 20);
+  app.add_option("--max-upload-mb", upload_mb, "Largest accepted upload, in MiB")
+      ->envname("ARMATURE_MAX_UPLOAD_MB")->check(CLI::PositiveNumber);
+  double message_mb = static_cast<double>(c.limits.max_message_bytes) / (1 << 20);
+  app.add_option("--max-message-mb", message_mb, "Largest gRPC message sent or received, in MiB")
+      ->envname("ARMATURE_MAX_MESSAGE_MB")->check(CLI::PositiveNumber);
+  bool no_demo = !c.demo;
+  app.add_flag("--no-demo", no_demo, "Do not seed demo assets into an empty data dir")->envname("ARMATURE_NO_DEMO");
+  app.add_option("--shutdown-grace", c.shutdown_grace_seconds,
+                 "Seconds in-flight calls get to finish on SIGTERM/SIGINT")
+      ->envname("ARMATURE_SHUTDOWN_GRACE")->check(CLI::NonNegativeNumber);
+  app.add_option("--port-file", c.port_file, "Write the bound ports as JSON here once serving")
+      ->envname("ARMATURE_PORT_FILE");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  c.demo = !no_demo;
+  c.limits.max_upload_bytes = static_cast<int64_t>(upload_mb * (1 << 20));
+  c.limits.max_message_bytes = static_cast<int64_t>(message_mb * (1 << 20));
+  return -1;
+}
+
+}  // namespace armature::server

@@ -1,0 +1,27 @@
+// armature-server's settings, from flags and ARMATURE_* environment variables.
+#pragma once
+
+#include <string>
+
+#include "server/limits.h"
+
+namespace armature::server {
+
+struct ServerConfig {
+  std::string host = "0.0.0.0";
+  int grpc_port = 50051;  // 0 picks a free port
+  int http_port = 8080;   // 0 picks a free port; -1 disables HTTP
+  std::string data_dir = "armature-data";
+  std::string log_level = "info";  // trace, debug, info, warn, error
+  std::string log_format = "text";  // text or json
+  bool demo = true;                 // seed demo assets into an empty data dir
+  double shutdown_grace_seconds = 10;
+  std::string port_file;  // when set, {"grpc":…,"http":…} is written there once serving
+  Limits limits;
+};
+
+// Parses argv (CLI11). Returns an exit code >= 0 when the process should
+// exit (e.g. --help printed, or a bad flag), -1 to go on.
+int ParseConfig(int argc, char** argv, ServerConfig& config);
+
+}  // namespace armature::server

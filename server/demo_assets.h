@@ -1,0 +1,12 @@
+// Built-in demo assets, seeded into an empty data dir so a first `make run`
+// serves real motion with nothing to download.
+#pragma once
+
+#include "armature/engine/status.h"
+#include "server/asset_store.h"
+
+namespace armature::server {
+
+Status SeedDemoAssets(AssetStore& store);
+
+}  // namespace armature::server

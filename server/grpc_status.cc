@@ -1,0 +1,33 @@
+#include "server/grpc_status.h"
+
+namespace armature::server {
+
+grpc::Status ToGrpcStatus(const Status& status) {
+  using G = grpc::StatusCode;
+  G code = G::UNKNOWN;
+  switch (status.code()) {
+    case StatusCode::kOk: return grpc::Status::OK;
+    case StatusCode::kInvalidArgument: code = G::INVALID_ARGUMENT; break;
+    case StatusCode::kNotFound: code = G::NOT_FOUND; break;
+    case StatusCode::kAlreadyExists: code = G::ALREADY_EXISTS; break;
+    case StatusCode::kResourceExhausted: code = G::RESOURCE_EXHAUSTED; break;
+    case StatusCode::kFailedPrecondition: code = G::FAILED_PRECONDITION; break;
+    case StatusCode::kOutOfRange: code = G::OUT_OF_RANGE; break;
+    case StatusCode::kDeadlineExceeded: code = G::DEADLINE_EXCEEDED; break;
+    case StatusCode::kCancelled: code = G::CANCELLED; break;
+    case StatusCode::kUnavailable: code = G::UNAVAILABLE; break;
+    case StatusCode::kUnauthenticated: code = G::UNAUTHENTICATED; break;
+    case StatusCode::kPermissionDenied: code = G::PERMISSION_DENIED; break;
+    case StatusCode::kUnimplemented: code = G::UNIMPLEMENTED; break;
+    case StatusCode::kInternal: code = G::INTERNAL; break;
+  }
+  return grpc::Status(code, status.message());
+}
+
+grpc::ServerUnaryReactor* FinishUnary(grpc::CallbackServerContext* context, const Status& status) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  reactor->Finish(ToGrpcStatus(status));
+  return reactor;
+}
+
+}  // namespace armature::server

@@ -1,0 +1,46 @@
+#include "server/import_reactor.h"
+
+#include "server/grpc_status.h"
+#include "server/proto_convert.h"
+
+namespace armature::server {
+
+ImportReactor::ImportReactor(AssetStore& store, const Limits& limits, v1::ImportAssetResponse* response)
+    : store_(store), limits_(limits), response_(response), current_(&import_.bytes) {
+  StartRead(&chunk_);
+}
+
+void ImportReactor::OnReadDone(bool ok) {
+  if (!ok) {  // the client finished sending
+    Complete();
+    return;
+  }
+  if (first_) {
+    import_.filename = chunk_.filename();
+    import_.name = chunk_.name();
+    import_.format = chunk_.format();
+    import_.replace = chunk_.replace();
+    first_ = false;
+  }
+  if (!chunk_.resource().empty()) current_ = &import_.resources[chunk_.resource()];
+  received_ += static_cast<int64_t>(chunk_.data().size());
+  if (received_ > limits_.max_upload_bytes) {
+    Finish(ToGrpcStatus(Status::ResourceExhausted(
+        "upload exceeds the limit of " + std::to_string(limits_.max_upload_bytes) + " bytes (--max-upload-mb)")));
+    return;
+  }
+  current_->append(chunk_.data());
+  StartRead(&chunk_);
+}
+
+void ImportReactor::Complete() {
+  if (first_) {
+    Finish(ToGrpcStatus(Status::InvalidArgument("no data: the upload had no messages")));
+    return;
+  }
+  auto stored = store_.Import(std::move(import_));
+  if (stored.ok()) *response_->mutable_asset() = AssetInfoOf(**stored);
+  Finish(ToGrpcStatus(stored.status()));
+}
+
+}  // namespace armature::server

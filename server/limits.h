@@ -1,0 +1,16 @@
+// Configurable limits; going over one is RESOURCE_EXHAUSTED naming it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace armature::server {
+
+struct Limits {
+  int64_t max_upload_bytes = 256ll << 20;  // --max-upload-mb
+  int64_t max_message_bytes = 64ll << 20;  // gRPC send/receive
+  size_t max_times_per_request = 100000;   // EvaluateClip.times
+  double max_stream_fps = 240;
+};
+
+}  // namespace armature::server

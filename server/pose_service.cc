@@ -1,0 +1,91 @@
+#include "server/pose_service.h"
+
+#include "armature/engine/clip.h"
+#include "armature/engine/fk.h"
+#include "server/grpc_status.h"
+#include "server/proto_convert.h"
+#include "server/request_validation.h"
+#include "server/stream_clip_reactor.h"
+
+namespace armature::server {
+
+Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
+                    v1::EvaluateClipResponse* response) {
+  auto ref = catalog.FindClip(request.clip());
+  if (!ref.ok()) return ref.status();
+  ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
+  const Clip& clip = *ref->part->clip;
+  auto joints = ResolveJoints(*clip.skeleton, request.joints(), "joints");
+  if (!joints.ok()) return joints.status();
+
+  SampleOptions options;
+  options.interpolation = FromProto(request.interpolation());
+  options.wrap = FromProto(request.wrap());
+  const v1::Space space = request.space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
+
+  thread_local PoseWorkspace ws;  // reused across calls on this thread: no allocation per pose
+  ws.Resize(clip.skeleton->size());
+  response->set_clip(ref->part->name);
+  response->set_skeleton(ref->part->skeleton);
+  response->set_space(space);
+  for (int j : *joints) response->add_joints(j);
+  response->mutable_times()->CopyFrom(request.times());
+  response->mutable_poses()->Reserve(request.times_size());
+  for (double t : request.times()) {
+    ARMATURE_RETURN_IF_ERROR(SampleClip(clip, t, options, ws.local));
+    PackPose(*clip.skeleton, space, *joints, ws, response->add_poses());
+  }
+  return Status::Ok();
+}
+
+Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1::ComputeFkResponse* response) {
+  auto ref = catalog.FindSkeleton(request.skeleton());
+  if (!ref.ok()) return ref.status();
+  const Skeleton& skeleton = *ref->part->skeleton;
+  if (request.pose().rotations().empty())
+    return Status::InvalidArgument("pose.rotations: required (4 values per joint: w, x, y, z)");
+  auto joints = ResolveJoints(skeleton, request.joints(), "joints");
+  if (!joints.ok()) return joints.status();
+  thread_local PoseWorkspace ws;
+  ws.Resize(skeleton.size());
+  ARMATURE_RETURN_IF_ERROR(PoseFromArrays(skeleton, AsSpan(request.pose().rotations()),
+                                          AsSpan(request.pose().translations()), ws.local));
+  response->set_skeleton(ref->part->name);
+  for (int j : *joints) response->add_joints(j);
+  PackPose(skeleton, v1::WORLD, *joints, ws, response->mutable_world());
+  return Status::Ok();
+}
+
+grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateClip(grpc::CallbackServerContext* context,
+                                                        const v1::EvaluateClipRequest* request,
+                                                        v1::EvaluateClipResponse* response) {
+  return FinishUnary(context, server::EvaluateClip(*store_.Snapshot(), limits_, *request, response));
+}
+
+grpc::ServerUnaryReactor* PoseServiceImpl::ComputeFk(grpc::CallbackServerContext* context,
+                                                     const v1::ComputeFkRequest* request,
+                                                     v1::ComputeFkResponse* response) {
+  return FinishUnary(context, server::ComputeFk(*store_.Snapshot(), *request, response));
+}
+
+namespace {
+// A stream that fails before its first frame.
+class FailedStream final : public grpc::ServerWriteReactor<v1::PoseFrame> {
+ public:
+  explicit FailedStream(const Status& status) { Finish(ToGrpcStatus(status)); }
+  void OnDone() override { delete this; }
+};
+}  // namespace
+
+grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext*,
+                                                                     const v1::StreamClipRequest* request) {
+  v1::StreamClipRequest r = *request;
+  auto ref = store_.Snapshot()->FindClip(r.clip());
+  if (!ref.ok()) return new FailedStream(ref.status());
+  if (Status st = ValidateStreamRequest(r, limits_); !st.ok()) return new FailedStream(st);
+  auto joints = ResolveJoints(*ref->part->clip->skeleton, r.joints(), "joints");
+  if (!joints.ok()) return new FailedStream(joints.status());
+  return new StreamClipReactor(scheduler_, std::move(*ref), std::move(r), std::move(*joints));
+}
+
+}  // namespace armature::server

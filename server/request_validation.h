@@ -1,0 +1,33 @@
+// Validation of request fields, in one place. Each failure is
+// INVALID_ARGUMENT (or NOT_FOUND / RESOURCE_EXHAUSTED) naming the field.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <google/protobuf/repeated_field.h>
+
+#include "armature/engine/skeleton.h"
+#include "armature/engine/status.h"
+#include "armature/v1/poses.pb.h"
+#include "server/limits.h"
+
+namespace armature::server {
+
+// Every time finite and >= 0, at most `limits.max_times_per_request`, at least one.
+Status ValidateTimes(std::span<const double> times, const Limits& limits, const std::string& field);
+
+// A finite number, with the field named in the error.
+Status ValidateFinite(double value, const std::string& field);
+
+// Joint names → indices into the skeleton; empty names = every joint.
+// NOT_FOUND names the unknown joint and the field.
+StatusOr<std::vector<int>> ResolveJoints(const Skeleton& skeleton,
+                                         const google::protobuf::RepeatedPtrField<std::string>& names,
+                                         const std::string& field);
+
+// Normalizes a stream request in place (defaults for fps and speed) and checks it.
+Status ValidateStreamRequest(v1::StreamClipRequest& request, const Limits& limits);
+
+}  // namespace armature::server
