@@ -162,6 +162,10 @@ class Importer {
   Importer(const tinygltf::Model& model, std::string_view name) : model_(model), reader_(model), name_(name) {}
 
   StatusOr<AssetContents> Run() {
+    // Compressed geometry would read as empty accessors: refuse it plainly.
+    for (const std::string& ext : model_.extensionsRequired)
+      if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
+        return Status::InvalidArgument("extensionsRequired: '" + ext + "' (compressed geometry) is not supported");
     if (!model_.nodes.empty()) ARMATURE_RETURN_IF_ERROR(BuildSkeleton());
     mesh_names_.resize(model_.meshes.size());
     target_counts_.resize(model_.meshes.size());

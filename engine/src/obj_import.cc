@@ -44,7 +44,8 @@ StatusOr<Eigen::Vector3f> ParseVector(const std::vector<std::string_view>& token
 }
 
 // A face index: 1-based, or negative counting back from the latest element.
-StatusOr<uint32_t> ResolveIndex(std::string_view t, size_t defined, const char* what, size_t line) {
+StatusOr<uint32_t> ResolveIndex(std::string_view t, size_t defined, const char* what, const char* plural,
+                                size_t line) {
   long long i = 0;
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), i);
   if (ec != std::errc() || end != t.data() + t.size())
@@ -52,7 +53,7 @@ StatusOr<uint32_t> ResolveIndex(std::string_view t, size_t defined, const char* 
   const long long resolved = i > 0 ? i - 1 : static_cast<long long>(defined) + i;
   if (i == 0 || resolved < 0 || resolved >= static_cast<long long>(defined))
     return Status::InvalidArgument(At(line) + what + " index " + std::to_string(i) + " is out of range (" +
-                                   std::to_string(defined) + " " + what + "s so far)");
+                                   std::to_string(defined) + " " + plural + " so far)");
   return static_cast<uint32_t>(resolved);
 }
 
@@ -94,18 +95,18 @@ StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vecto
       for (size_t c = 1; c < tokens.size(); ++c) {
         const std::string_view corner = tokens[c];
         const size_t s1 = corner.find('/');
-        auto v = ResolveIndex(corner.substr(0, s1), mesh.positions.size(), "vertex", line_number);
+        auto v = ResolveIndex(corner.substr(0, s1), mesh.positions.size(), "vertex", "vertices", line_number);
         if (!v.ok()) return v.status();
         if (s1 != std::string_view::npos) {
           const std::string_view rest = corner.substr(s1 + 1);
           const size_t s2 = rest.find('/');
           const std::string_view t = rest.substr(0, s2);
           if (!t.empty()) {
-            auto ti = ResolveIndex(t, texcoords, "texture coordinate", line_number);
+            auto ti = ResolveIndex(t, texcoords, "texture coordinate", "texture coordinates", line_number);
             if (!ti.ok()) return ti.status();
           }
           if (s2 != std::string_view::npos) {
-            auto ni = ResolveIndex(rest.substr(s2 + 1), file_normals.size(), "normal", line_number);
+            auto ni = ResolveIndex(rest.substr(s2 + 1), file_normals.size(), "normal", "normals", line_number);
             if (!ni.ok()) return ni.status();
             any_corner_normal = true;
             const Eigen::Vector3f& n = file_normals[*ni];

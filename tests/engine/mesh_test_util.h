@@ -42,7 +42,7 @@ inline std::filesystem::path SharedData(const std::string& relative) {
 inline StatusOr<AssetContents> LoadGltfFile(const std::filesystem::path& path, const std::string& name) {
   auto bytes = ReadFileBytes(path);
   if (!bytes) return Status::NotFound("cannot read " + path.string());
-  AssetResources resources;
+  ResourceMap resources;
   const bool binary = path.extension() == ".glb";
   if (!binary) {
     const auto json = nlohmann::json::parse(*bytes);

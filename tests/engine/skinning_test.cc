@@ -220,12 +220,7 @@ TEST(Skinning, DualQuaternionsKeepTheVolumeOfATwistedCylinderWhereLinearBlendCol
 
 // Non-uniform scale: positions follow the matrix, normals its inverse transpose.
 TEST(Skinning, NormalsUseTheInverseTransposeUnderNonUniformScale) {
-  Skeleton s;
-  s.names = {"root"};
-  s.parents = {-1};
-  s.rest.resize(1);
-  s.channels.resize(1);
-  s.end_sites.resize(1);
+  const Skeleton s = *MakeChain(1, 1.0);
   Mesh m;
   m.name = "plane";
   m.positions = {{1, 1, 0}, {0, 0, 0}};
