@@ -65,8 +65,11 @@ Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOpt
       if (track.mesh != mesh.name || track.targets != mesh.targets.size()) continue;
       Grow(workspace.sampled_weights, track.targets);
       Grow(workspace.morph_weights, track.targets);
-      const double t = WrapTime(time, clip.duration, sample.wrap);
-      SampleWeights(track, t, sample, std::span<double>(workspace.sampled_weights.data(), track.targets));
+      // Wrap by the clip's duration, as the joints are, then sample the track clamped.
+      SampleOptions clamped = sample;
+      clamped.wrap = WrapMode::kClamp;
+      SampleWeights(track, WrapTime(time, clip.duration, sample.wrap), clamped,
+                    std::span<double>(workspace.sampled_weights.data(), track.targets));
       for (size_t i = 0; i < track.targets; ++i)
         workspace.morph_weights[i] = static_cast<float>(workspace.sampled_weights[i]);
       effective.morph_weights = std::span<const float>(workspace.morph_weights.data(), track.targets);

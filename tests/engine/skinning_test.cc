@@ -281,6 +281,41 @@ TEST(Skinning, MorphTargetsApplyBeforeSkinning) {
   EXPECT_NEAR(positions[5], 1, 1e-6);
 }
 
+// SkinClip samples the weights track named after the mesh, wrapping time by
+// the clip's duration like the joints (a shorter track holds its last key).
+TEST(Skinning, ClipWeightsFollowTheClipTimeline) {
+  auto chain = MakeChain(1, 1.0);
+  Mesh m;
+  m.name = "blob";
+  m.positions = {{0, 0, 0}};
+  m.joints = {0};
+  m.inverse_bind = {Eigen::Affine3d::Identity()};
+  m.influence_offsets = {0, 1};
+  m.influence_joints = {0};
+  m.influence_weights = {1};
+  m.targets.push_back({"up", {0}, {Eigen::Vector3f(0, 1, 0)}, {}});
+  m.default_weights = {0};
+  ASSERT_TRUE(FinalizeMesh(m).ok());
+  Clip clip;
+  clip.skeleton = chain;
+  clip.joints.resize(1);
+  clip.joints[0].translation.times = {0, 2};
+  clip.joints[0].translation.values = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0)};
+  clip.weights.push_back({"blob", 1, {0, 1}, {0, 1}, Interpolation::kLinear});
+  clip.duration = 2;
+  ASSERT_TRUE(clip.Validate().ok());
+  SampleOptions loop;
+  loop.wrap = WrapMode::kLoop;
+  std::vector<float> p(3);
+  SkinningWorkspace ws;
+  const std::pair<double, Eigen::Vector3f> cases[] = {
+      {0.5, {0.5f, 0.5f, 0}}, {1.5, {1.5f, 1, 0}}, {2.5, {0.5f, 0.5f, 0}}, {3.5, {1.5f, 1, 0}}};
+  for (const auto& [t, expected] : cases) {
+    ASSERT_TRUE(SkinClip(m, clip, t, loop, {}, p, {}, ws).ok());
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[c], expected[c], 1e-6) << "t=" << t;
+  }
+}
+
 TEST(Skinning, TwoThreadsGiveTheSameResultAsOne) {
   const int rings = 400, segments = 100;  // 40000 vertices: above the parallel threshold
   Mesh mesh = MakeCylinder(0.3, 4.0, rings, segments);
