@@ -10,6 +10,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "armature/engine/fk.h"
+#include "armature/engine/mesh_topology.h"
 
 namespace armature {
 
@@ -82,40 +83,39 @@ void KeepLargest(const std::vector<double>& weights, int k, double min_weight, M
   mesh.influence_offsets.push_back(static_cast<uint32_t>(mesh.influence_joints.size()));
 }
 
-// Components of the triangle graph (isolated vertices are their own).
-std::vector<uint32_t> Components(size_t n, const std::vector<uint32_t>& triangles) {
-  std::vector<uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (size_t t = 0; t + 2 < triangles.size(); t += 3)
-    for (int e = 0; e < 2; ++e) parent[find(triangles[t + e])] = find(triangles[t + e + 1]);
-  std::vector<uint32_t> component(n);
-  for (size_t i = 0; i < n; ++i) component[i] = find(static_cast<uint32_t>(i));
-  return component;
-}
-
-// Cotangent stiffness matrix L (symmetric positive semi-definite, L·1 = 0)
-// and barycentric vertex areas.
-void CotangentLaplacian(const Mesh& mesh, Eigen::SparseMatrix<double>* laplacian, std::vector<double>* area) {
-  const size_t n = mesh.vertex_count();
-  std::vector<Eigen::Triplet<double>> entries;
-  area->assign(n, 0.0);
+// The triangles with well-defined angles: degenerate ones (a repeated
+// vertex, near-zero area) carry no cotangent weight and are skipped.
+std::vector<uint32_t> ProperTriangles(const Mesh& mesh) {
+  std::vector<uint32_t> kept;
   for (size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
     const uint32_t v[3] = {mesh.triangles[t], mesh.triangles[t + 1], mesh.triangles[t + 2]};
     const Eigen::Vector3d p[3] = {mesh.positions[v[0]].cast<double>(), mesh.positions[v[1]].cast<double>(),
                                   mesh.positions[v[2]].cast<double>()};
     const double twice_area = (p[1] - p[0]).cross(p[2] - p[0]).norm();
-    const double longest2 = std::max({(p[1] - p[0]).squaredNorm(), (p[2] - p[1]).squaredNorm(), (p[0] - p[2]).squaredNorm()});
-    if (!(twice_area > 1e-10 * longest2)) continue;  // degenerate: no well-defined angles
+    const double longest2 =
+        std::max({(p[1] - p[0]).squaredNorm(), (p[2] - p[1]).squaredNorm(), (p[0] - p[2]).squaredNorm()});
+    if (twice_area > 1e-10 * longest2) kept.insert(kept.end(), v, v + 3);
+  }
+  return kept;
+}
+
+// Cotangent stiffness matrix L (symmetric positive semi-definite, L·1 = 0)
+// and barycentric vertex areas, from proper triangles.
+void CotangentLaplacian(const Mesh& mesh, const std::vector<uint32_t>& triangles,
+                        Eigen::SparseMatrix<double>* laplacian, std::vector<double>* area) {
+  const size_t n = mesh.vertex_count();
+  std::vector<Eigen::Triplet<double>> entries;
+  area->assign(n, 0.0);
+  for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const uint32_t v[3] = {triangles[t], triangles[t + 1], triangles[t + 2]};
+    const Eigen::Vector3d p[3] = {mesh.positions[v[0]].cast<double>(), mesh.positions[v[1]].cast<double>(),
+                                  mesh.positions[v[2]].cast<double>()};
+    const double twice_area = (p[1] - p[0]).cross(p[2] - p[0]).norm();
     for (int i = 0; i < 3; ++i) {
       (*area)[v[i]] += twice_area / 6;
-      // The angle at corner i is opposite edge (j, k).
+      // The angle at corner i is opposite edge (j, k): cot = a·b / |a×b|.
       const int j = (i + 1) % 3, k = (i + 2) % 3;
-      const Eigen::Vector3d a = p[j] - p[i], b = p[k] - p[i];
-      const double w = 0.5 * a.dot(b) / a.cross(b).norm();
+      const double w = 0.5 * (p[j] - p[i]).dot(p[k] - p[i]) / twice_area;
       entries.emplace_back(v[j], v[k], -w);
       entries.emplace_back(v[k], v[j], -w);
       entries.emplace_back(v[j], v[j], w);
@@ -152,8 +152,11 @@ Status HeatWeights(const Mesh& mesh, const std::vector<std::vector<Segment>>& bo
   }
   // A component that sees no bone (e.g. inward normals) takes its nearest
   // bones regardless, or the system would be singular there.
-  const std::vector<uint32_t> component = Components(n, mesh.triangles);
-  std::vector<char> sees(n, 0);
+  const std::vector<uint32_t> triangles = ProperTriangles(mesh);
+  auto topology = BuildMeshTopology(n, triangles);
+  if (!topology.ok()) return topology.status();
+  const std::vector<uint32_t>& component = topology->component;
+  std::vector<char> sees(topology->component_count, 0);
   for (size_t i = 0; i < n; ++i)
     if (h[i] > 0) sees[component[i]] = 1;
   size_t forced = 0;
@@ -172,7 +175,7 @@ Status HeatWeights(const Mesh& mesh, const std::vector<std::vector<Segment>>& bo
   // (the area-weighted, symmetric form of (−Δ + H)·w = H·p).
   Eigen::SparseMatrix<double> system;
   std::vector<double> area;
-  CotangentLaplacian(mesh, &system, &area);
+  CotangentLaplacian(mesh, triangles, &system, &area);
   // Vertices on no triangle have no area; give them a unit mass so H binds them.
   for (double& a : area)
     if (!(a > 0)) a = 1;
