@@ -199,7 +199,7 @@ Status RunDeform(const Deform& d) {
       bool stretched = false;
       ARMATURE_RETURN_IF_ERROR(PrepareDualQuaternion(mesh, d.joint_world, ws, &stretched));
       in.dual_quaternions = ws.pair_dual_quaternions.data()->q;
-      in.pair_slots = l.pair_slots.data();
+      in.pair_offsets = l.pair_offsets.data();
       in.stretch = stretched ? ws.stretch.data()->c : nullptr;
     }
   }

@@ -181,7 +181,7 @@ void BuildLayout(Mesh& mesh) {
         l.weights.push_back(real ? mesh.influence_weights[src] : 0.f);
         const auto [it, added] = slot_of.try_emplace(uint32_t{pivot} << 16 | joint, static_cast<uint32_t>(l.pairs.size()));
         if (added) l.pairs.emplace_back(pivot, joint);
-        l.pair_slots.push_back(it->second);
+        l.pair_offsets.push_back(8 * it->second);
       }
     }
     g.end = r;

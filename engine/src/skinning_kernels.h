@@ -18,7 +18,7 @@ struct KernelInput {
   size_t group_count = 0;
   const uint32_t* order = nullptr;   // runtime index → mesh vertex
   const uint16_t* joints = nullptr;  // skin joint per influence
-  const uint32_t* pair_slots = nullptr;  // DQS: per influence, its (heaviest joint, joint) pair
+  const uint32_t* pair_offsets = nullptr;  // DQS: per influence, 8 × its (heaviest joint, joint) pair
   const float* weights = nullptr;
   // Source geometry in runtime order (the rest layout or the morphed copy).
   const float *x = nullptr, *y = nullptr, *z = nullptr;

@@ -49,7 +49,7 @@ struct SkinningLayout {
   // other hemisphere from the vertex's heaviest one. That depends only on
   // the pair (heaviest joint, joint), so each influence names its pair and
   // the job flips once per pair per call instead of once per vertex.
-  std::vector<uint32_t> pair_slots;                  // per influence: index into `pairs`
+  std::vector<uint32_t> pair_offsets;                // per influence: 8 × its index into `pairs` (float offset)
   std::vector<std::pair<uint16_t, uint16_t>> pairs;  // (heaviest joint, joint) of the vertex
   std::vector<Target> targets;
 };
