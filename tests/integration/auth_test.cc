@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "armature/client.h"
 #include "client_helpers.h"
@@ -91,6 +92,20 @@ TEST_F(Auth, HealthStaysOpenAndRefusalsAreCounted) {
                 "armature_rpc_requests_total{method=\"armature.v1.AssetService/ListAssets\",code=\"UNAUTHENTICATED\"} 1"),
             std::string::npos)
       << metrics.body;
+}
+
+// REST rides the same gate: the gateway forwards the authorization header.
+TEST_F(Auth, RestCallsNeedTheTokenToo) {
+  const HttpResponse refused = HttpGet(Url("/v1/clips"));
+  EXPECT_EQ(refused.status, 401);
+  const auto body = nlohmann::json::parse(refused.body, nullptr, false);
+  ASSERT_FALSE(body.is_discarded()) << refused.body;
+  EXPECT_EQ(body["code"], 16);  // UNAUTHENTICATED
+  EXPECT_TRUE(body["details"].is_array());
+  EXPECT_EQ(HttpGet(Url("/v1/clips"), {"Authorization: Bearer wrong"}).status, 401);
+  const HttpResponse ok = HttpGet(Url("/v1/clips"), {std::string("Authorization: Bearer ") + kRotatedToken});
+  ASSERT_EQ(ok.status, 200) << ok.body;
+  EXPECT_NE(ok.body.find("\"demo_walk\""), std::string::npos) << ok.body;
 }
 
 TEST_F(Auth, CliSendsTheToken) {
