@@ -94,18 +94,11 @@ assert len(j["joints"]) > 10 and all(len(x["translation"]) == 3 for x in j["join
 PY
 echo "ok   EvaluateClip: a world pose of demo_walk"
 
-# REST: the gateway's GET /v1/clips; a build without the gateway answers 404 there, then /healthz is checked.
+# REST: the gateway's GET /v1/clips.
 code=$(curl -s -o /tmp/$name.rest -w '%{http_code}' "http://$http/v1/clips")
-if [[ "$code" == 200 ]]; then
-  grep -q demo_walk /tmp/$name.rest || fail "GET /v1/clips does not list demo_walk: $(cat /tmp/$name.rest)"
-  echo "ok   REST: GET /v1/clips lists demo_walk"
-elif [[ "$code" == 404 ]]; then
-  [[ $(curl -s -o /tmp/$name.rest -w '%{http_code}' "http://$http/healthz") == 200 ]] || fail "GET /healthz failed"
-  grep -q '"ok"' /tmp/$name.rest || fail "GET /healthz answered $(cat /tmp/$name.rest)"
-  echo "ok   REST: no gateway in this build (GET /v1/clips is 404); GET /healthz is ok"
-else
-  fail "GET /v1/clips answered HTTP $code"
-fi
+[[ "$code" == 200 ]] || fail "GET /v1/clips answered HTTP $code: $(cat /tmp/$name.rest)"
+grep -q demo_walk /tmp/$name.rest || fail "GET /v1/clips does not list demo_walk: $(cat /tmp/$name.rest)"
+echo "ok   REST: GET /v1/clips lists demo_walk"
 rm -f /tmp/$name.rest
 curl -s "http://$http/metrics" | grep -q 'armature_rpc_requests_total{method="armature.v1.PoseService/EvaluateClip",code="OK"} 1' \
   || fail "/metrics does not count the EvaluateClip call"
