@@ -62,6 +62,8 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   app.add_option("--max-sessions-per-client", c.limits.max_sessions_per_client,
                  "Most IK/deformation sessions one client may hold open")
       ->envname("ARMATURE_MAX_SESSIONS_PER_CLIENT")->check(CLI::PositiveNumber);
+  app.add_option("--max-sessions", c.limits.max_sessions, "Most IK/deformation sessions open at once in all")
+      ->envname("ARMATURE_MAX_SESSIONS")->check(CLI::PositiveNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

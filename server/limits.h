@@ -17,6 +17,7 @@ struct Limits {
   int64_t max_mesh_vertices = 5000000;     // --max-mesh-vertices: vertices of one imported mesh
   int max_ik_iterations = 1000;            // --max-ik-iterations: solver iterations one IK request may ask for
   int max_sessions_per_client = 16;        // --max-sessions-per-client: open IK/deformation sessions per client
+  int max_sessions = 256;                  // --max-sessions: open IK/deformation sessions in all
 };
 
 }  // namespace armature::server

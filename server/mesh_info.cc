@@ -2,6 +2,8 @@
 // that needs the Mesh type.
 #include "server/proto_convert.h"
 
+#include "armature/engine/mesh.h"
+
 namespace armature::server {
 
 v1::MeshInfo MeshInfoOf(const StoredAsset& asset, const NamedMesh& m) {
@@ -9,6 +11,12 @@ v1::MeshInfo MeshInfoOf(const StoredAsset& asset, const NamedMesh& m) {
   info.set_name(m.name);
   info.set_asset(asset.record.name);
   info.set_skeleton(m.skeleton);
+  if (m.mesh) {
+    info.set_vertex_count(static_cast<int32_t>(m.mesh->vertex_count()));
+    info.set_triangle_count(static_cast<int32_t>(m.mesh->triangle_count()));
+    info.set_max_influences(static_cast<int32_t>(m.mesh->max_influences()));
+    for (const auto& t : m.mesh->targets) info.add_target_names(t.name);
+  }
   return info;
 }
 

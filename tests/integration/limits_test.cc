@@ -50,7 +50,7 @@ TEST(Limits, MessageSizeIsEnforcedBothWays) {
 TEST(Limits, EveryLimitIsAFlagAndAnEnvironmentVariable) {
   TempDir data;
   for (const char* flag : {"--max-clip-frames", "--max-mesh-vertices", "--max-ik-iterations",
-                           "--max-sessions-per-client"}) {
+                           "--max-sessions-per-client", "--max-sessions"}) {
     try {
       ServerProcess refused(data.path(), {flag, "0"});
       ADD_FAILURE() << flag << " 0 was accepted";

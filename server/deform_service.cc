@@ -1,0 +1,121 @@
+#include "server/deform_service.h"
+
+#include <optional>
+#include <string>
+
+#include "server/grpc_status.h"
+#include "server/mesh_deformer.h"
+#include "server/proto_convert.h"
+
+namespace armature::server {
+
+Status Deform(const Catalog& catalog, const Limits& limits, const v1::DeformRequest& request,
+              v1::DeformResponse* response) {
+  std::vector<uint32_t> handles;
+  std::vector<double> positions;
+  ARMATURE_RETURN_IF_ERROR(SplitHandles(request, &handles, &positions));
+  auto deformer = MeshDeformer::Create(catalog, limits, SetupOf(request), std::move(handles));
+  if (!deformer.ok()) return deformer.status();
+  return deformer->Solve(positions, "handles", response);
+}
+
+grpc::ServerUnaryReactor* DeformServiceImpl::Deform(grpc::CallbackServerContext* context,
+                                                    const v1::DeformRequest* request, v1::DeformResponse* response) {
+  return FinishUnary(context, server::Deform(*store_.Snapshot(), limits_, *request, response));
+}
+
+namespace {
+
+// One drag session: reads a message, answers it, reads the next. The solver
+// (and its factorization) lives exactly as long as the call.
+class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse> {
+ public:
+  DeformSessionReactor(AssetStore& store, const Limits& limits, SessionLimiter& sessions, std::string client)
+      : store_(store), limits_(limits), sessions_(sessions), client_(std::move(client)) {
+    if (Status st = sessions_.Acquire(client_); !st.ok()) {
+      Finish(ToGrpcStatus(st));
+      return;
+    }
+    holds_slot_ = true;
+    StartRead(&request_);
+  }
+
+  void OnReadDone(bool ok) override {
+    if (!ok) {  // the client closed its side: the session ends normally
+      End(Status::Ok());
+      return;
+    }
+    response_.Clear();
+    const Status st = Handle();
+    if (!st.ok()) {
+      End(st);
+      return;
+    }
+    StartWrite(&response_);
+  }
+
+  void OnWriteDone(bool ok) override {
+    if (!ok) {
+      End(Status::Cancelled("the client went away"));
+      return;
+    }
+    StartRead(&request_);
+  }
+
+  void OnDone() override {
+    if (holds_slot_) sessions_.Release(client_);  // a call that never reached End (cancelled mid-solve)
+    delete this;
+  }
+
+ private:
+  // Frees the factorization and the session slot before the client sees the
+  // end, so a client that closes a session can open the next one at once.
+  void End(const Status& status) {
+    deformer_.reset();
+    if (holds_slot_) sessions_.Release(client_);
+    holds_slot_ = false;
+    Finish(ToGrpcStatus(status));
+  }
+
+  Status Handle() {
+    if (!deformer_) {
+      if (!request_.has_start())
+        return Status::InvalidArgument("start: the first message of a session must be `start` (mesh and constraints)");
+      const auto& start = request_.start();
+      std::vector<uint32_t> handles(start.handle_indices().begin(), start.handle_indices().end());
+      auto d = MeshDeformer::Create(*store_.Snapshot(), limits_, start.setup(), std::move(handles));
+      if (!d.ok()) return d.status();
+      deformer_.emplace(std::move(*d));
+      // The setup's answer: the handles at rest, i.e. the rest shape.
+      ARMATURE_RETURN_IF_ERROR(deformer_->Solve(deformer_->RestHandlePositions(), "start", &response_));
+      response_.set_index(0);
+      return Status::Ok();
+    }
+    if (!request_.has_move())
+      return Status::InvalidArgument("move: messages after the first must be `move` (handle positions)");
+    ++moves_;
+    ARMATURE_RETURN_IF_ERROR(
+        deformer_->Solve(AsSpan(request_.move().positions()), "move[" + std::to_string(moves_) + "].positions", &response_));
+    response_.set_index(moves_);
+    return Status::Ok();
+  }
+
+  AssetStore& store_;
+  const Limits& limits_;
+  SessionLimiter& sessions_;
+  std::string client_;
+  bool holds_slot_ = false;
+  uint64_t moves_ = 0;
+  std::optional<MeshDeformer> deformer_;
+  v1::DeformSessionRequest request_;
+  v1::DeformResponse response_;
+};
+
+}  // namespace
+
+grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* DeformServiceImpl::DeformSession(
+    grpc::CallbackServerContext* context) {
+  return new DeformSessionReactor(store_, limits_, sessions_, ClientKeyOf(*context));
+}
+
+}  // namespace armature::server

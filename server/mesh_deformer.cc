@@ -1,0 +1,116 @@
+#include "server/mesh_deformer.h"
+
+#include <cmath>
+#include <string>
+
+#include "armature/engine/mesh.h"
+
+namespace armature::server {
+
+v1::DeformSetup SetupOf(const v1::DeformRequest& request) {
+  v1::DeformSetup s;
+  s.set_mesh(request.mesh());
+  s.set_weights(request.weights());
+  s.set_method(request.method());
+  *s.mutable_fixed() = request.fixed();
+  *s.mutable_region_of_interest() = request.region_of_interest();
+  s.set_soft(request.soft());
+  s.set_soft_weight(request.soft_weight());
+  s.set_arap_iterations(request.arap_iterations());
+  return s;
+}
+
+Status SplitHandles(const v1::DeformRequest& request, std::vector<uint32_t>* indices, std::vector<double>* positions) {
+  indices->clear();
+  positions->clear();
+  for (int k = 0; k < request.handles_size(); ++k) {
+    const v1::DeformHandle& h = request.handles(k);
+    if (h.position_size() != 3)
+      return Status::InvalidArgument("handles[" + std::to_string(k) + "].position: needs 3 values (x, y, z), got " +
+                                     std::to_string(h.position_size()));
+    indices->push_back(h.index());
+    positions->insert(positions->end(), h.position().begin(), h.position().end());
+  }
+  return Status::Ok();
+}
+
+StatusOr<MeshDeformer> MeshDeformer::Create(const Catalog& catalog, const Limits& limits,
+                                            const v1::DeformSetup& setup, std::vector<uint32_t> handles) {
+  auto ref = catalog.FindMesh(setup.mesh());
+  if (!ref.ok()) return ref.status();
+  const Mesh& mesh = *ref->part->mesh;
+  if (static_cast<int64_t>(mesh.vertex_count()) > limits.max_mesh_vertices)
+    return Status::ResourceExhausted("mesh '" + setup.mesh() + "' has " + std::to_string(mesh.vertex_count()) +
+                                     " vertices, over max_mesh_vertices (" +
+                                     std::to_string(limits.max_mesh_vertices) + ")");
+  if (setup.soft() && setup.soft_weight() != 0 && !(std::isfinite(setup.soft_weight()) && setup.soft_weight() > 0))
+    return Status::InvalidArgument("soft_weight: must be finite and > 0");
+  if (setup.arap_iterations() < 0 || setup.arap_iterations() > 1000)
+    return Status::InvalidArgument("arap_iterations: must be in [0, 1000] (0 = default 10)");
+
+  LaplacianModelOptions model_options;
+  model_options.weights = setup.weights() == v1::COTANGENT ? LaplacianWeights::kCotangent : LaplacianWeights::kUniform;
+  model_options.max_vertices = static_cast<size_t>(limits.max_mesh_vertices);
+  const std::span<const float> positions(mesh.positions.empty() ? nullptr : mesh.positions.front().data(),
+                                         3 * mesh.vertex_count());
+  auto model = BuildLaplacianModel(positions, mesh.triangles, model_options);
+  if (!model.ok()) return model.status();
+
+  DeformationConstraints c;
+  c.handles = std::move(handles);
+  c.fixed.assign(setup.fixed().begin(), setup.fixed().end());
+  c.region_of_interest.assign(setup.region_of_interest().begin(), setup.region_of_interest().end());
+  c.mode = setup.soft() ? ConstraintMode::kSoft : ConstraintMode::kHard;
+  if (setup.soft() && setup.soft_weight() != 0) c.soft_weight = setup.soft_weight();
+
+  MeshDeformer d;
+  d.mesh_ = std::move(*ref);
+  d.handles_ = c.handles;
+  d.positions_.assign(positions.begin(), positions.end());
+  if (setup.method() == v1::ARAP) {
+    auto solver = ArapSolver::Create(*model, c);
+    if (!solver.ok()) return solver.status();
+    d.arap_.emplace(std::move(*solver));
+    if (setup.arap_iterations() > 0) d.arap_options_.max_iterations = setup.arap_iterations();
+  } else {
+    auto solver = DeformationSolver::Create(*model, c);
+    if (!solver.ok()) return solver.status();
+    d.laplacian_.emplace(std::move(*solver));
+  }
+  return d;
+}
+
+std::vector<double> MeshDeformer::RestHandlePositions() const {
+  std::vector<double> rest;
+  rest.reserve(3 * handles_.size());
+  for (uint32_t h : handles_)
+    for (int a = 0; a < 3; ++a) rest.push_back(mesh_.part->mesh->positions[h][a]);
+  return rest;
+}
+
+Status MeshDeformer::Solve(std::span<const double> handle_positions, const std::string& field,
+                           v1::DeformResponse* response) {
+  if (handle_positions.size() != 3 * handles_.size())
+    return Status::InvalidArgument(field + ": needs " + std::to_string(3 * handles_.size()) + " values (x, y, z per handle), got " +
+                                   std::to_string(handle_positions.size()));
+  for (size_t i = 0; i < handle_positions.size(); ++i)
+    if (!std::isfinite(handle_positions[i]))
+      return Status::InvalidArgument(field + ": handle " + std::to_string(i / 3) + " has a non-finite coordinate");
+  int iterations = 0;
+  if (arap_) {
+    auto report = arap_->Solve(handle_positions, arap_options_, positions_);
+    if (!report.ok()) return report.status();
+    iterations = report->iterations;
+    arap_options_.warm_start = true;
+  } else {
+    ARMATURE_RETURN_IF_ERROR(laplacian_->Solve(handle_positions, positions_));
+  }
+  response->set_mesh(mesh_.part->name);
+  response->set_iterations(iterations);
+  auto* out = response->mutable_positions();
+  out->Resize(static_cast<int>(positions_.size()), 0.0f);
+  for (size_t i = 0; i < positions_.size(); ++i) (*out)[static_cast<int>(i)] = static_cast<float>(positions_[i]);
+  return Status::Ok();
+}
+
+}  // namespace armature::server
