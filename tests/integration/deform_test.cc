@@ -328,6 +328,29 @@ TEST_F(Deform, SessionsPerClientAreLimitedAndFreedWhenTheyEnd) {
   }
 }
 
+TEST_F(Deform, SessionsInAllAreLimited) {
+  server_->Stop(SIGTERM);
+  ServerProcess two(data_.path(), {"--no-demo", "--max-sessions", "2"});
+  Client client(OptionsFor(two));
+  auto stub = v1::DeformService::NewStub(client.channel());
+  const Edit e = BumpEdit(grid_);
+  grpc::ClientContext c1, c2, c3;
+  v1::DeformResponse first;
+  auto s1 = OpenSession(*stub, c1, mesh_, e, v1::LAPLACIAN, &first);
+  ASSERT_GT(first.positions_size(), 0);
+  auto s2 = OpenSession(*stub, c2, mesh_, e, v1::ARAP, &first);
+  ASSERT_GT(first.positions_size(), 0);
+  auto s3 = OpenSession(*stub, c3, mesh_, e, v1::LAPLACIAN, &first);
+  EXPECT_EQ(first.positions_size(), 0);
+  const grpc::Status st = s3->Finish();
+  EXPECT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(st.error_message().find("max_sessions (2)"), std::string::npos) << st.error_message();
+  for (auto* s : {s1.get(), s2.get()}) {
+    s->WritesDone();
+    EXPECT_TRUE(s->Finish().ok());
+  }
+}
+
 TEST_F(Deform, CliPrintsTheGrpcPositionsAsJson) {
   const Edit e = BumpEdit(grid_);
   const v1::DeformResponse grpc_answer = Call(RequestFor(mesh_, e, v1::COTANGENT));
