@@ -23,6 +23,11 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   double message_mb = static_cast<double>(c.limits.max_message_bytes) / (1 << 20);
   app.add_option("--max-message-mb", message_mb, "Largest gRPC message sent or received, in MiB")
       ->envname("ARMATURE_MAX_MESSAGE_MB")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-iterations", c.limits.max_ik_iterations,
+                 "Most IK iterations one solve may ask for (more: RESOURCE_EXHAUSTED)")
+      ->envname("ARMATURE_MAX_IK_ITERATIONS")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most concurrent IK sessions (more: RESOURCE_EXHAUSTED)")
+      ->envname("ARMATURE_MAX_IK_SESSIONS")->check(CLI::NonNegativeNumber);
   bool no_demo = !c.demo;
   app.add_flag("--no-demo", no_demo, "Do not seed demo assets into an empty data dir")->envname("ARMATURE_NO_DEMO");
   app.add_option("--shutdown-grace", c.shutdown_grace_seconds,

@@ -11,6 +11,8 @@ struct Limits {
   int64_t max_message_bytes = 64ll << 20;  // gRPC send/receive
   size_t max_times_per_request = 100000;   // EvaluateClip.times
   double max_stream_fps = 240;
+  int max_ik_iterations = 10000;  // SolveIkRequest.options.max_iterations
+  int max_ik_sessions = 64;       // concurrent IkSession streams
 };
 
 }  // namespace armature::server

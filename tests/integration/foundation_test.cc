@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "armature/client.h"
+#include "rpc_test_util.h"
 #include "server_process.h"
 
 namespace armature::testing {
@@ -43,35 +44,10 @@ Frame Time: 0.5
 0 0 0 180 0 0 0 0 0
 )";
 
-ClientOptions OptionsFor(const ServerProcess& server) {
-  ClientOptions o;
-  o.target = server.target();
-  o.timeout = std::chrono::seconds(30);
-  return o;
-}
-
 fs::path WriteTemp(const TempDir& dir, const std::string& name, const std::string& content) {
   const fs::path p = dir.path() / name;
   std::ofstream(p, std::ios::binary) << content;
   return p;
-}
-
-grpc::StatusCode CodeOf(const std::function<void()>& call) {
-  try {
-    call();
-  } catch (const ClientError& e) {
-    return e.code();
-  }
-  return grpc::StatusCode::OK;
-}
-
-std::string MessageOf(const std::function<void()>& call) {
-  try {
-    call();
-  } catch (const ClientError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 class Foundation : public ::testing::Test {
