@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -49,13 +50,14 @@ SolveStats Measure(int n, Solve&& solve) {
   return {100.0 * reached / n, times[times.size() / 2], times[times.size() * 9 / 10], iterations / n};
 }
 
-// Armature's solver from the rest pose; requests are built before timing.
+// Armature's solver from the rest pose, on requests built (and adjusted by
+// `adjust`) before timing.
 inline SolveStats MeasureArmature(const ik_rigs::LimbCase& c, const std::vector<ik_rigs::Target>& targets,
-                                  IkSolver solver = IkSolver::kDls) {
+                                  const std::function<void(IkRequest&)>& adjust = {}) {
   std::vector<IkRequest> requests;
   for (const ik_rigs::Target& t : targets) {
     requests.push_back(ik_rigs::RequestFor(c, t));
-    requests.back().solver = solver;
+    if (adjust) adjust(requests.back());
   }
   IkWorkspace ws;
   IkResult result;
@@ -63,6 +65,15 @@ inline SolveStats MeasureArmature(const ik_rigs::LimbCase& c, const std::vector<
     if (!SolveIk(c.skeleton, requests[i], ws, result).ok()) return std::pair(false, 0);
     const IkEffectorResidual& r = result.residuals[0];
     return std::pair(ik_rigs::Reached(c, r.position_error, r.rotation_error), result.iterations);
+  });
+}
+
+// Prepared requests on `skeleton`, success = converged.
+inline SolveStats MeasureRequests(const Skeleton& skeleton, const std::vector<IkRequest>& requests) {
+  IkWorkspace ws;
+  IkResult result;
+  return Measure(static_cast<int>(requests.size()), [&](int i) {
+    return std::pair(SolveIk(skeleton, requests[i], ws, result).ok() && result.converged, result.iterations);
   });
 }
 

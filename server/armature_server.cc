@@ -5,9 +5,11 @@
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <httplib.h>
 #include <spdlog/spdlog.h>
 
 #include "grpc/health/v1/health.pb.h"
+#include "server/gateway/http_rule.h"
 #include "server/demo_assets.h"
 #include "server/services.h"
 
@@ -44,7 +46,8 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   s->grpc_->GetHealthCheckService()->SetServingStatus(true);
 
   if (config.http_port >= 0) {
-    s->http_ = std::make_unique<HttpServer>();
+    s->http_ = std::make_unique<HttpServer>(config.limits.max_http_threads);
+    if (Status st = s->StartGateway(); !st.ok()) return st;
     s->http_port_ = s->http_->Start(config.host, config.http_port);
     if (s->http_port_ < 0)
       return Status::Unavailable("cannot listen for HTTP on " + config.host + ":" + std::to_string(config.http_port));
@@ -60,14 +63,50 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   return s;
 }
 
+Status ArmatureServer::StartGateway() {
+  const Limits& limits = config_.limits;
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(static_cast<int>(limits.max_message_bytes));
+  args.SetMaxSendMessageSize(static_cast<int>(limits.max_message_bytes));
+  gateway::GatewayOptions options;
+  options.cors_origins = config_.cors_origins;
+  options.max_request_bytes = static_cast<size_t>(limits.max_request_bytes);
+  options.max_upload_bytes = static_cast<size_t>(limits.max_upload_bytes);
+  // Keep threads free for ordinary requests however many streams are open.
+  options.max_streams = limits.max_http_threads - std::min<size_t>(limits.max_http_threads / 4, 64);
+  auto gw = gateway::Gateway::Create(gateway::GeneratedServicesIn("armature.v1"),
+                                     google::protobuf::MessageFactory::generated_factory(),
+                                     grpc_->InProcessChannel(args), options);
+  if (!gw.ok()) return gw.status();
+  gateway_ = std::move(*gw);
+  httplib::Server& routes = http_->routes();
+  routes.set_payload_max_length(static_cast<size_t>(std::max(limits.max_upload_bytes, limits.max_request_bytes)));
+  gateway_->Register(routes);
+  spdlog::info("REST gateway: {} routes; OpenAPI at /openapi.json", gateway_->bindings().size());
+
+  const std::string web_dir = config_.web_dir.empty() ? DefaultWebDir() : config_.web_dir;
+  if (web_dir.empty())
+    spdlog::warn("viewer: no built viewer found (build the armature_web target or pass --web-dir)");
+  else if (!http_->ServeDirectory(web_dir))
+    return Status::InvalidArgument("--web-dir " + web_dir + ": not a directory");
+  else
+    spdlog::info("viewer: serving {} at /", web_dir);
+  return Status::Ok();
+}
+
 void ArmatureServer::Shutdown() {
   if (stopped_) return;
   stopped_ = true;
   spdlog::info("shutting down: finishing in-flight calls (up to {} s)", config_.shutdown_grace_seconds);
+  const auto deadline = std::chrono::system_clock::now() +
+                        std::chrono::milliseconds(static_cast<int64_t>(config_.shutdown_grace_seconds * 1000));
+  if (gateway_) gateway_->BeginDrain();  // before readiness drops, so /readyz 503 means REST refuses too
   if (http_) http_->SetReady(false);
   grpc_->GetHealthCheckService()->SetServingStatus(false);
-  grpc_->Shutdown(std::chrono::system_clock::now() +
-                  std::chrono::milliseconds(static_cast<int64_t>(config_.shutdown_grace_seconds * 1000)));
+  // REST calls ride the in-process channel, which the gRPC shutdown drops at
+  // once: they get their grace period first.
+  if (gateway_) gateway_->Drain(deadline);
+  grpc_->Shutdown(deadline);
   spdlog::debug("gRPC shut down");
   if (http_) http_->Stop();
   spdlog::debug("HTTP stopped");

@@ -10,6 +10,7 @@
 #include "armature/engine/status.h"
 #include "server/asset_store.h"
 #include "server/config.h"
+#include "server/gateway/gateway.h"
 #include "server/http_server.h"
 
 namespace armature::server {
@@ -28,11 +29,13 @@ class ArmatureServer {
 
  private:
   ArmatureServer() = default;
+  Status StartGateway();  // the REST gateway and the viewer on http_
 
   ServerConfig config_;
   std::unique_ptr<AssetStore> store_;
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> grpc_;
+  std::unique_ptr<gateway::Gateway> gateway_;  // calls grpc_ in-process; serves on http_
   std::unique_ptr<HttpServer> http_;
   int grpc_port_ = 0;
   int http_port_ = -1;

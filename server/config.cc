@@ -1,5 +1,7 @@
 #include "server/config.h"
 
+#include <filesystem>
+
 #include <CLI/CLI.hpp>
 
 namespace armature::server {
@@ -35,6 +37,17 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
       ->envname("ARMATURE_SHUTDOWN_GRACE")->check(CLI::NonNegativeNumber);
   app.add_option("--port-file", c.port_file, "Write the bound ports as JSON here once serving")
       ->envname("ARMATURE_PORT_FILE");
+  app.add_option("--cors-origin", c.cors_origins,
+                 "Origin allowed to call the REST API from a browser, e.g. http://localhost:5173 (repeatable; * = any)")
+      ->envname("ARMATURE_CORS_ORIGIN")->delimiter(',');
+  double request_kb = static_cast<double>(c.limits.max_request_bytes) / 1024;
+  app.add_option("--max-request-kb", request_kb, "Largest REST JSON request body, in KiB (imports: --max-upload-mb)")
+      ->envname("ARMATURE_MAX_REQUEST_KB")->check(CLI::PositiveNumber);
+  app.add_option("--http-threads", c.limits.max_http_threads,
+                 "Most HTTP connections served at once (each open SSE stream holds one)")
+      ->envname("ARMATURE_HTTP_THREADS")->check(CLI::Range(16, 10000));
+  app.add_option("--web-dir", c.web_dir, "The viewer's files, served at / (default: the installed or built viewer)")
+      ->envname("ARMATURE_WEB_DIR");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -43,7 +56,17 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   c.demo = !no_demo;
   c.limits.max_upload_bytes = static_cast<int64_t>(upload_mb * (1 << 20));
   c.limits.max_message_bytes = static_cast<int64_t>(message_mb * (1 << 20));
+  c.limits.max_request_bytes = static_cast<int64_t>(request_kb * 1024);
   return -1;
+}
+
+std::string DefaultWebDir() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return "";
+  const fs::path dir = exe.parent_path().parent_path() / "share" / "armature" / "web";
+  return fs::exists(dir / "index.html", ec) ? dir.string() : "";
 }
 
 }  // namespace armature::server

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "server/limits.h"
 
@@ -17,11 +18,18 @@ struct ServerConfig {
   bool demo = true;                 // seed demo assets into an empty data dir
   double shutdown_grace_seconds = 10;
   std::string port_file;  // when set, {"grpc":…,"http":…} is written there once serving
+  std::vector<std::string> cors_origins;  // origins allowed to call the REST gateway from a browser ("*": any)
+  std::string web_dir;  // the viewer's files; empty: the installed or built location (DefaultWebDir)
   Limits limits;
 };
 
 // Parses argv (CLI11). Returns an exit code >= 0 when the process should
 // exit (e.g. --help printed, or a bad flag), -1 to go on.
 int ParseConfig(int argc, char** argv, ServerConfig& config);
+
+// Where the viewer's files are when --web-dir is not given:
+// <the binary's dir>/../share/armature/web, which is where both the build
+// tree (build/bin, build/share) and an install put them. Empty when absent.
+std::string DefaultWebDir();
 
 }  // namespace armature::server

@@ -3,9 +3,14 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include "server/elastic_thread_pool.h"
+
 namespace armature::server {
 
-HttpServer::HttpServer() : http_(std::make_unique<httplib::Server>()) {
+HttpServer::HttpServer(size_t max_threads) : http_(std::make_unique<httplib::Server>()) {
+  http_->new_task_queue = [max_threads] { return new ElasticThreadPool(max_threads); };
+  // Small writes (SSE frames) go out at once instead of waiting on Nagle and delayed ACKs.
+  http_->set_tcp_nodelay(true);
   http_->Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
     res.set_content("{\"status\":\"ok\"}\n", "application/json");
   });
@@ -16,6 +21,14 @@ HttpServer::HttpServer() : http_(std::make_unique<httplib::Server>()) {
 }
 
 HttpServer::~HttpServer() { Stop(); }
+
+bool HttpServer::ServeDirectory(const std::string& dir) {
+  for (const auto& [ext, type] : {std::pair{"js", "text/javascript"}, {"mjs", "text/javascript"},
+                                  {"css", "text/css"}, {"html", "text/html"}, {"json", "application/json"},
+                                  {"map", "application/json"}, {"svg", "image/svg+xml"}, {"png", "image/png"}})
+    http_->set_file_extension_and_mimetype_mapping(ext, type);
+  return http_->set_mount_point("/", dir);
+}
 
 int HttpServer::Start(const std::string& host, int port) {
   const int bound = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);

@@ -16,10 +16,13 @@ namespace armature::server {
 
 class HttpServer {
  public:
-  HttpServer();
+  // `max_threads`: connections served at once (see ElasticThreadPool).
+  explicit HttpServer(size_t max_threads = 256);
   ~HttpServer();
 
   httplib::Server& routes() { return *http_; }
+  // Serves the files under `dir` at "/" (index.html for directories).
+  bool ServeDirectory(const std::string& dir);
   // Binds and starts serving on a thread; returns the bound port or -1.
   int Start(const std::string& host, int port);
   void Stop();

@@ -26,6 +26,22 @@ constexpr int kSettleIterations = 30;  // at most, after the targets are reached
 constexpr double kSettleStep = 0.3;     // largest coordinate change of one settling move
 constexpr int kProgressWindow = 8;  // iterations over which the cost must at least halve
 
+// Solves a x = b in place for symmetric positive definite `a` by Cholesky
+// (Eigen's LLT). Small systems (a limb: 1 to 12 unknowns) use the
+// fixed-size LLT, which unrolls; larger ones the workspace's dynamic one.
+template <int N = 1>
+void SolveInPlace(const Eigen::MatrixXd& a, Eigen::VectorXd& x, Eigen::LLT<Eigen::MatrixXd>& dynamic) {
+  if constexpr (N > 12) {
+    dynamic.compute(a);
+    dynamic.solveInPlace(x);
+  } else if (a.rows() == N) {
+    const Eigen::LLT<Eigen::Matrix<double, N, N>> llt(a.topLeftCorner<N, N>());
+    x.head<N>() = llt.solve(x.head<N>());
+  } else {
+    SolveInPlace<N + 1>(a, x, dynamic);
+  }
+}
+
 // An axis whose range covers a full turn is unbounded, so it can wrap.
 void SetBounds(double lo_deg, double hi_deg, double& lo, double& hi) {
   const bool full = hi_deg - lo_deg >= 360.0;
@@ -35,14 +51,26 @@ void SetBounds(double lo_deg, double hi_deg, double& lo, double& hi) {
 
 bool IsHinge(const JointLimit& l) { return l.kind == JointLimit::Kind::kSwingTwist && l.cone_deg == 0; }
 
-Eigen::Quaterniond RotationFromCoords(const Skeleton& skeleton, const IkRequest& request, const DlsJoint& d) {
-  const JointLimit& l = request.limits[d.limit];
+// The joint's local rotation from its Euler or hinge coordinates; for Euler
+// joints the three axis rotations are kept for the Jacobian's axes.
+void SetRotationFromCoords(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws, DlsJoint& d) {
   const Eigen::Quaterniond& rest = skeleton.rest[d.joint].rotation;
   if (d.param == Param::kEuler) {
-    const std::array<double, 3> angles = {d.coords[0], d.coords[1], d.coords[2]};
-    return (rest * EulerToQuaternion(l.order, angles)).normalized();
+    const JointLimit& l = request.limits[d.limit];
+    Eigen::Quaterniond q = rest;
+    for (int i = 0; i < 3; ++i) {
+      const double half = 0.5 * d.coords[i];
+      d.parts[i] = Eigen::Quaterniond(std::cos(half), 0, 0, 0);
+      d.parts[i].vec()[static_cast<int>(l.order[i])] = std::sin(half);
+      q = q * d.parts[i];
+    }
+    ws.local[d.joint].rotation = q;  // unit: built from unit factors, afresh each time
+  } else {
+    const double half = 0.5 * d.coords[0];
+    const Eigen::Quaterniond hinge(std::cos(half), std::sin(half) * d.unit_axis.x(), std::sin(half) * d.unit_axis.y(),
+                                   std::sin(half) * d.unit_axis.z());
+    ws.local[d.joint].rotation = rest * hinge;
   }
-  return (rest * Eigen::Quaterniond(Eigen::AngleAxisd(d.coords[0], l.axis.normalized()))).normalized();
 }
 
 // One entry per free joint (start pose projected onto its limit) and per
@@ -61,17 +89,19 @@ void Setup(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws) 
       d.param = Param::kEuler;
       d.coords = ClampedEulerAngles(l, delta);
       for (int i = 0; i < 3; ++i) SetBounds(l.min_deg[i], l.max_deg[i], d.lower[i], d.upper[i]);
-      local.rotation = RotationFromCoords(skeleton, request, d);
+      SetRotationFromCoords(skeleton, request, ws, d);
     } else if (d.limit >= 0 && IsHinge(request.limits[d.limit])) {
       const JointLimit& l = request.limits[d.limit];
       d.param = Param::kHinge;
       d.columns = 1;
       SetBounds(l.twist_min_deg, l.twist_max_deg, d.lower[0], d.upper[0]);
-      const double twist = DecomposeSwingTwist(delta, l.axis.normalized()).twist_angle;
+      d.unit_axis = l.axis.normalized();
+      const double twist = DecomposeSwingTwist(delta, d.unit_axis).twist_angle;
       d.coords[0] = std::isfinite(d.lower[0]) ? ClampAngle(twist, d.lower[0], d.upper[0]) : twist;
-      local.rotation = RotationFromCoords(skeleton, request, d);
+      SetRotationFromCoords(skeleton, request, ws, d);
     } else {
       d.param = Param::kRotationVector;
+      if (d.limit >= 0) d.unit_axis = request.limits[d.limit].axis.normalized();
       local.rotation = ik_internal::Limited(skeleton, request, ws, j, local.rotation);
     }
     d.start_rotation = local.rotation;
@@ -177,15 +207,18 @@ void ConeAxes(const Skeleton& skeleton, const IkRequest& request, const IkWorksp
   d.axes.setIdentity();
   if (d.limit < 0) return;
   const JointLimit& l = request.limits[d.limit];
-  const Eigen::Vector3d a = l.axis.normalized();
+  const Eigen::Vector3d& a = d.unit_axis;
   const Eigen::Quaterniond& rest = skeleton.rest[d.joint].rotation;
   const Eigen::Quaterniond delta = rest.conjugate() * ws.local[d.joint].rotation;
-  const SwingTwist st = DecomposeSwingTwist(delta, a);
+  // cos(swing/2) = |(w, v·a)|, twist = 2·atan2(v·a, w): no full decomposition.
+  const double along = delta.vec().dot(a);
+  d.swing_at_bound =
+      l.cone_deg < 180 && std::hypot(delta.w(), along) <= std::cos(0.5 * (l.cone_deg * kDegToRad - kAtBound));
   double lo, hi;
   SetBounds(l.twist_min_deg, l.twist_max_deg, lo, hi);
-  d.swing_at_bound = l.cone_deg < 180 && st.swing_angle >= l.cone_deg * kDegToRad - kAtBound;
   if (std::isfinite(hi)) {
-    const double t = ClampAngle(st.twist_angle, lo - 1.0, hi + 1.0);
+    const double twist = 2.0 * std::atan2(delta.w() < 0 ? -along : along, std::abs(delta.w()));
+    const double t = ClampAngle(twist, lo - 1.0, hi + 1.0);
     d.twist_at_bound = t >= hi - kAtBound ? 1 : (t <= lo + kAtBound ? -1 : 0);
   }
   if (!d.swing_at_bound && d.twist_at_bound == 0) return;
@@ -204,15 +237,13 @@ void BuildJacobian(const Skeleton& skeleton, const IkRequest& request, IkWorkspa
     const Eigen::Quaterniond parent = ParentWorldRotation(skeleton, ws, d.joint);
     switch (d.param) {
       case Param::kTranslation: d.axes.setIdentity(); break;
-      case Param::kHinge:
-        d.axes.col(0) = parent * (skeleton.rest[d.joint].rotation * request.limits[d.limit].axis.normalized());
-        break;
+      case Param::kHinge: d.axes.col(0) = parent * (skeleton.rest[d.joint].rotation * d.unit_axis); break;
       case Param::kEuler: {
         const JointLimit& l = request.limits[d.limit];
         Eigen::Quaterniond frame = parent * skeleton.rest[d.joint].rotation;
         for (int i = 0; i < 3; ++i) {
           d.axes.col(i) = frame * Eigen::Vector3d::Unit(static_cast<int>(l.order[i]));
-          frame = frame * AxisRotation(l.order[i], d.coords[i]);
+          frame = frame * d.parts[i];
         }
         break;
       }
@@ -288,12 +319,16 @@ void Linearize(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& 
   });
 }
 
-void SaveState(IkWorkspace& ws) {
-  for (DlsJoint& d : ws.dls_joints) d.saved = ws.local[d.joint], d.saved_coords = d.coords;
+// A copy of the free joints' state (DlsJoint::saved or ::best), and back.
+void Store(IkWorkspace& ws, DlsJoint::Snapshot DlsJoint::*slot) {
+  for (DlsJoint& d : ws.dls_joints) (d.*slot).local = ws.local[d.joint], (d.*slot).coords = d.coords;
 }
 
-void RestoreState(const Skeleton& skeleton, IkWorkspace& ws) {
-  for (DlsJoint& d : ws.dls_joints) ws.local[d.joint] = d.saved, d.coords = d.saved_coords;
+void Restore(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws, DlsJoint::Snapshot DlsJoint::*slot) {
+  for (DlsJoint& d : ws.dls_joints) {
+    ws.local[d.joint] = (d.*slot).local, d.coords = (d.*slot).coords;
+    if (d.param == Param::kEuler) SetRotationFromCoords(skeleton, request, ws, d);
+  }
   ik_internal::UpdateWorld(skeleton, ws, ws.update);
 }
 
@@ -310,7 +345,7 @@ void ApplyStep(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& 
           d.coords[c] = std::clamp(before + ws.step[d.first_column + c], d.lower[c], d.upper[c]);
           ws.step[d.first_column + c] = d.coords[c] - before;
         }
-        local.rotation = RotationFromCoords(skeleton, request, d);
+        SetRotationFromCoords(skeleton, request, ws, d);
         break;
       case Param::kTranslation:
         d.coords += ws.step.segment<3>(d.first_column);
@@ -363,7 +398,7 @@ bool Perturb(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws
             moved = true;
           }
         }
-        local.rotation = RotationFromCoords(skeleton, request, d);
+        SetRotationFromCoords(skeleton, request, ws, d);
         break;
       case Param::kTranslation: {
         if (shake == Shake::kOffBounds) break;
@@ -401,15 +436,6 @@ bool Perturb(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws
   return moved;
 }
 
-void KeepBest(IkWorkspace& ws) {
-  for (DlsJoint& d : ws.dls_joints) d.best = ws.local[d.joint], d.best_coords = d.coords;
-}
-
-void RestoreBest(const Skeleton& skeleton, IkWorkspace& ws) {
-  for (DlsJoint& d : ws.dls_joints) ws.local[d.joint] = d.best, d.coords = d.best_coords;
-  ik_internal::UpdateWorld(skeleton, ws, ws.update);
-}
-
 // Minimum-norm step δ = −α·d + Jᵀ(JJᵀ + εI)⁻¹(r + α·J·d): zero linearized
 // residual, as near as possible to moving the fraction α of the way back
 // to the start (d = q − q_start; α = 0: a plain Gauss–Newton correction).
@@ -424,9 +450,8 @@ void ProjectedStep(const Skeleton& skeleton, const IkRequest& request, IkWorkspa
   });
   ws.gram.noalias() = ws.jacobian.lazyProduct(ws.jacobian.transpose());
   ws.gram.diagonal().array() += 1e-9 * (1.0 + ws.gram.diagonal().maxCoeff());
-  ws.gram_llt.compute(ws.gram);
   ws.task_correction.noalias() = ws.residual + alpha * (ws.jacobian * ws.regularization);
-  ws.gram_llt.solveInPlace(ws.task_correction);
+  SolveInPlace(ws.gram, ws.task_correction, ws.gram_llt);
   ws.step.noalias() = ws.jacobian.transpose() * ws.task_correction;
   ws.step -= alpha * ws.regularization;
 }
@@ -447,7 +472,7 @@ int Settle(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws, 
     const double largest = ws.step.cwiseAbs().maxCoeff();
     if (largest < 1e-9) break;
     ws.step *= scale * std::min(1.0, kSettleStep / largest);
-    SaveState(ws);
+    Store(ws, &DlsJoint::saved);
     ApplyStep(skeleton, request, ws);
     ++used;
     bool reached = Evaluate(request, ws).reached;
@@ -462,7 +487,7 @@ int Settle(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws, 
       distance = nearer;
       scale = std::min(1.0, 2.0 * scale);
     } else {
-      RestoreState(skeleton, ws);
+      Restore(skeleton, request, ws, &DlsJoint::saved);
       Evaluate(request, ws);
       scale *= 0.5;
     }
@@ -490,7 +515,7 @@ void SolveDls(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& w
         if (d.coords[c] <= d.lower[c] + kAtBound) d.coords[c] += inwards, moved = true;
         if (d.coords[c] >= d.upper[c] - kAtBound) d.coords[c] -= inwards, moved = true;
       }
-      if (moved) ws.local[d.joint].rotation = RotationFromCoords(skeleton, request, d);
+      if (moved) SetRotationFromCoords(skeleton, request, ws, d);
     }
     ik_internal::UpdateWorld(skeleton, ws, ws.update);
     cost = Evaluate(request, ws);
@@ -514,11 +539,11 @@ void SolveDls(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& w
     }
     ws.damped = ws.hessian;
     ws.damped.diagonal().array() += mu;
-    ws.llt.compute(ws.damped);
-    ws.step = ws.llt.solve(ws.gradient);
+    ws.step = ws.gradient;
+    SolveInPlace(ws.damped, ws.step, ws.llt);
     const double largest = ws.step.cwiseAbs().maxCoeff();
     if (largest > kMaxStep) ws.step *= kMaxStep / largest;
-    SaveState(ws);
+    Store(ws, &DlsJoint::saved);
     ApplyStep(skeleton, request, ws);
     ++iterations;
     ws.product.noalias() = ws.hessian * ws.step;
@@ -535,7 +560,7 @@ void SolveDls(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& w
       cost = next;
       linearized = false;
     } else {
-      RestoreState(skeleton, ws);
+      Restore(skeleton, request, ws, &DlsJoint::saved);
       mu *= nu;
       nu *= 2;
       stalled = mu > 1e10 || largest < 1e-12;
@@ -548,13 +573,13 @@ void SolveDls(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& w
     if (stalled && !cost.reached) {
       // A local minimum or a saddle (a straight limb): restart from the best
       // pose so far, shaken harder each time.
-      if (cost.task < best_task) best_task = cost.task, KeepBest(ws);
+      if (cost.task < best_task) best_task = cost.task, Store(ws, &DlsJoint::best);
       if (restarts >= o.max_restarts) {
         stop = IkStop::kStalled;
         break;
       }
       // First off the bounds, then near the best pose, then anywhere.
-      RestoreBest(skeleton, ws);
+      Restore(skeleton, request, ws, &DlsJoint::best);
       if (restarts > 0 || !Perturb(skeleton, request, ws, Shake::kOffBounds, 0))
         Perturb(skeleton, request, ws, restarts >= 2 ? Shake::kAnywhere : Shake::kNear, 0.3 * (restarts + 1));
       ++restarts;
@@ -567,7 +592,7 @@ void SolveDls(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& w
       linearized = false;
     }
   }
-  if (!cost.reached && best_task < cost.task) RestoreBest(skeleton, ws);
+  if (!cost.reached && best_task < cost.task) Restore(skeleton, request, ws, &DlsJoint::best);
   if (cost.reached && o.regularization > 0 && stop != IkStop::kDeadline && stop != IkStop::kCancelled)
     iterations += Settle(skeleton, request, ws, o.max_iterations - iterations);
   ik_internal::FinishResult(request, ws, iterations, stop, result);

@@ -20,15 +20,16 @@ namespace armature::ik_internal {
 inline void UpdateWorldOf(const Skeleton& skeleton, IkWorkspace& ws, int joint) {
   const Trs& l = ws.local[joint];
   const int p = skeleton.parents[joint];
-  const Eigen::Matrix3d r = l.rotation.toRotationMatrix();
+  Eigen::Matrix3d r = l.rotation.toRotationMatrix();
+  if ((l.scale.array() != 1.0).any()) r = r * l.scale.asDiagonal();
   if (p < 0) {
     ws.world_rotation[joint] = l.rotation;
-    ws.world_linear[joint] = r * l.scale.asDiagonal();
+    ws.world_linear[joint] = r;
     ws.world_position[joint] = l.translation;
   } else {
     ws.world_rotation[joint] = ws.world_rotation[p] * l.rotation;
-    ws.world_linear[joint].noalias() = ws.world_linear[p] * r * l.scale.asDiagonal();
-    ws.world_position[joint] = ws.world_position[p] + ws.world_linear[p] * l.translation;
+    ws.world_linear[joint].noalias() = ws.world_linear[p] * r;
+    ws.world_position[joint].noalias() = ws.world_position[p] + ws.world_linear[p] * l.translation;
   }
 }
 

@@ -69,6 +69,9 @@ Status ValidateJointLimit(const JointLimit& limit, std::string_view field) {
   if (limit.kind == JointLimit::Kind::kEuler) {
     if (limit.order[0] == limit.order[1] || limit.order[1] == limit.order[2])
       return fail(".order: neighbouring axes must differ");
+    const Eigen::Array3d lo = limit.min_deg.array(), hi = limit.max_deg.array();
+    if ((lo <= hi).all() && (lo >= -360.0).all() && (hi <= 360.0).all() && (hi - lo <= 360.0).all())
+      return Status::Ok();  // the common case, without building messages (NaN fails every comparison)
     for (int i = 0; i < 3; ++i)
       ARMATURE_RETURN_IF_ERROR(CheckRange(limit.min_deg[i], limit.max_deg[i], field, "min_deg", "max_deg", i));
     return Status::Ok();
@@ -79,7 +82,9 @@ Status ValidateJointLimit(const JointLimit& limit, std::string_view field) {
     return Status::InvalidArgument(std::string(field) + ".cone_deg: negative (" + Num(limit.cone_deg) + ")");
   if (limit.cone_deg > 180)
     return Status::InvalidArgument(std::string(field) + ".cone_deg: above 180 (" + Num(limit.cone_deg) + ")");
-  return CheckRange(limit.twist_min_deg, limit.twist_max_deg, field, "twist_min_deg", "twist_max_deg", -1);
+  const double lo = limit.twist_min_deg, hi = limit.twist_max_deg;
+  if (lo <= hi && lo >= -360.0 && hi <= 360.0 && hi - lo <= 360.0) return Status::Ok();
+  return CheckRange(lo, hi, field, "twist_min_deg", "twist_max_deg", -1);
 }
 
 SwingTwist DecomposeSwingTwist(const Eigen::Quaterniond& delta, const Eigen::Vector3d& unit_axis) {
@@ -100,13 +105,16 @@ SwingTwist DecomposeSwingTwist(const Eigen::Quaterniond& delta, const Eigen::Vec
   return st;
 }
 
-Eigen::Vector3d ClampedEulerAngles(const JointLimit& limit, const Eigen::Quaterniond& delta) {
+namespace {
+
+// ClampedEulerAngles, telling whether Δ was inside already.
+Eigen::Vector3d ClampEuler(const JointLimit& limit, const Eigen::Quaterniond& delta, bool* inside) {
   const Eigen::Vector3d lo = limit.min_deg * kDegToRad, hi = limit.max_deg * kDegToRad;
   double first[3];
   QuaternionToEuler(delta, limit.order, first);
-  if (lo[0] <= first[0] && first[0] <= hi[0] && lo[1] <= first[1] && first[1] <= hi[1] && lo[2] <= first[2] &&
-      first[2] <= hi[2])
-    return {first[0], first[1], first[2]};  // inside: nothing to choose
+  *inside = lo[0] <= first[0] && first[0] <= hi[0] && lo[1] <= first[1] && first[1] <= hi[1] && lo[2] <= first[2] &&
+            first[2] <= hi[2];
+  if (*inside) return {first[0], first[1], first[2]};  // nothing to choose
   // The other solution of the same rotation (see QuaternionToEuler).
   const bool proper = limit.order[0] == limit.order[2];
   const double second[3] = {first[0] + std::numbers::pi, proper ? -first[1] : std::numbers::pi - first[1],
@@ -150,13 +158,31 @@ Eigen::Vector3d ClampedEulerAngles(const JointLimit& limit, const Eigen::Quatern
   return best;
 }
 
+}  // namespace
+
+Eigen::Vector3d ClampedEulerAngles(const JointLimit& limit, const Eigen::Quaterniond& delta) {
+  bool inside;
+  return ClampEuler(limit, delta, &inside);
+}
+
 Eigen::Quaterniond ProjectToLimit(const JointLimit& limit, const Eigen::Quaterniond& delta) {
   if (limit.kind == JointLimit::Kind::kEuler) {
-    const Eigen::Vector3d a = ClampedEulerAngles(limit, delta);
+    bool inside;
+    const Eigen::Vector3d a = ClampEuler(limit, delta, &inside);
+    if (inside) return delta;
     const std::array<double, 3> angles = {a[0], a[1], a[2]};
     return SameHemisphere(EulerToQuaternion(limit.order, angles), delta);
   }
   const Eigen::Vector3d axis = limit.axis.normalized();
+  // Inside? cos(swing/2) = |(w, v·axis)| for a unit Δ; the twist angle is
+  // only needed for a bounded twist. (This runs after every solver step.)
+  const double along = delta.vec().dot(axis);
+  if (std::hypot(delta.w(), along) >= std::cos(0.5 * limit.cone_deg * kDegToRad)) {
+    if (limit.twist_max_deg - limit.twist_min_deg >= 360.0) return delta;
+    const double t = 2.0 * std::atan2(delta.w() < 0 ? -along : along, std::abs(delta.w()));
+    const double lo = limit.twist_min_deg * kDegToRad, hi = limit.twist_max_deg * kDegToRad;
+    if (std::abs(std::remainder(ClampAngle(t, lo, hi) - t, kTwoPi)) < 1e-15) return delta;
+  }
   const SwingTwist st = DecomposeSwingTwist(delta, axis);
   const double twist = ClampAngle(st.twist_angle, limit.twist_min_deg * kDegToRad, limit.twist_max_deg * kDegToRad);
   Eigen::Quaterniond swing = st.swing;

@@ -13,13 +13,8 @@ namespace {
 using ik_rigs::WorldOf;
 
 IkRequest AimRequest(const std::string& joint, const Eigen::Vector3d& target) {
-  IkRequest r;
-  r.solver = IkSolver::kAim;
-  IkEffector e;
-  e.joint = joint;
-  e.target_position = target;
-  e.aim_axis = Eigen::Vector3d::UnitZ();  // CMU faces +Z
-  r.effectors.push_back(e);
+  IkRequest r = ik_rigs::OneEffector(IkSolver::kAim, joint, target);
+  r.effectors[0].aim_axis = Eigen::Vector3d::UnitZ();  // CMU faces +Z
   return r;
 }
 

@@ -28,13 +28,21 @@ constexpr double kPlanarLength = 3.3;
 class ChainSolverTest : public testing::TestWithParam<IkSolver> {
  protected:
   IkRequest Request(const std::string& joint, const Eigen::Vector3d& target) const {
-    IkRequest r;
-    r.solver = GetParam();
-    IkEffector e;
-    e.joint = joint;
-    e.target_position = target;
-    r.effectors.push_back(e);
-    return r;
+    return ik_rigs::OneEffector(GetParam(), joint, target);
+  }
+  // Position targets from random poses of `c` (seeded): limits must hold on
+  // every result; returns how many were reached.
+  int ReachWithinLimits(const ik_rigs::LimbCase& c, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    int reached = 0;
+    for (int i = 0; i < 200; ++i) {
+      IkRequest r = ik_rigs::RequestFor(c, ik_rigs::TargetOf(c, ik_rigs::RandomPose(c, rng)));
+      r.solver = GetParam();
+      EXPECT_TRUE(SolveIk(c.skeleton, r, ws_, result_).ok());
+      EXPECT_TRUE(ik_rigs::WithinLimits(c.skeleton, c.limits, result_.pose)) << c.name << " " << i;
+      reached += ik_rigs::Reached(c, result_.residuals[0].position_error, 0.0);
+    }
+    return reached;
   }
   IkWorkspace ws_;
   IkResult result_;
@@ -68,36 +76,16 @@ TEST_P(ChainSolverTest, ReachesRandomTargetsOnPlanarChain) {
 // through the points beyond it: it reaches few of these (about 1 in 10);
 // use DLS or CCD for such arms.
 TEST_P(ChainSolverTest, RespectsHingeLimitsOnSevenDofArm) {
-  const std::vector<ik_rigs::LimbCase> cases = ik_rigs::StandardCases();
-  ik_rigs::LimbCase c = cases[2];
+  ik_rigs::LimbCase c = ik_rigs::StandardCase("seven_dof_pose");
   c.with_rotation = false;
-  std::mt19937_64 rng(11);
-  int reached = 0;
-  for (int i = 0; i < 200; ++i) {
-    const ik_rigs::Target t = ik_rigs::TargetOf(c, ik_rigs::RandomPose(c, rng));
-    IkRequest r = ik_rigs::RequestFor(c, t);
-    r.solver = GetParam();
-    ASSERT_TRUE(SolveIk(c.skeleton, r, ws_, result_).ok());
-    EXPECT_TRUE(ik_rigs::WithinLimits(c.skeleton, c.limits, result_.pose));
-    reached += ik_rigs::Reached(c, result_.residuals[0].position_error, 0.0);
-  }
+  const int reached = ReachWithinLimits(c, 11);
   if (GetParam() == IkSolver::kCcd) EXPECT_GE(reached, 190);
 }
 
 // The CMU arm under Euler (shoulder) and hinge (elbow) limits.
 TEST_P(ChainSolverTest, RespectsEulerAndHingeLimitsOnArm) {
-  const ik_rigs::LimbCase c = ik_rigs::StandardCases()[0];
-  std::mt19937_64 rng(5);
-  int reached = 0;
-  for (int i = 0; i < 200; ++i) {
-    const ik_rigs::Target t = ik_rigs::TargetOf(c, ik_rigs::RandomPose(c, rng));
-    IkRequest r = ik_rigs::RequestFor(c, t);
-    r.solver = GetParam();
-    ASSERT_TRUE(SolveIk(c.skeleton, r, ws_, result_).ok());
-    EXPECT_TRUE(ik_rigs::WithinLimits(c.skeleton, c.limits, result_.pose));
-    reached += ik_rigs::Reached(c, result_.residuals[0].position_error, 0.0);
-  }
-  EXPECT_GE(reached, 160);  // heuristic solvers under limits: most, not all (CCD 185, FABRIK 168)
+  // Heuristic solvers under limits: most, not all (CCD 185, FABRIK 168).
+  EXPECT_GE(ReachWithinLimits(ik_rigs::StandardCase("cmu_left_arm_reach"), 5), 160);
 }
 
 TEST_P(ChainSolverTest, UnreachableTargetStallsPointingAtIt) {

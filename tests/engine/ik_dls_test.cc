@@ -42,36 +42,23 @@ TEST(IkDls, SuccessRateOnRandomReachableTargets) {
 
 // Both hands at once, through the shared spine (root excluded: Hips).
 TEST(IkDls, TwoHandsAtOnce) {
-  const Skeleton s = ik_rigs::CmuLikeSkeleton();
-  const std::vector<JointLimit> limits = ik_rigs::CmuLimits();
-  LimbCase c{"upper body", s, limits,
-             {"LowerBack", "Spine", "Spine1", "LeftArm", "LeftForeArm", "RightArm", "RightForeArm"}, "Hips",
-             "LeftHand", Eigen::Vector3d::Zero(), false, 0.0};
+  const LimbCase body = ik_rigs::UpperBodyCase();
+  const Skeleton& s = body.skeleton;
   std::mt19937_64 rng(3);
   IkWorkspace ws;
   IkResult result;
   int reached = 0;
   for (int i = 0; i < 100; ++i) {
-    const std::vector<Trs> goal = ik_rigs::RandomPose(c, rng);
-    const ik_rigs::World gw = WorldOf(s, goal);
-    IkRequest r;
-    r.limits = limits;
-    r.root = "Hips";
-    for (const char* hand : {"LeftHand", "RightHand"}) {
-      IkEffector e;
-      e.joint = hand;
-      e.target_position = gw.Position(s, hand);
-      r.effectors.push_back(e);
-    }
-    r.options.position_tolerance = 1e-3;
+    const std::vector<Trs> goal = ik_rigs::RandomPose(body, rng);
+    const IkRequest r = ik_rigs::TwoHandsRequest(body, goal, 1e-3);
     ASSERT_TRUE(SolveIk(s, r, ws, result).ok());
     ASSERT_EQ(result.residuals.size(), 2u);
     const ik_rigs::World w = WorldOf(s, result.pose);
-    const double left = (w.Position(s, "LeftHand") - gw.Position(s, "LeftHand")).norm();
-    const double right = (w.Position(s, "RightHand") - gw.Position(s, "RightHand")).norm();
+    const double left = (w.Position(s, "LeftHand") - *r.effectors[0].target_position).norm();
+    const double right = (w.Position(s, "RightHand") - *r.effectors[1].target_position).norm();
     EXPECT_NEAR(left, result.residuals[0].position_error, 1e-9);
     EXPECT_NEAR(right, result.residuals[1].position_error, 1e-9);
-    EXPECT_TRUE(ik_rigs::WithinLimits(s, limits, result.pose));
+    EXPECT_TRUE(ik_rigs::WithinLimits(s, body.limits, result.pose));
     // Only the spine and the arms moved; Neck and legs did not.
     for (const char* still : {"Hips", "Neck1", "LeftUpLeg", "LeftHand"})
       EXPECT_TRUE(result.pose[s.Find(still)].rotation.isApprox(s.rest[s.Find(still)].rotation)) << still;
@@ -84,15 +71,11 @@ TEST(IkDls, TwoHandsAtOnce) {
 // through neck and head, within their limits.
 TEST(IkDls, OrientationTargetOnly) {
   const Skeleton s = ik_rigs::CmuLikeSkeleton();
-  IkRequest r;
-  r.limits = ik_rigs::CmuLimits();
-  r.root = "Spine1";
-  IkEffector e;
-  e.joint = "Head";
   const Eigen::Quaterniond look = EulerToQuaternion(std::array{Axis::kZ, Axis::kY, Axis::kX},
                                                     std::array{0.2, 0.9, -0.3});  // within Neck1+Head ranges
-  e.target_rotation = look;
-  r.effectors.push_back(e);
+  IkRequest r = ik_rigs::OneEffector(IkSolver::kDls, "Head", std::nullopt, look);
+  r.limits = ik_rigs::CmuLimits();
+  r.root = "Spine1";
   IkWorkspace ws;
   IkResult result;
   ASSERT_TRUE(SolveIk(s, r, ws, result).ok());
@@ -107,9 +90,8 @@ TEST(IkDls, OrientationTargetOnly) {
 TEST(IkDls, LimitsHoldAgainstUnreachableTargets) {
   IkWorkspace ws;
   IkResult result;
-  for (int k : {0, 1}) {
-    LimbCase c = ik_rigs::StandardCases()[k];  // the arm; the leg without its foot's rotation
-    c.with_rotation = false;
+  for (const char* name : {"cmu_left_arm_reach", "cmu_right_leg_reach"}) {
+    const LimbCase c = ik_rigs::StandardCase(name);
     const Eigen::Vector3d top = WorldOf(c.skeleton, c.skeleton.rest).Position(c.skeleton, c.joints[0]);
     const Eigen::Vector3d start = WorldOf(c.skeleton, c.skeleton.rest).Position(c.skeleton, c.effector);
     std::mt19937_64 rng(9);
@@ -128,12 +110,8 @@ TEST(IkDls, LimitsHoldAgainstUnreachableTargets) {
 TEST(IkDls, ConeLimitIsRespected) {
   // A single ball joint with a 30° cone about +Y swinging a 1-long bone.
   const Skeleton s = ik_rigs::BuildSkeleton({{"ball", nullptr, {0, 0, 0}}, {"tip", "ball", {0, 1, 0}}});
-  IkRequest r;
+  IkRequest r = ik_rigs::OneEffector(IkSolver::kDls, "tip", Eigen::Vector3d(1, 0, 0));  // 90° away
   r.limits = {ik_rigs::SwingTwistLimit("ball", Eigen::Vector3d::UnitY(), 30, -10, 10)};
-  IkEffector e;
-  e.joint = "tip";
-  e.target_position = Eigen::Vector3d(1, 0, 0);  // 90° away
-  r.effectors.push_back(e);
   IkWorkspace ws;
   IkResult result;
   ASSERT_TRUE(SolveIk(s, r, ws, result).ok());
@@ -192,13 +170,9 @@ TEST(IkDls, RedundantChainPrefersTheStartPose) {
     const double best = nearest(q0, target);
     double excess[2];
     for (int k = 0; k < 2; ++k) {
-      IkRequest r;
+      IkRequest r = ik_rigs::OneEffector(IkSolver::kDls, "tip", Eigen::Vector3d(target.x(), target.y(), 0));
       r.start_pose = start;
       r.limits = limits;
-      IkEffector e;
-      e.joint = "tip";
-      e.target_position = Eigen::Vector3d(target.x(), target.y(), 0);
-      r.effectors.push_back(e);
       r.options.regularization = k;  // off, then all the way
       r.options.position_tolerance = 1e-4;
       ASSERT_TRUE(SolveIk(s, r, ws, result).ok());
@@ -217,12 +191,8 @@ TEST(IkDls, RedundantChainPrefersTheStartPose) {
 TEST(IkDls, FreeRootTranslationExtendsReach) {
   const Skeleton s = ik_rigs::CmuLikeSkeleton();
   const Eigen::Vector3d far = WorldOf(s, s.rest).Position(s, "LeftHand") + Eigen::Vector3d(30, 0, 0);
-  IkRequest r;
+  IkRequest r = ik_rigs::OneEffector(IkSolver::kDls, "LeftHand", far);
   r.root = "LeftShoulder";
-  IkEffector e;
-  e.joint = "LeftHand";
-  e.target_position = far;
-  r.effectors.push_back(e);
   IkWorkspace ws;
   IkResult result;
   ASSERT_TRUE(SolveIk(s, r, ws, result).ok());
@@ -257,7 +227,7 @@ TEST(IkDls, WeightsTradeOffConflictingEffectors) {
 }
 
 TEST(IkDls, DeadlineAndCancelStopTheSolve) {
-  const LimbCase c = ik_rigs::StandardCases()[2];
+  const LimbCase c = ik_rigs::StandardCase("seven_dof_pose");
   std::mt19937_64 rng(1);
   IkRequest r = ik_rigs::RequestFor(c, ik_rigs::TargetOf(c, ik_rigs::RandomPose(c, rng)));
   IkWorkspace ws;
@@ -293,7 +263,7 @@ TEST(IkDls, DeadlineAndCancelStopTheSolve) {
 }
 
 TEST(IkDls, StartPoseAlreadySolvedTakesNoIteration) {
-  const LimbCase c = ik_rigs::StandardCases()[0];
+  const LimbCase c = ik_rigs::StandardCase("cmu_left_arm_reach");
   std::mt19937_64 rng(4);
   const std::vector<Trs> pose = ik_rigs::RandomPose(c, rng);
   IkRequest r = ik_rigs::RequestFor(c, ik_rigs::TargetOf(c, pose));

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -186,19 +187,34 @@ inline LimbCase MakeCase(std::string name, Skeleton skeleton, std::vector<JointL
   return c;
 }
 
-// The CMU left arm (shoulder ball + elbow hinge) reaching with the wrist: 4
-// DOF for a 3-D target. The CMU left leg (hip cone + knee hinge + ankle)
-// placing the ankle with the foot's orientation: 7 DOF for a 6-D target.
-// The 7-DOF arm placing its flange: 7 DOF for a 6-D target.
+// The CMU limbs (shoulder: Euler ball, elbow: hinge, wrist: Euler; hip:
+// cone, knee: hinge, ankle: Euler) and the 7-DOF arm, each reaching a
+// position (3-D target) or a pose (position and rotation, 6-D):
+//   cmu_left_arm_reach   shoulder + elbow → wrist position         4 DOF, 3-D
+//   cmu_left_arm_pose    shoulder + elbow + wrist → hand pose      7 DOF, 6-D
+//   cmu_right_leg_reach  hip + knee → ankle position               4 DOF, 3-D
+//   cmu_right_leg_pose   hip + knee + ankle → foot pose            7 DOF, 6-D
+//   seven_dof_pose       seven hinges → flange pose                7 DOF, 6-D
 inline std::vector<LimbCase> StandardCases() {
+  const Eigen::Vector3d none = Eigen::Vector3d::Zero();
   return {
-      MakeCase("cmu_left_arm", CmuLikeSkeleton(), CmuLimits(), {"LeftArm", "LeftForeArm"}, "LeftShoulder",
-               "LeftHand", Eigen::Vector3d::Zero(), false),
-      MakeCase("cmu_right_leg", CmuLikeSkeleton(), CmuLimits(), {"RightUpLeg", "RightLeg", "RightFoot"},
-               "RHipJoint", "RightFoot", Eigen::Vector3d::Zero(), true),
-      MakeCase("seven_dof", SevenDofSkeleton(), SevenDofLimits(), {"j1", "j2", "j3", "j4", "j5", "j6", "j7"},
+      MakeCase("cmu_left_arm_reach", CmuLikeSkeleton(), CmuLimits(), {"LeftArm", "LeftForeArm"}, "LeftShoulder",
+               "LeftHand", none, false),
+      MakeCase("cmu_left_arm_pose", CmuLikeSkeleton(), CmuLimits(), {"LeftArm", "LeftForeArm", "LeftHand"},
+               "LeftShoulder", "LeftHand", none, true),
+      MakeCase("cmu_right_leg_reach", CmuLikeSkeleton(), CmuLimits(), {"RightUpLeg", "RightLeg"}, "RHipJoint",
+               "RightFoot", none, false),
+      MakeCase("cmu_right_leg_pose", CmuLikeSkeleton(), CmuLimits(), {"RightUpLeg", "RightLeg", "RightFoot"},
+               "RHipJoint", "RightFoot", none, true),
+      MakeCase("seven_dof_pose", SevenDofSkeleton(), SevenDofLimits(), {"j1", "j2", "j3", "j4", "j5", "j6", "j7"},
                "base", "j7", kSevenDofFlange, true),
   };
+}
+
+inline LimbCase StandardCase(const std::string& name) {
+  for (LimbCase& c : StandardCases())
+    if (c.name == name) return c;
+  return {};
 }
 
 inline const JointLimit* FindLimit(const std::vector<JointLimit>& limits, const std::string& joint) {
@@ -257,21 +273,48 @@ inline bool WithinLimits(const Skeleton& s, const std::vector<JointLimit>& limit
   return true;
 }
 
+// A request with one effector on `joint`.
+inline IkRequest OneEffector(IkSolver solver, const std::string& joint, std::optional<Eigen::Vector3d> position,
+                             std::optional<Eigen::Quaterniond> rotation = std::nullopt) {
+  IkRequest r;
+  r.solver = solver;
+  IkEffector e;
+  e.joint = joint;
+  e.target_position = position;
+  e.target_rotation = rotation;
+  r.effectors.push_back(e);
+  return r;
+}
+
 // A DLS request for `target` from the rest pose, stopping at half the
 // success threshold (1e-3 × chain length, 1e-3 rad).
 inline IkRequest RequestFor(const LimbCase& c, const Target& target) {
-  IkRequest r;
-  r.solver = IkSolver::kDls;
+  IkRequest r = OneEffector(IkSolver::kDls, c.effector, target.position,
+                            c.with_rotation ? std::optional(target.rotation) : std::nullopt);
+  r.effectors[0].local_offset = c.offset;
   r.limits = c.limits;
   r.root = c.root;
-  IkEffector e;
-  e.joint = c.effector;
-  e.local_offset = c.offset;
-  e.target_position = target.position;
-  if (c.with_rotation) e.target_rotation = target.rotation;
-  r.effectors.push_back(e);
   r.options.position_tolerance = 0.5e-3 * c.chain_length;
   r.options.rotation_tolerance = 0.5e-3;
+  return r;
+}
+
+// Spine and both arms of the CMU rig, for two-handed reaching from the hips.
+inline LimbCase UpperBodyCase() {
+  return MakeCase("upper_body", CmuLikeSkeleton(), CmuLimits(),
+                  {"LowerBack", "Spine", "Spine1", "LeftArm", "LeftForeArm", "RightArm", "RightForeArm"}, "Hips",
+                  "LeftHand", Eigen::Vector3d::Zero(), false);
+}
+
+// Both hands to where `goal` (a pose of UpperBodyCase) puts them, within
+// `tolerance`, through the spine and arms.
+inline IkRequest TwoHandsRequest(const LimbCase& body, const std::vector<Trs>& goal, double tolerance) {
+  const World w = WorldOf(body.skeleton, goal);
+  IkRequest r = OneEffector(IkSolver::kDls, "LeftHand", w.Position(body.skeleton, "LeftHand"));
+  r.effectors.push_back(OneEffector(IkSolver::kDls, "RightHand", w.Position(body.skeleton, "RightHand")).effectors[0]);
+  r.limits = body.limits;
+  r.root = body.root;
+  r.options.position_tolerance = tolerance;
   return r;
 }
 

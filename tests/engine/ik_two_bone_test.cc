@@ -20,13 +20,7 @@ Skeleton PlanarArm(double l1, double l2) {
 }
 
 IkRequest TwoBoneRequest(const std::string& joint, const Eigen::Vector3d& target) {
-  IkRequest r;
-  r.solver = IkSolver::kTwoBone;
-  IkEffector e;
-  e.joint = joint;
-  e.target_position = target;
-  r.effectors.push_back(e);
-  return r;
+  return ik_rigs::OneEffector(IkSolver::kTwoBone, joint, target);
 }
 
 // The angle of a rotation about +Z, checking it is one.

@@ -10,8 +10,12 @@
 // Bounds: Euler and hinge angles are clamped, and coordinates held at a
 // bound that the gradient pushes against are frozen for the step (an active
 // set), as are the swing/twist directions of a cone at its edge; cone joints
-// are projected onto their limit. When progress stalls short of the target
-// the best pose is perturbed and solving resumes (bounded). Once reached,
+// are projected onto their limit. A coordinate starting on a bound (a
+// straight knee at 0°) starts a fifth of its range inside: there the reach
+// problem has a saddle whose gradient points out of range. When progress
+// stalls short of the target the best pose is perturbed (bound coordinates
+// to mid-range, then near, then anywhere within the limits) and solving
+// resumes, a bounded number of times. Once reached,
 // options.regularization > 0 slides the pose along the solutions towards the
 // start pose (null-space steps).
 #pragma once

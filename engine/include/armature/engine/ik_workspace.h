@@ -66,10 +66,15 @@ struct IkWorkspace {
     Eigen::Vector3d upper = Eigen::Vector3d::Zero();
     Eigen::Quaterniond start_rotation = Eigen::Quaterniond::Identity();
     Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // world axes of the columns this iteration
-    Trs saved;
-    Eigen::Vector3d saved_coords = Eigen::Vector3d::Zero();
-    Trs best;
-    Eigen::Vector3d best_coords = Eigen::Vector3d::Zero();
+    Eigen::Vector3d unit_axis = Eigen::Vector3d::UnitX();  // hinge or twist axis, in the rest frame
+    Eigen::Quaterniond parts[3] = {Eigen::Quaterniond::Identity(), Eigen::Quaterniond::Identity(),
+                                   Eigen::Quaterniond::Identity()};  // Euler: the rotation about each axis
+    struct Snapshot {
+      Trs local;
+      Eigen::Vector3d coords = Eigen::Vector3d::Zero();
+    };
+    Snapshot saved;  // before a trial step
+    Snapshot best;   // the best pose before a restart
     bool swing_at_bound = false;  // cone joints: the active set's swing direction is axes.col(0)
     int twist_at_bound = 0;       // −1 lower, +1 upper; its direction is axes.col(1)
   };

@@ -1,0 +1,41 @@
+// The HTTP server's task queue: a thread per connection being served, made
+// on demand up to a maximum. cpp-httplib keeps a connection on one worker for
+// its whole keep-alive life and an SSE stream for as long as it plays, so a
+// fixed pool of a few threads would let a handful of streams or slow clients
+// block every other request.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <httplib.h>
+
+namespace armature::server {
+
+class ElasticThreadPool final : public httplib::TaskQueue {
+ public:
+  explicit ElasticThreadPool(size_t max_threads) : max_threads_(max_threads) {}
+  ~ElasticThreadPool() override { shutdown(); }
+
+  void enqueue(std::function<void()> fn) override;
+  void shutdown() override;
+
+  size_t threads() const;
+
+ private:
+  void Work();
+
+  const size_t max_threads_;
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  std::deque<std::function<void()>> jobs_;
+  std::vector<std::thread> threads_;
+  size_t idle_ = 0;
+  bool shutdown_ = false;
+};
+
+}  // namespace armature::server

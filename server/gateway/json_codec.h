@@ -1,0 +1,23 @@
+// proto3 JSON both ways (protobuf's own mapping), with errors that say where:
+// malformed JSON gets its line and column, a bad value names its field.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include <google/protobuf/message.h>
+#include <grpcpp/grpcpp.h>
+
+namespace armature::server::gateway {
+
+// Parses JSON into `message` (which is cleared first). Either field-name
+// spelling is accepted, enums by name or number; unknown fields are an
+// error. `where` prefixes messages ("request body: malformed JSON …") and
+// `field_label` names a bad field ("request body field 'times[1]': …").
+grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* message, const std::string& where,
+                           const std::string& field_label);
+
+// lowerCamelCase names, enums by name, default values printed.
+std::string MessageToJson(const google::protobuf::Message& message);
+
+}  // namespace armature::server::gateway

@@ -1,0 +1,161 @@
+// The 3D view: a skeleton drawn from world-space poses with three.js. Bones
+// are cylinders from each joint's parent to it, and from a joint to its End
+// Site; joints are spheres. Orbit camera (drag, wheel) and a ground grid; the
+// camera follows the root across the ground.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+
+export const BONE_COLOR = 0xff8c1a;
+const JOINT_COLOR = 0xf0f0f0;
+const BACKGROUND = 0x1c1f24;
+const UP = new THREE.Vector3(0, 1, 0);
+
+export class SkeletonView {
+  constructor(container) {
+    this.container = container;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio);
+    container.appendChild(this.renderer.domElement);
+
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(BACKGROUND);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 2.0));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+    sun.position.set(1, 2, 1.5);
+    this.scene.add(sun);
+
+    this.camera = new THREE.PerspectiveCamera(45, 1, 0.1, 100000);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.enableDamping = true;
+
+    this.figure = new THREE.Group();
+    this.scene.add(this.figure);
+    this.grid = null;
+    this.skeleton = null;
+    this.bones = [];   // { mesh, from, to } with joint indices, or endSite set
+    this.joints = [];  // spheres
+    this.framed = false;
+    this.lastRoot = null;
+
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.resize();
+    this.renderer.setAnimationLoop(() => this.render());
+  }
+
+  resize() {
+    const { clientWidth: w, clientHeight: h } = this.container;
+    if (w === 0 || h === 0) return;
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+  }
+
+  render() {
+    this.controls.update();
+    this.renderer.render(this.scene, this.camera);
+  }
+
+  // `skeleton`: the GetSkeleton response (joints with parent and endSite).
+  setSkeleton(skeleton) {
+    for (const child of [...this.figure.children]) {
+      this.figure.remove(child);
+      child.geometry?.dispose();
+    }
+    this.skeleton = skeleton;
+    this.framed = false;
+    this.lastRoot = null;
+    const size = restHeight(skeleton);
+    const radius = Math.max(size * 0.012, 1e-3);
+    const boneGeometry = new THREE.CylinderGeometry(1, 1, 1, 10).translate(0, 0.5, 0);  // spans y ∈ [0, 1]
+    const jointGeometry = new THREE.SphereGeometry(radius * 1.7, 12, 8);
+    const boneMaterial = new THREE.MeshStandardMaterial({ color: BONE_COLOR, roughness: 0.6 });
+    const jointMaterial = new THREE.MeshStandardMaterial({ color: JOINT_COLOR, roughness: 0.4 });
+    this.bones = [];
+    this.joints = skeleton.joints.map((joint, i) => {
+      const sphere = new THREE.Mesh(jointGeometry, jointMaterial);
+      this.figure.add(sphere);
+      const bone = (extra) => {
+        const mesh = new THREE.Mesh(boneGeometry, boneMaterial);
+        mesh.userData.radius = radius;
+        this.figure.add(mesh);
+        this.bones.push({ mesh, ...extra });
+      };
+      if (joint.parent >= 0) bone({ from: joint.parent, to: i });
+      if (joint.endSite?.length === 3) bone({ from: i, endSite: new THREE.Vector3(...joint.endSite) });
+      return sphere;
+    });
+    this.setGrid(size);
+  }
+
+  setGrid(size) {
+    if (this.grid) this.scene.remove(this.grid);
+    const extent = Math.max(size * 12, 1);
+    this.grid = new THREE.GridHelper(extent, 48, 0x6a7280, 0x3a4049);
+    this.scene.add(this.grid);
+  }
+
+  // A world-space pose of every joint: translations (3 a joint) and
+  // rotations (4 a joint, w x y z).
+  setPose(pose) {
+    if (!this.skeleton) return;
+    const n = this.skeleton.joints.length;
+    const t = pose.translations;
+    const r = pose.rotations;
+    if (t.length < 3 * n || r.length < 4 * n) return;
+    const position = (i) => new THREE.Vector3(t[3 * i], t[3 * i + 1], t[3 * i + 2]);
+    const rotation = (i) => new THREE.Quaternion(r[4 * i + 1], r[4 * i + 2], r[4 * i + 3], r[4 * i]);
+    for (let i = 0; i < n; ++i) this.joints[i].position.copy(position(i));
+    for (const bone of this.bones) {
+      const a = position(bone.from);
+      const b = bone.endSite ? bone.endSite.clone().applyQuaternion(rotation(bone.from)).add(a) : position(bone.to);
+      placeCylinder(bone.mesh, a, b);
+    }
+    this.follow(position(0));
+  }
+
+  // Frames the figure on its first pose, then keeps the root in view.
+  follow(root) {
+    if (!this.framed) {
+      const box = new THREE.Box3().setFromObject(this.figure);
+      const center = box.getCenter(new THREE.Vector3());
+      const span = Math.max(...box.getSize(new THREE.Vector3()).toArray(), 1e-3);
+      this.controls.target.copy(center);
+      this.camera.position.copy(center).add(new THREE.Vector3(1.1, 0.5, 1.6).multiplyScalar(span));
+      this.camera.near = span / 100;
+      this.camera.far = span * 1000;
+      this.camera.updateProjectionMatrix();
+      this.grid.position.y = Math.min(0, box.min.y);
+      this.framed = true;
+    } else if (this.lastRoot) {
+      const delta = root.clone().sub(this.lastRoot).setY(0);
+      this.controls.target.add(delta);
+      this.camera.position.add(delta);
+    }
+    this.lastRoot = root;
+  }
+}
+
+function placeCylinder(mesh, a, b) {
+  const direction = b.clone().sub(a);
+  const length = direction.length();
+  mesh.visible = length > 1e-6;
+  if (!mesh.visible) return;
+  const radius = mesh.userData.radius;
+  mesh.position.copy(a);
+  mesh.scale.set(radius, length, radius);
+  mesh.quaternion.setFromUnitVectors(UP, direction.divideScalar(length));
+}
+
+// The rest pose's extent (sum of offsets along the longest chain), to size
+// bones and the grid for any unit (cm, m, inches).
+function restHeight(skeleton) {
+  const depth = new Array(skeleton.joints.length).fill(0);
+  let most = 0;
+  skeleton.joints.forEach((joint, i) => {
+    const o = joint.offset ?? [0, 0, 0];
+    const length = Math.hypot(o[0] ?? 0, o[1] ?? 0, o[2] ?? 0);
+    depth[i] = (joint.parent >= 0 ? depth[joint.parent] : 0) + length;
+    most = Math.max(most, depth[i]);
+  });
+  return most || 1;
+}
