@@ -15,9 +15,12 @@
 #include <thread>
 
 #include <Eigen/Core>
+#include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
+#include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "../common/sse_events.h"
 #include "armature/client.h"
 #include "rpc_test_util.h"
 #include "server_process.h"
@@ -326,6 +329,103 @@ TEST_F(IkApi, ThroughTheCli) {
   EXPECT_NE(malformed.err.find("JOINT=x,y,z"), std::string::npos) << malformed.err;
 }
 
+json Xyz(const Eigen::Vector3d& p) { return json::array({p.x(), p.y(), p.z()}); }
+
+// A JSON pose (proto3 JSON of v1::Pose) against the gRPC one, float by float.
+void ExpectSamePose(const json& rest, const v1::Pose& grpc, const std::string& what) {
+  for (const auto& [key, field] : {std::pair{"translations", &grpc.translations()},
+                                   std::pair{"rotations", &grpc.rotations()}}) {
+    ASSERT_EQ(rest[key].size(), static_cast<size_t>(field->size())) << what << " " << key;
+    for (int i = 0; i < field->size(); ++i)
+      EXPECT_FLOAT_EQ(static_cast<float>(rest[key][i].get<double>()), (*field)[i]) << what << " " << key << "[" << i
+                                                                                   << "]";
+  }
+}
+
+TEST_F(IkApi, ThroughTheGateway) {
+  ServerProcess server(data_.path());
+  Client client(OptionsFor(server));
+  httplib::Client http("127.0.0.1", server.http_port());
+  http.set_read_timeout(60);
+  const Motion m(client, kDemoRig);
+  const double t = 1.6;
+  const Eigen::Vector3d wrist = m.WorldPosition(t, "LeftWrist"), ankle = m.WorldPosition(t, "RightAnkle");
+  // What a browser or curl sends: targets from the clip at t, the start
+  // from the clip 0.1 s earlier; one effector, then two.
+  json body = {{"fromClip", {{"clip", "demo_walk"}, {"time", t - 0.1}}},
+               {"effectors", json::array({{{"joint", "LeftWrist"}, {"targetPosition", Xyz(wrist)}}})}};
+  for (int effectors : {1, 2}) {
+    if (effectors == 2)
+      body["effectors"].push_back({{"joint", "RightAnkle"}, {"targetPosition", Xyz(ankle)}});
+    const auto r = http.Post("/v1/skeletons/demo_walk:solveIk", body.dump(), "application/json");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200) << r->body;
+    const json rest = json::parse(r->body);
+    EXPECT_EQ(rest["converged"], true) << r->body.substr(0, 300);
+    EXPECT_EQ(rest["stop"], "STOP_CONVERGED");
+    ASSERT_EQ(rest["residuals"].size(), static_cast<size_t>(effectors));
+    for (int i = 0; i < effectors; ++i) {
+      const std::string joint = body["effectors"][i]["joint"];
+      EXPECT_EQ(rest["residuals"][i]["joint"], joint);
+      EXPECT_LT(rest["residuals"][i]["positionError"].get<double>(), 1e-3 * m.ChainLength(joint, 0));
+    }
+    // The same numbers as the gRPC call.
+    v1::SolveIkRequest request;
+    request.set_skeleton("demo_walk");
+    request.mutable_from_clip()->set_clip("demo_walk");
+    request.mutable_from_clip()->set_time(t - 0.1);
+    *request.add_effectors() = Effector("LeftWrist", wrist);
+    if (effectors == 2) *request.add_effectors() = Effector("RightAnkle", ankle);
+    const v1::SolveIkResponse grpc = client.SolveIk(request);
+    ExpectSamePose(rest["local"], grpc.local(), "local");
+    ExpectSamePose(rest["world"], grpc.world(), "world");
+    EXPECT_EQ(rest["iterations"], grpc.iterations());
+    for (int i = 0; i < effectors; ++i)
+      EXPECT_DOUBLE_EQ(rest["residuals"][i]["positionError"].get<double>(), grpc.residuals(i).position_error());
+    std::printf("  gateway %d effector(s): converged in %d iterations, residuals", effectors, grpc.iterations());
+    for (const auto& res : grpc.residuals()) std::printf(" %s %.2e", res.joint().c_str(), res.position_error());
+    std::printf("; REST == gRPC\n");
+  }
+  // Bad input: 400 naming the field; an unreachable target is a 200.
+  const auto bad = http.Post("/v1/skeletons/demo_walk:solveIk",
+                             R"({"effectors":[{"joint":"LeftWrist","targetPosition":[1,2]}]})", "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  EXPECT_NE(bad->body.find("effectors[0].target_position"), std::string::npos) << bad->body;
+  const auto far = http.Post("/v1/skeletons/demo_walk:solveIk",
+                             R"({"effectors":[{"joint":"LeftWrist","targetPosition":[0,5000,0]}]})", "application/json");
+  ASSERT_TRUE(far);
+  EXPECT_EQ(far->status, 200);
+  EXPECT_EQ(json::parse(far->body)["converged"], false);
+
+  // The session over the gateway: NDJSON messages in, one SSE answer each.
+  std::string ndjson = json({{"start", {{"fromClip", {{"clip", "demo_walk"}, {"time", t}}},
+                                        {"effectors", json::array({{{"joint", "LeftWrist"},
+                                                                    {"targetPosition", Xyz(wrist)}}})}}}})
+                           .dump() + "\n";
+  std::vector<Eigen::Vector3d> targets = {wrist};
+  for (int i = 1; i <= 10; ++i) {
+    targets.push_back(wrist + Eigen::Vector3d(0, 0.5 * i, 1.0 * i));
+    ndjson += json({{"targets", json::array({{{"effector", 0}, {"targetPosition", Xyz(targets.back())}}})}}).dump() +
+              "\n";
+  }
+  const auto session = http.Post("/v1/skeletons/demo_walk:ikSession", ndjson, "application/x-ndjson");
+  ASSERT_TRUE(session);
+  ASSERT_EQ(session->status, 200) << session->body;
+  const std::vector<SseEvent> events = ParseSse(session->body);
+  ASSERT_EQ(events.size(), targets.size() + 1) << session->body.substr(0, 500);
+  for (size_t i = 0; i < targets.size(); ++i) {
+    const json answer = json::parse(events[i].data);
+    EXPECT_EQ(answer["converged"], true) << "answer " << i;
+    const json& p = answer["world"]["translations"];
+    const int w = m.Joint("LeftWrist");
+    const Eigen::Vector3d got(p[3 * w].get<double>(), p[3 * w + 1].get<double>(), p[3 * w + 2].get<double>());
+    EXPECT_LT((got - targets[i]).norm(), 1e-3 * m.ChainLength("LeftWrist", 0)) << "answer " << i;
+  }
+  EXPECT_EQ(events.back().event, "status");
+  EXPECT_EQ(json::parse(events.back().data)["code"], 0);
+}
+
 // A solve that would run for many seconds: every end joint pulled far out
 // of reach, restarts and iterations allowed without end (the server is
 // started with a huge --max-ik-iterations).
@@ -355,6 +455,18 @@ TEST_F(IkApi, DeadlineStopsTheSolve) {
   const double cpu = CpuUsedWhileIdle(server.pid(), 1.0);
   std::printf("  deadline 0.3 s: DEADLINE_EXCEEDED after %.3f s; server CPU in the next 1 s: %.3f s\n", waited, cpu);
   EXPECT_LT(cpu, 0.3) << "the solve kept running after its deadline";
+
+  // The same through the gateway, with the deadline as grpc-timeout: 504.
+  std::string body;
+  ASSERT_TRUE(google::protobuf::util::MessageToJsonString(EndlessSolve(), &body).ok());
+  httplib::Client http("127.0.0.1", server.http_port());
+  const auto rest = http.Post("/v1/skeletons/demo_walk:solveIk", {{"grpc-timeout", "300m"}}, body, "application/json");
+  ASSERT_TRUE(rest);
+  EXPECT_EQ(rest->status, 504) << rest->body;
+  EXPECT_EQ(json::parse(rest->body)["code"], static_cast<int>(grpc::StatusCode::DEADLINE_EXCEEDED));
+  const double rest_cpu = CpuUsedWhileIdle(server.pid(), 1.0);
+  std::printf("  gateway, grpc-timeout 300m: HTTP %d; server CPU in the next 1 s: %.3f s\n", rest->status, rest_cpu);
+  EXPECT_LT(rest_cpu, 0.3) << "the REST solve kept running after its deadline";
 
   // Cancelling a session mid-solve stops it too (the solver polls the
   // call's cancellation).
