@@ -7,6 +7,16 @@
 
 namespace armature::server {
 
+namespace {
+// Names the field as the client sees it: "start.effectors[1].joint",
+// "message 7: targets[0].target_position". Interruptions name no field.
+Status InContext(const Status& status, uint64_t message) {
+  const StatusCode code = status.code();
+  if (status.ok() || code == StatusCode::kDeadlineExceeded || code == StatusCode::kCancelled) return status;
+  return status.WithContext(message == 0 ? "start." : "message " + std::to_string(message) + ": ");
+}
+}  // namespace
+
 IkSessionReactor::IkSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
                                    std::atomic<int>& sessions)
     : context_(context), store_(store), limits_(limits), sessions_(sessions) {
@@ -40,16 +50,6 @@ void IkSessionReactor::OnDone() {
   sessions_.fetch_sub(1, std::memory_order_relaxed);
   delete this;
 }
-
-namespace {
-// Names the field as the client sees it: "start.effectors[1].joint",
-// "message 7: targets[0].target_position". Interruptions name no field.
-Status InContext(const Status& status, uint64_t message) {
-  const StatusCode code = status.code();
-  if (status.ok() || code == StatusCode::kDeadlineExceeded || code == StatusCode::kCancelled) return status;
-  return status.WithContext(message == 0 ? "start." : "message " + std::to_string(message) + ": ");
-}
-}  // namespace
 
 Status IkSessionReactor::Answer() {
   ARMATURE_RETURN_IF_ERROR(index_ == 0 ? Start() : Update());
