@@ -5,7 +5,7 @@ CMAKE_FLAGS ?=
 DATA_DIR ?= armature-data
 ARGS ?=
 
-.PHONY: all deps test-deps configure build run test bench clean
+.PHONY: all deps test-deps configure build run test bench image-test clean
 
 all: build
 
@@ -27,6 +27,12 @@ run: build
 test: test-deps configure
 	cmake --build $(BUILD) -j $(JOBS)
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 600
+
+# Builds deploy/Dockerfile with podman, runs the image and checks it from the
+# host, then validates deploy/k8s offline (deploy/image-test.sh).
+image-test: configure
+	cmake --build $(BUILD) -j $(JOBS) --target armature
+	./deploy/image-test.sh --cli $(BUILD)/bin/armature
 
 bench: build
 	$(BUILD)/bin/armature-bench --benchmark_counters_tabular=true $(ARGS)

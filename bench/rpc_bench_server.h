@@ -10,6 +10,7 @@
 
 #include "armature/client.h"
 #include "server/armature_server.h"
+#include "server/logging.h"
 
 namespace armature_bench {
 namespace fs = std::filesystem;
@@ -28,7 +29,8 @@ struct BenchServer {
     config.grpc_port = 0;
     config.http_port = -1;
     config.data_dir = dir.string();
-    config.log_level = "warn";
+    config.log_level = "warn";  // no per-call request log lines in the measurement
+    armature::server::ConfigureLogging(config.log_level, config.log_format);
     auto started = armature::server::ArmatureServer::Start(config);
     if (!started.ok()) throw std::runtime_error(started.status().message());
     server = std::move(*started);

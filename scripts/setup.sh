@@ -9,7 +9,7 @@ packages=(
   build-essential cmake pkg-config ccache
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libeigen3-dev libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libtinygltf-dev
-  libcli11-dev libgtest-dev libbenchmark-dev liborocos-kdl-dev
+  libcli11-dev libgtest-dev libbenchmark-dev liborocos-kdl-dev libssl-dev
 )
 if [[ "${1:-}" == "test" ]]; then
   packages+=(python3 python3-numpy python3-scipy python3-grpcio)

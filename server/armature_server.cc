@@ -10,7 +10,12 @@
 
 #include "grpc/health/v1/health.pb.h"
 #include "server/gateway/http_rule.h"
+#include "server/asset_memory.h"
+#include "server/auth_gate.h"
 #include "server/demo_assets.h"
+#include "server/metrics_http.h"
+#include "server/rpc_observer.h"
+#include "server/server_credentials.h"
 #include "server/services.h"
 
 namespace armature::server {
@@ -19,7 +24,15 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   std::unique_ptr<ArmatureServer> s(new ArmatureServer());
   s->config_ = config;
 
-  auto store = AssetStore::Open(config.data_dir);
+  if (!config.auth_token_file.empty()) {
+    auto tokens = BearerTokens::FromFile(config.auth_token_file);
+    if (!tokens.ok()) return tokens.status();
+    s->tokens_ = std::move(*tokens);
+  }
+  auto credentials = MakeServerCredentials(config);
+  if (!credentials.ok()) return credentials.status();
+
+  auto store = AssetStore::Open(config.data_dir, {.limits = config.limits});
   if (!store.ok()) return store.status();
   s->store_ = std::move(*store);
   if (s->store_->fresh() && config.demo) {
@@ -34,11 +47,24 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   (void)grpc::health::v1::HealthCheckRequest::descriptor();
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
-  builder.AddListeningPort(config.host + ":" + std::to_string(config.grpc_port), grpc::InsecureServerCredentials(),
-                           &s->grpc_port_);
+  builder.AddListeningPort(config.host + ":" + std::to_string(config.grpc_port), *credentials, &s->grpc_port_);
   builder.SetMaxReceiveMessageSize(static_cast<int>(config.limits.max_message_bytes));
   builder.SetMaxSendMessageSize(static_cast<int>(config.limits.max_message_bytes));
-  s->services_ = MakeServices(*s->store_, s->config_.limits);
+  // Every call, REST ones through the in-process channel included, passes the observer (metrics, request log).
+  s->metrics_ = std::make_unique<Metrics>();
+  s->metrics_->AddCollector([store = s->store_.get()](PrometheusText& out) { CollectAssetMetrics(*store->Snapshot(), out); });
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(std::make_unique<RpcObserverFactory>(*s->metrics_));
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
+  // With a token file, each API service sits behind an auth gate; health and reflection stay open.
+  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_)) {
+    if (s->tokens_) {
+      auto gated = GateService(std::move(entry.service), entry.name, s->tokens_);
+      if (!gated.ok()) return gated.status();
+      entry.service = std::move(*gated);
+    }
+    s->services_.push_back(std::move(entry.service));
+  }
   for (auto& service : s->services_) builder.RegisterService(service.get());
   s->grpc_ = builder.BuildAndStart();
   if (!s->grpc_ || s->grpc_port_ == 0)
@@ -46,14 +72,16 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   s->grpc_->GetHealthCheckService()->SetServingStatus(true);
 
   if (config.http_port >= 0) {
-    s->http_ = std::make_unique<HttpServer>(config.limits.max_http_threads);
+    s->http_ = std::make_unique<HttpServer>(config.limits.max_http_threads, config.tls_cert_file, config.tls_key_file);
+    ServeMetrics(s->http_->routes(), *s->metrics_, s->tokens_);
     if (Status st = s->StartGateway(); !st.ok()) return st;
     s->http_port_ = s->http_->Start(config.host, config.http_port);
     if (s->http_port_ < 0)
       return Status::Unavailable("cannot listen for HTTP on " + config.host + ":" + std::to_string(config.http_port));
     s->http_->SetReady(true);
   }
-  spdlog::info("serving gRPC on {}:{} and HTTP on {}:{}", config.host, s->grpc_port_, config.host, s->http_port_);
+  spdlog::info("serving gRPC on {}:{} and HTTP on {}:{}{}{}", config.host, s->grpc_port_, config.host, s->http_port_,
+               config.tls_cert_file.empty() ? "" : " (TLS)", s->tokens_ ? ", bearer token required" : "");
 
   if (!config.port_file.empty()) {
     const std::string tmp = config.port_file + ".tmp";
@@ -97,6 +125,7 @@ Status ArmatureServer::StartGateway() {
 void ArmatureServer::Shutdown() {
   if (stopped_) return;
   stopped_ = true;
+  if (!grpc_) return;  // Start failed before serving
   spdlog::info("shutting down: finishing in-flight calls (up to {} s)", config_.shutdown_grace_seconds);
   const auto deadline = std::chrono::system_clock::now() +
                         std::chrono::milliseconds(static_cast<int64_t>(config_.shutdown_grace_seconds * 1000));

@@ -11,7 +11,9 @@
 #include "server/asset_store.h"
 #include "server/config.h"
 #include "server/gateway/gateway.h"
+#include "server/bearer_tokens.h"
 #include "server/http_server.h"
+#include "server/metrics.h"
 
 namespace armature::server {
 
@@ -26,6 +28,7 @@ class ArmatureServer {
   int grpc_port() const { return grpc_port_; }
   int http_port() const { return http_port_; }
   AssetStore& store() { return *store_; }
+  Metrics& metrics() { return *metrics_; }
 
  private:
   ArmatureServer() = default;
@@ -33,6 +36,8 @@ class ArmatureServer {
 
   ServerConfig config_;
   std::unique_ptr<AssetStore> store_;
+  std::unique_ptr<Metrics> metrics_;              // outlives the gRPC server, whose interceptors use it
+  std::shared_ptr<const BearerTokens> tokens_;  // null: no auth
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> grpc_;
   std::unique_ptr<gateway::Gateway> gateway_;  // calls grpc_ in-process; serves on http_

@@ -1,6 +1,7 @@
 #include "server/asset_store.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -12,6 +13,9 @@
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+
+#include "server/asset_limits.h"
+#include "server/data_dir_lock.h"
 
 namespace armature::server {
 namespace fs = std::filesystem;
@@ -126,6 +130,29 @@ StatusOr<AssetRecord> RecordFromJson(const json& j) {
   return r;
 }
 
+// A manifest path of a stored file: "files/<one safe name>", never outside the data dir.
+bool IsStoredFilePath(std::string_view path) {
+  constexpr std::string_view kPrefix = "files/";
+  if (!path.starts_with(kPrefix)) return false;
+  const std::string_view name = path.substr(kPrefix.size());
+  return !name.empty() && name.front() != '.' && name.find('/') == std::string_view::npos &&
+         name.find('\\') == std::string_view::npos && name.find('\0') == std::string_view::npos;
+}
+
+Status CheckRecordPaths(const AssetRecord& r) {
+  if (!IsStoredFilePath(r.file)) return Status::InvalidArgument("manifest entry '" + r.name + "': bad file path '" + r.file + "'");
+  for (const auto& [uri, file] : r.resources)
+    if (!IsStoredFilePath(file))
+      return Status::InvalidArgument("manifest entry '" + r.name + "': bad resource path '" + file + "'");
+  return ValidateAssetName(r.name).WithContext("manifest entry: ");
+}
+
+// The same stored files: stored names are unique per import, so equal
+// records mean equal contents and the parsed asset can be kept.
+bool SameStoredFiles(const AssetRecord& a, const AssetRecord& b) {
+  return a.format == b.format && a.file == b.file && a.resources == b.resources;
+}
+
 // Reads a stored asset's files back and parses them.
 StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r) {
   auto bytes = ReadFile(dir / r.file);
@@ -199,35 +226,82 @@ StatusOr<std::shared_ptr<Catalog>> BuildCatalog(std::map<std::string, std::share
   return c;
 }
 
-StatusOr<std::unique_ptr<AssetStore>> AssetStore::Open(const fs::path& data_dir) {
+StatusOr<std::unique_ptr<AssetStore>> AssetStore::Open(const fs::path& data_dir, StoreOptions options) {
   std::error_code ec;
   fs::create_directories(data_dir / "files", ec);
   if (ec) return Status::FailedPrecondition("cannot create data dir " + data_dir.string() + ": " + ec.message());
-  std::unique_ptr<AssetStore> store(new AssetStore(fs::absolute(data_dir)));
+  std::unique_ptr<AssetStore> store(new AssetStore(fs::absolute(data_dir), std::move(options)));
   ARMATURE_RETURN_IF_ERROR(store->Load());
+  if (store->options_.watch_interval.count() > 0) store->watcher_ = std::thread([s = store.get()] { s->Watch(); });
   return store;
 }
 
+AssetStore::~AssetStore() {
+  {
+    std::lock_guard lock(watch_mu_);
+    stopping_ = true;
+  }
+  watch_cv_.notify_all();
+  if (watcher_.joinable()) watcher_.join();
+}
+
 Status AssetStore::Load() {
-  const fs::path manifest = dir_ / kManifest;
+  std::lock_guard write_lock(write_mu_);
+  auto lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kExclusive);
+  if (!lock.ok()) return lock.status();
+  fresh_ = !fs::exists(dir_ / kManifest);
+  std::set<fs::path> referenced;
+  ARMATURE_RETURN_IF_ERROR(SyncLocked(&referenced));
+  RemoveLeftovers(referenced);
+  spdlog::info("loaded {} assets from {}", Snapshot()->assets.size(), dir_.string());
+  return Status::Ok();
+}
+
+AssetStore::ManifestStamp AssetStore::StampOfManifest() const {
+  // open + fstat rather than stat: on NFS, opening revalidates the cached
+  // attributes (close-to-open consistency), so another host's write shows.
+  ManifestStamp stamp;
+  const int fd = ::open((dir_ / kManifest).c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return stamp;
+  struct stat st {};
+  if (::fstat(fd, &st) == 0) {
+    stamp.exists = true;
+    stamp.device = st.st_dev;
+    stamp.inode = st.st_ino;
+    stamp.size = st.st_size;
+    stamp.mtime_ns = static_cast<int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
+  }
+  ::close(fd);
+  return stamp;
+}
+
+Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
+  const ManifestStamp stamp = StampOfManifest();
+  const bool first = Snapshot() == nullptr;
+  if (!first && stamp == stamp_ && referenced == nullptr) return Status::Ok();
+  const auto current = first ? std::make_shared<const Catalog>() : Snapshot();
   std::map<std::string, std::shared_ptr<const StoredAsset>> assets;
-  std::set<fs::path> referenced;  // every file a manifest entry names, loadable or not
-  if (!fs::exists(manifest)) {
-    fresh_ = true;
-  } else {
-    auto text = ReadFile(manifest);
+  if (stamp.exists) {
+    auto text = ReadFile(dir_ / kManifest);
     if (!text.ok()) return text.status();
     json j = json::parse(*text, nullptr, false);
-    if (j.is_discarded() || !j.contains("assets"))
-      return Status::FailedPrecondition(manifest.string() + " is not a valid manifest; refusing to start");
+    if (j.is_discarded() || !j.contains("assets") || !j["assets"].is_array())
+      return Status::FailedPrecondition((dir_ / kManifest).string() + " is not a valid manifest");
     for (const json& entry : j["assets"]) {
       auto record = RecordFromJson(entry);
-      if (!record.ok()) {
-        spdlog::error("manifest: skipping an entry: {}", record.status().message());
+      if (const Status valid = record.ok() ? CheckRecordPaths(*record) : record.status(); !valid.ok()) {
+        spdlog::error("manifest: skipping an entry: {}", valid.message());
         continue;
       }
-      referenced.insert(dir_ / record->file);
-      for (const auto& [uri, file] : record->resources) referenced.insert(dir_ / file);
+      if (referenced != nullptr) {
+        referenced->insert(dir_ / record->file);
+        for (const auto& [uri, file] : record->resources) referenced->insert(dir_ / file);
+      }
+      if (auto it = current->assets.find(record->name);
+          it != current->assets.end() && SameStoredFiles(it->second->record, *record)) {
+        assets[record->name] = it->second;  // unchanged: keep the parsed asset
+        continue;
+      }
       auto contents = LoadContents(dir_, *record);
       if (!contents.ok()) {
         spdlog::error("asset '{}' ({}) could not be loaded and is skipped: {}", record->name, record->file,
@@ -237,25 +311,68 @@ Status AssetStore::Load() {
       assets[record->name] = std::make_shared<const StoredAsset>(StoredAsset{*record, std::move(*contents)});
     }
   }
+  if (!first) {
+    for (const auto& [name, asset] : assets)
+      if (!current->assets.contains(name) || current->assets.at(name) != asset)
+        spdlog::info("manifest changed: asset '{}' loaded", name);
+    for (const auto& [name, asset] : current->assets)
+      if (!assets.contains(name)) spdlog::info("manifest changed: asset '{}' removed", name);
+  }
+  auto catalog = BuildCatalog(std::move(assets));
+  if (!catalog.ok()) return catalog.status();
+  Publish(std::move(*catalog));
+  stamp_ = stamp;
+  return Status::Ok();
+}
+
+void AssetStore::RemoveLeftovers(const std::set<fs::path>& referenced) const {
   // Leftovers of interrupted writes: temporary files, and stored files that
   // no manifest entry took in (a crash between the two writes of an import).
+  // Recent ones are kept: another server may be between those two writes.
+  const auto now = fs::file_time_type::clock::now();
   for (const fs::path& d : {dir_, dir_ / "files"}) {
     for (const auto& entry : fs::directory_iterator(d)) {
       const std::string fname = entry.path().filename().string();
       const bool temporary = fname.starts_with(".") && fname.find(".tmp-") != std::string::npos;
       const bool orphan = d != dir_ && !referenced.contains(entry.path());
-      if (entry.is_regular_file() && (temporary || orphan)) {
-        spdlog::warn("removing leftover of an interrupted write: {}", entry.path().string());
-        fs::remove(entry.path());
+      if (!entry.is_regular_file() || !(temporary || orphan)) continue;
+      std::error_code ec;
+      const auto written = fs::last_write_time(entry.path(), ec);
+      if (ec) continue;
+      if (now - written < options_.leftover_min_age) {
+        spdlog::info("keeping a recent file no manifest entry names (another server may be importing it): {}",
+                     entry.path().string());
+        continue;
       }
+      spdlog::warn("removing leftover of an interrupted write: {}", entry.path().string());
+      fs::remove(entry.path(), ec);
     }
   }
+}
 
-  auto catalog = BuildCatalog(std::move(assets));
-  if (!catalog.ok()) return catalog.status();
-  Publish(std::move(*catalog));
-  spdlog::info("loaded {} assets from {}", Snapshot()->assets.size(), dir_.string());
-  return Status::Ok();
+Status AssetStore::Refresh() {
+  std::lock_guard write_lock(write_mu_);
+  if (StampOfManifest() == stamp_) return Status::Ok();
+  auto lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kShared);
+  Status st = lock.ok() ? SyncLocked() : lock.status();
+  if (!st.ok()) {
+    // Keep serving what is loaded; say so once per distinct problem.
+    if (st.message() != last_refresh_error_)
+      spdlog::error("cannot reload the manifest, keeping the assets loaded: {}", st.message());
+    last_refresh_error_ = st.message();
+    return st;
+  }
+  last_refresh_error_.clear();
+  return st;
+}
+
+void AssetStore::Watch() {
+  std::unique_lock lock(watch_mu_);
+  while (!watch_cv_.wait_for(lock, options_.watch_interval, [this] { return stopping_; })) {
+    lock.unlock();
+    (void)Refresh();
+    lock.lock();
+  }
 }
 
 std::shared_ptr<const Catalog> AssetStore::Snapshot() const {
@@ -268,11 +385,13 @@ void AssetStore::Publish(std::shared_ptr<const Catalog> catalog) {
   catalog_ = std::move(catalog);
 }
 
-Status AssetStore::WriteManifest(const Catalog& catalog) const {
+Status AssetStore::WriteManifest(const Catalog& catalog) {
   json entries = json::array();
   for (const auto& [name, asset] : catalog.assets) entries.push_back(RecordToJson(asset->record));
   const json j = {{"version", 1}, {"assets", entries}};
-  return WriteFileAtomic(dir_ / kManifest, j.dump(2));
+  ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_ / kManifest, j.dump(2)));
+  stamp_ = StampOfManifest();  // this server's own write needs no reload
+  return Status::Ok();
 }
 
 StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest request) {
@@ -284,8 +403,13 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   const std::string label = request.filename.empty() ? request.name : request.filename;
   auto contents = ParseAsset(*format, request.bytes, request.name, request.resources);
   if (!contents.ok()) return contents.status().WithContext(label + ": ");
+  ARMATURE_RETURN_IF_ERROR(CheckAssetLimits(*contents, options_.limits).WithContext(label + ": "));
 
+  // Read-modify-write of the manifest, exclusive across every server on this data dir.
   std::lock_guard write_lock(write_mu_);
+  auto dir_lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kExclusive);
+  if (!dir_lock.ok()) return dir_lock.status();
+  ARMATURE_RETURN_IF_ERROR(SyncLocked());
   const auto current = Snapshot();
   auto assets = current->assets;
   std::shared_ptr<const StoredAsset> replaced;
@@ -334,6 +458,9 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
 
 StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Delete(std::string_view name) {
   std::lock_guard write_lock(write_mu_);
+  auto dir_lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kExclusive);
+  if (!dir_lock.ok()) return dir_lock.status();
+  ARMATURE_RETURN_IF_ERROR(SyncLocked());
   const auto current = Snapshot();
   auto owner = current->FindOwner(name);
   if (!owner.ok()) return owner.status();

@@ -5,17 +5,32 @@
 // keeps the parts it already holds. Writes are serialized, persisted first
 // (source file + manifest, each written to a temporary file, fsynced and
 // renamed) and published second, so a crash mid-import leaves no half asset.
+//
+// Several servers may share one data dir (replicas on a ReadWriteMany
+// volume). Each write is a read-modify-write of the manifest under an
+// exclusive DataDirLock, re-reading the manifest first, so concurrent
+// writers never lose each other's entries. Each server watches the manifest
+// and reloads it when another one changed it: unchanged entries keep their
+// parsed assets, only new ones are parsed. Files are written before the
+// manifest names them, so no server ever sees a half-written asset.
 #pragma once
 
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <string_view>
+#include <thread>
+#include <vector>
 
 #include "armature/engine/asset.h"
 #include "armature/engine/status.h"
+#include "server/limits.h"
 
 namespace armature::server {
 
@@ -65,35 +80,74 @@ struct ImportRequest {
   ResourceMap resources;  // further files by uri (a .gltf's .bin buffers)
 };
 
+struct StoreOptions {
+  Limits limits;  // what an import may contain (CheckAssetLimits)
+  // How often the manifest is checked for other servers' writes; 0: never.
+  std::chrono::milliseconds watch_interval{500};
+  // At start-up, files no manifest entry names are removed only when older
+  // than this: a replica may have written them and not yet listed them.
+  std::chrono::seconds leftover_min_age{600};
+};
+
 class AssetStore {
  public:
   // Opens (creating if needed) a data dir and loads every asset in its
   // manifest. Assets that no longer parse are logged and skipped, never deleted.
-  static StatusOr<std::unique_ptr<AssetStore>> Open(const std::filesystem::path& data_dir);
+  static StatusOr<std::unique_ptr<AssetStore>> Open(const std::filesystem::path& data_dir, StoreOptions options = {});
+  ~AssetStore();
 
   std::shared_ptr<const Catalog> Snapshot() const;
 
   // Parses, persists, then publishes. INVALID_ARGUMENT for bad files or
-  // names, ALREADY_EXISTS for a taken name (unless replace).
+  // names, ALREADY_EXISTS for a taken name (unless replace),
+  // RESOURCE_EXHAUSTED over a limit.
   StatusOr<std::shared_ptr<const StoredAsset>> Import(ImportRequest request);
   // Removes the asset owning `name` from the manifest, then its file.
   StatusOr<std::shared_ptr<const StoredAsset>> Delete(std::string_view name);
+
+  // Reloads the manifest if another server changed it since this one last
+  // read or wrote it. The watcher calls it every watch_interval.
+  Status Refresh();
 
   // True when the data dir had no manifest when opened (a first start).
   bool fresh() const { return fresh_; }
   const std::filesystem::path& data_dir() const { return dir_; }
 
  private:
-  explicit AssetStore(std::filesystem::path dir) : dir_(std::move(dir)) {}
+  // What identifies one version of the manifest file: every write renames a
+  // new file over it, so the inode changes with each.
+  struct ManifestStamp {
+    bool exists = false;
+    uint64_t device = 0, inode = 0;
+    int64_t size = 0, mtime_ns = 0;
+    bool operator==(const ManifestStamp&) const = default;
+  };
+
+  AssetStore(std::filesystem::path dir, StoreOptions options) : dir_(std::move(dir)), options_(std::move(options)) {}
   Status Load();
-  Status WriteManifest(const Catalog& catalog) const;
+  // Brings the published catalog up to date with the manifest on disk.
+  // Call with write_mu_ and a DataDirLock held. `referenced`, when given,
+  // receives every file the manifest names (loadable or not).
+  Status SyncLocked(std::set<std::filesystem::path>* referenced = nullptr);
+  void RemoveLeftovers(const std::set<std::filesystem::path>& referenced) const;
+  ManifestStamp StampOfManifest() const;
+  Status WriteManifest(const Catalog& catalog);
   void Publish(std::shared_ptr<const Catalog> catalog);
+  void Watch();
 
   std::filesystem::path dir_;
+  StoreOptions options_;
   bool fresh_ = false;
-  std::mutex write_mu_;  // one writer at a time
+  std::mutex write_mu_;   // one writer or reload at a time in this process
+  ManifestStamp stamp_;   // of the manifest the catalog reflects; guarded by write_mu_
+  std::string last_refresh_error_;  // logged once, not every poll; guarded by write_mu_
   mutable std::mutex snapshot_mu_;
   std::shared_ptr<const Catalog> catalog_;
+
+  std::mutex watch_mu_;
+  std::condition_variable watch_cv_;
+  bool stopping_ = false;
+  std::thread watcher_;
 };
 
 // Asset names become file names: letters, digits, '.', '_' and '-', not

@@ -25,11 +25,6 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   double message_mb = static_cast<double>(c.limits.max_message_bytes) / (1 << 20);
   app.add_option("--max-message-mb", message_mb, "Largest gRPC message sent or received, in MiB")
       ->envname("ARMATURE_MAX_MESSAGE_MB")->check(CLI::PositiveNumber);
-  app.add_option("--max-ik-iterations", c.limits.max_ik_iterations,
-                 "Most IK iterations one solve may ask for (more: RESOURCE_EXHAUSTED)")
-      ->envname("ARMATURE_MAX_IK_ITERATIONS")->check(CLI::PositiveNumber);
-  app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most concurrent IK sessions (more: RESOURCE_EXHAUSTED)")
-      ->envname("ARMATURE_MAX_IK_SESSIONS")->check(CLI::NonNegativeNumber);
   bool no_demo = !c.demo;
   app.add_flag("--no-demo", no_demo, "Do not seed demo assets into an empty data dir")->envname("ARMATURE_NO_DEMO");
   app.add_option("--shutdown-grace", c.shutdown_grace_seconds,
@@ -48,6 +43,27 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
       ->envname("ARMATURE_HTTP_THREADS")->check(CLI::Range(16, 10000));
   app.add_option("--web-dir", c.web_dir, "The viewer's files, served at / (default: the installed or built viewer)")
       ->envname("ARMATURE_WEB_DIR");
+  app.add_option("--auth-token-file", c.auth_token_file,
+                 "Require 'authorization: Bearer <token>' on API calls; one accepted token per line "
+                 "(health checks and reflection stay open)")
+      ->envname("ARMATURE_AUTH_TOKEN_FILE")->check(CLI::ExistingFile);
+  auto* cert = app.add_option("--tls-cert", c.tls_cert_file, "PEM certificate chain: serve gRPC and HTTP over TLS")
+                   ->envname("ARMATURE_TLS_CERT")->check(CLI::ExistingFile);
+  auto* key = app.add_option("--tls-key", c.tls_key_file, "PEM private key of --tls-cert")
+                  ->envname("ARMATURE_TLS_KEY")->check(CLI::ExistingFile);
+  cert->needs(key);
+  key->needs(cert);
+  app.add_option("--max-clip-frames", c.limits.max_clip_frames, "Most frames an imported clip may have")
+      ->envname("ARMATURE_MAX_CLIP_FRAMES")->check(CLI::PositiveNumber);
+  app.add_option("--max-mesh-vertices", c.limits.max_mesh_vertices, "Most vertices an imported mesh may have")
+      ->envname("ARMATURE_MAX_MESH_VERTICES")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-iterations", c.limits.max_ik_iterations, "Most solver iterations an IK request may ask for")
+      ->envname("ARMATURE_MAX_IK_ITERATIONS")->check(CLI::PositiveNumber);
+  app.add_option("--max-sessions-per-client", c.limits.max_sessions_per_client,
+                 "Most IK/deformation sessions one client may hold open")
+      ->envname("ARMATURE_MAX_SESSIONS_PER_CLIENT")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most IK sessions open at once, all clients together")
+      ->envname("ARMATURE_MAX_IK_SESSIONS")->check(CLI::NonNegativeNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -20,6 +20,9 @@ struct ServerConfig {
   std::string port_file;  // when set, {"grpc":…,"http":…} is written there once serving
   std::vector<std::string> cors_origins;  // origins allowed to call the REST gateway from a browser ("*": any)
   std::string web_dir;  // the viewer's files; empty: the installed or built location (DefaultWebDir)
+  std::string auth_token_file;  // when set, API calls need "authorization: Bearer <a token in it>"
+  std::string tls_cert_file;    // PEM certificate chain: TLS on the gRPC and HTTP ports
+  std::string tls_key_file;     // PEM private key of tls_cert_file
   Limits limits;
 };
 

@@ -11,7 +11,9 @@ Status SeedDemoAssets(AssetStore& store) {
   walk.name = "demo_walk";
   walk.filename = "demo_walk.bvh";
   walk.bytes = WriteBvh(*MakeDemoWalk().clip);
-  return store.Import(std::move(walk)).status();
+  const Status st = store.Import(std::move(walk)).status();
+  // Replicas starting together on a new shared data dir: one of them seeds it.
+  return st.code() == StatusCode::kAlreadyExists ? Status::Ok() : st;
 }
 
 }  // namespace armature::server

@@ -1,5 +1,7 @@
 #include "server/grpc_status.h"
 
+#include <iterator>
+
 namespace armature::server {
 
 grpc::Status ToGrpcStatus(const Status& status) {
@@ -22,6 +24,16 @@ grpc::Status ToGrpcStatus(const Status& status) {
     case StatusCode::kInternal: code = G::INTERNAL; break;
   }
   return grpc::Status(code, status.message());
+}
+
+const char* GrpcCodeName(grpc::StatusCode code) {
+  static constexpr const char* kNames[] = {"OK",           "CANCELLED",         "UNKNOWN",        "INVALID_ARGUMENT",
+                                           "DEADLINE_EXCEEDED", "NOT_FOUND",    "ALREADY_EXISTS", "PERMISSION_DENIED",
+                                           "RESOURCE_EXHAUSTED", "FAILED_PRECONDITION", "ABORTED", "OUT_OF_RANGE",
+                                           "UNIMPLEMENTED", "INTERNAL",         "UNAVAILABLE",    "DATA_LOSS",
+                                           "UNAUTHENTICATED"};
+  const int i = static_cast<int>(code);
+  return i >= 0 && i < static_cast<int>(std::size(kNames)) ? kNames[i] : "UNKNOWN";
 }
 
 grpc::ServerUnaryReactor* FinishUnary(grpc::CallbackServerContext* context, const Status& status) {

@@ -12,6 +12,9 @@ namespace armature::server {
 
 grpc::Status ToGrpcStatus(const Status& status);
 
+// "OK", "INVALID_ARGUMENT", … (metric labels, logs).
+const char* GrpcCodeName(grpc::StatusCode code);
+
 // Finishes a callback unary call with `status` (the thin-handler idiom).
 grpc::ServerUnaryReactor* FinishUnary(grpc::CallbackServerContext* context, const Status& status);
 

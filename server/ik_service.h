@@ -2,18 +2,21 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
 
 #include "armature/engine/ik_workspace.h"
 #include "armature/v1/ik.grpc.pb.h"
 #include "server/asset_store.h"
 #include "server/ik_convert.h"
 #include "server/limits.h"
+#include "server/session_gate.h"
 
 namespace armature::server {
 
 class IkServiceImpl final : public v1::IkService::CallbackService {
  public:
-  IkServiceImpl(AssetStore& store, const Limits& limits) : store_(store), limits_(limits) {}
+  IkServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionGate> sessions)
+      : store_(store), limits_(limits), gate_(std::move(sessions)) {}
 
   grpc::ServerUnaryReactor* SolveIk(grpc::CallbackServerContext* context, const v1::SolveIkRequest* request,
                                     v1::SolveIkResponse* response) override;
@@ -23,7 +26,8 @@ class IkServiceImpl final : public v1::IkService::CallbackService {
  private:
   AssetStore& store_;
   const Limits& limits_;
-  std::atomic<int> sessions_{0};  // open IkSession streams
+  std::shared_ptr<SessionGate> gate_;  // per-client session limit, shared with other session kinds
+  std::atomic<int> sessions_{0};       // open IkSession streams (--max-ik-sessions)
 };
 
 // Solves `call` (its request carrying any deadline and cancel check) and

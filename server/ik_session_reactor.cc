@@ -18,28 +18,34 @@ Status InContext(const Status& status, uint64_t message) {
 }  // namespace
 
 IkSessionReactor::IkSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                                   std::atomic<int>& sessions)
+                                   std::atomic<int>& sessions, SessionGate& gate)
     : context_(context), store_(store), limits_(limits), sessions_(sessions) {
   const int open = sessions_.fetch_add(1, std::memory_order_relaxed) + 1;
   if (open > limits_.max_ik_sessions) {
-    Finish(ToGrpcStatus(Status::ResourceExhausted(
+    End(ToGrpcStatus(Status::ResourceExhausted(
         "IkSession: the limit of " + std::to_string(limits_.max_ik_sessions) +
         " concurrent IK sessions (--max-ik-sessions) is reached; close one and retry")));
     return;
   }
+  auto ticket = gate.Admit(*context);
+  if (!ticket.ok()) {
+    End(ToGrpcStatus(ticket.status()));
+    return;
+  }
+  ticket_ = std::move(*ticket);
   StartRead(&request_);
 }
 
 void IkSessionReactor::OnReadDone(bool ok) {
   // Not ok: the client closed its side (or went away): the session is over.
-  if (!ok) return Finish(grpc::Status::OK);
-  if (Status status = Answer(); !status.ok()) return Finish(ToGrpcStatus(status));
+  if (!ok) return End(grpc::Status::OK);
+  if (Status status = Answer(); !status.ok()) return End(ToGrpcStatus(status));
   ++index_;
   StartWrite(&response_);
 }
 
 void IkSessionReactor::OnWriteDone(bool ok) {
-  if (!ok) return Finish(grpc::Status(grpc::StatusCode::CANCELLED, "the client went away"));
+  if (!ok) return End(grpc::Status(grpc::StatusCode::CANCELLED, "the client went away"));
   request_.Clear();
   StartRead(&request_);
 }
@@ -47,8 +53,21 @@ void IkSessionReactor::OnWriteDone(bool ok) {
 void IkSessionReactor::OnDone() {
   spdlog::debug("IK session on '{}' done after {} messages",
                 call_.skeleton.part ? call_.skeleton.part->name : std::string("?"), index_);
-  sessions_.fetch_sub(1, std::memory_order_relaxed);
+  ReleasePlaces();
   delete this;
+}
+
+void IkSessionReactor::End(grpc::Status status) {
+  // Free the places before the client hears the session is over, so it can
+  // open another at once.
+  ReleasePlaces();
+  Finish(std::move(status));
+}
+
+void IkSessionReactor::ReleasePlaces() {
+  ticket_ = SessionGate::Ticket();
+  if (counted_) sessions_.fetch_sub(1, std::memory_order_relaxed);
+  counted_ = false;
 }
 
 Status IkSessionReactor::Answer() {

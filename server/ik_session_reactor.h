@@ -12,22 +12,26 @@
 #include "server/asset_store.h"
 #include "server/ik_convert.h"
 #include "server/limits.h"
+#include "server/session_gate.h"
 
 namespace armature::server {
 
 class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse> {
  public:
-  // `sessions` counts open sessions; over limits.max_ik_sessions the stream
-  // ends at once with RESOURCE_EXHAUSTED.
+  // `sessions` counts open IK sessions; over limits.max_ik_sessions, or
+  // when `gate` refuses the client a place, the stream ends at once with
+  // RESOURCE_EXHAUSTED.
   IkSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                   std::atomic<int>& sessions);
+                   std::atomic<int>& sessions, SessionGate& gate);
 
   void OnReadDone(bool ok) override;
   void OnWriteDone(bool ok) override;
   void OnDone() override;
 
  private:
-  Status Answer();  // solves request_ into response_
+  void End(grpc::Status status);  // finishes the call (once)
+  void ReleasePlaces();           // the session limits' places; idempotent
+  Status Answer();                // solves request_ into response_
   Status Start();   // the first message
   Status Update();  // a later one
 
@@ -35,6 +39,8 @@ class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionReque
   AssetStore& store_;
   const Limits& limits_;
   std::atomic<int>& sessions_;
+  bool counted_ = true;          // holds a place in `sessions_`
+  SessionGate::Ticket ticket_;  // this client's place
 
   v1::IkSessionRequest request_;
   v1::SolveIkResponse response_;

@@ -13,8 +13,11 @@ struct Limits {
   size_t max_http_threads = 256;           // --http-threads: HTTP connections served at once
   size_t max_times_per_request = 100000;   // EvaluateClip.times
   double max_stream_fps = 240;
-  int max_ik_iterations = 10000;  // SolveIkRequest.options.max_iterations
-  int max_ik_sessions = 64;       // concurrent IkSession streams
+  int64_t max_clip_frames = 1000000;       // --max-clip-frames: frames of one imported clip
+  int64_t max_mesh_vertices = 5000000;     // --max-mesh-vertices: vertices of one imported mesh
+  int max_ik_iterations = 1000;            // --max-ik-iterations: solver iterations one IK request may ask for
+  int max_sessions_per_client = 16;        // --max-sessions-per-client: open IK/deformation sessions per client
+  int max_ik_sessions = 64;                // --max-ik-sessions: IK sessions open at once, all clients
 };
 
 }  // namespace armature::server

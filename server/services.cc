@@ -6,11 +6,13 @@
 
 namespace armature::server {
 
-std::vector<std::unique_ptr<grpc::Service>> MakeServices(AssetStore& store, const Limits& limits) {
-  std::vector<std::unique_ptr<grpc::Service>> services;
-  services.push_back(std::make_unique<AssetServiceImpl>(store, limits));
-  services.push_back(std::make_unique<PoseServiceImpl>(store, limits));
-  services.push_back(std::make_unique<IkServiceImpl>(store, limits));
+std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics) {
+  // Sessions of every kind share the per-client limit.
+  auto sessions = std::make_shared<SessionGate>(limits.max_sessions_per_client, metrics.sessions());
+  std::vector<ServiceEntry> services;
+  services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
+  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits));
+  services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions));
   return services;
 }
 

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <memory>
 #include <string>
 
 #include "armature/engine/bvh.h"
+#include "armature/engine/gltf.h"
+#include "armature/engine/obj.h"
 
 namespace armature {
 
@@ -69,7 +72,7 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
 }
 
 StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
-                                   const ResourceMap& /*resources*/) {
+                                   const ResourceMap& resources) {
   switch (format) {
     case AssetFormat::kBvh: {
       auto bvh = ParseBvh(bytes);
@@ -79,9 +82,17 @@ StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, s
       c.clips.push_back({std::string(name), std::string(name), bvh->clip});
       return c;
     }
-    default:
-      return Status(StatusCode::kUnimplemented, std::string(FormatName(format)) + " import is not available yet");
+    case AssetFormat::kGltf:
+    case AssetFormat::kGlb: return ParseGltf(bytes, format == AssetFormat::kGlb, name, resources);
+    case AssetFormat::kObj: {
+      AssetContents c;
+      auto mesh = ParseObj(bytes, name, &c.warnings);
+      if (!mesh.ok()) return mesh.status();
+      c.meshes.push_back({std::string(name), "", std::make_shared<const Mesh>(std::move(*mesh))});
+      return c;
+    }
   }
+  return Status::InvalidArgument("unknown asset format");
 }
 
 }  // namespace armature

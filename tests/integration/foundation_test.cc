@@ -11,44 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "armature/client.h"
-#include "rpc_test_util.h"
+#include "client_helpers.h"
 #include "server_process.h"
 
 namespace armature::testing {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// A two-joint arm written by the test: the root at (1,2,3) + position
-// channels, rotating about Z by 90°·frame; the child 2 units along X.
-constexpr char kArmBvh[] = R"(HIERARCHY
-ROOT Base
-{
-  OFFSET 1 2 3
-  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-  JOINT Tip
-  {
-    OFFSET 2 0 0
-    CHANNELS 3 Zrotation Xrotation Yrotation
-    End Site
-    {
-      OFFSET 1 0 0
-    }
-  }
-}
-MOTION
-Frames: 3
-Frame Time: 0.5
-0 0 0 0 0 0 0 0 0
-0 0 0 90 0 0 0 0 0
-0 0 0 180 0 0 0 0 0
-)";
-
-fs::path WriteTemp(const TempDir& dir, const std::string& name, const std::string& content) {
-  const fs::path p = dir.path() / name;
-  std::ofstream(p, std::ios::binary) << content;
-  return p;
-}
 
 class Foundation : public ::testing::Test {
  protected:
@@ -282,18 +251,22 @@ TEST_F(Foundation, InterruptedImportLeavesNoHalfAsset) {
     Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
   }
   // What a crash between writes leaves: a temporary file and a stored file
-  // no manifest entry names.
-  std::ofstream(data_.path() / "files" / ".half.bvh.tmp-1234") << "HIERARCHY";
-  std::ofstream(data_.path() / "files" / "orphan.abc.bvh") << kArmBvh;
-  std::ofstream(data_.path() / ".manifest.json.tmp-99") << "{";
+  // no manifest entry names, from an hour ago.
+  const fs::path leftovers[] = {data_.path() / "files" / ".half.bvh.tmp-1234", data_.path() / "files" / "orphan.abc.bvh",
+                                data_.path() / ".manifest.json.tmp-99"};
+  for (const fs::path& p : leftovers) {
+    std::ofstream(p) << "HIERARCHY";
+    fs::last_write_time(p, fs::file_time_type::clock::now() - std::chrono::hours(1));
+  }
+  // A file just written and not yet listed may be another replica's import in progress: kept.
+  std::ofstream(data_.path() / "files" / "in_progress.def.bvh") << kArmBvh;
   ServerProcess server(data_.path(), {"--no-demo"});
   Client client(OptionsFor(server));
   const auto assets = client.ListAssets();
   ASSERT_EQ(assets.assets_size(), 1);
   EXPECT_EQ(assets.assets(0).name(), "arm");
-  EXPECT_FALSE(fs::exists(data_.path() / "files" / ".half.bvh.tmp-1234"));
-  EXPECT_FALSE(fs::exists(data_.path() / "files" / "orphan.abc.bvh"));
-  EXPECT_FALSE(fs::exists(data_.path() / ".manifest.json.tmp-99"));
+  for (const fs::path& p : leftovers) EXPECT_FALSE(fs::exists(p)) << p;
+  EXPECT_TRUE(fs::exists(data_.path() / "files" / "in_progress.def.bvh"));
 }
 
 TEST_F(Foundation, CliCommandsAndErrors) {

@@ -22,7 +22,7 @@
 
 #include "../common/sse_events.h"
 #include "armature/client.h"
-#include "rpc_test_util.h"
+#include "client_helpers.h"
 #include "server_process.h"
 
 namespace armature::testing {
@@ -605,6 +605,38 @@ TEST_F(IkApi, SessionErrorsAndTheSessionLimit) {
   auto open = client.OpenIkSession(start);
   EXPECT_EQ(server.Stop(SIGTERM, 10), 0) << ReadFile(server.log_file());
   EXPECT_NE(CodeOf([&] { open->MoveTarget(0, 1, 2, 3); }), grpc::StatusCode::OK);
+}
+
+// The armature_sessions_active gauge of /metrics.
+double OpenSessionsGauge(const ServerProcess& server) {
+  httplib::Client http("127.0.0.1", server.http_port());
+  const auto r = http.Get("/metrics");
+  if (!r || r->status != 200) return -1;
+  const size_t at = r->body.find("\narmature_sessions_active ");
+  return at == std::string::npos ? -1 : std::stod(r->body.substr(at + 26));
+}
+
+TEST_F(IkApi, SessionsPerClientAndTheGauge) {
+  ServerProcess server(data_.path(), {"--max-sessions-per-client", "2"});
+  Client client(OptionsFor(server));
+  v1::SolveIkRequest start;
+  start.set_skeleton("demo_walk");
+  *start.add_effectors() = Effector("LeftWrist", {20, 30, 20});  // within reach of the rest pose
+  EXPECT_EQ(OpenSessionsGauge(server), 0);
+  auto a = client.OpenIkSession(start);
+  auto b = client.OpenIkSession(start);
+  EXPECT_EQ(OpenSessionsGauge(server), 2);
+  // A third from the same client (address) is over its limit.
+  const std::string message = MessageOf([&] { client.OpenIkSession(start); });
+  EXPECT_NE(message.find("--max-sessions-per-client"), std::string::npos) << message;
+  EXPECT_EQ(CodeOf([&] { client.OpenIkSession(start); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  a->Close();
+  a.reset();
+  auto c = client.OpenIkSession(start);  // the closed one's place is free again
+  EXPECT_TRUE(c->MoveTarget(0, 21, 30, 20).converged());
+  b.reset();  // cancelled by the destructor
+  c->Close();
+  EXPECT_TRUE(WaitFor([&] { return OpenSessionsGauge(server) == 0; }, 10)) << OpenSessionsGauge(server);
 }
 
 TEST_F(IkApi, BadInputNamesTheField) {

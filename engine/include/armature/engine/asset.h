@@ -3,6 +3,7 @@
 // shared_ptr<const …> so a delete never breaks an in-flight call.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -41,6 +42,8 @@ struct AssetContents {
   std::vector<NamedSkeleton> skeletons;
   std::vector<NamedClip> clips;
   std::vector<NamedMesh> meshes;
+  // Problems the importer repaired (e.g. skin weights not summing to 1, normalized).
+  std::vector<std::string> warnings;
 };
 
 // Format from an explicit name ("bvh", "gltf", "glb", "obj"), else the
@@ -54,6 +57,10 @@ using ResourceMap = std::map<std::string, std::string, std::less<>>;
 
 // Parses `bytes` into named parts. Parts are named after `name` (a BVH file
 // "walk" gives skeleton "walk" and clip "walk").
+// glTF: one skeleton `name` made of all nodes, a clip per animation
+// ("<name>.<animation name or index>") and a mesh per glTF mesh
+// ("<name>.<mesh name or index>"); see gltf.h. OBJ: one unbound mesh `name`.
+// A resource the asset needs but `resources` lacks is INVALID_ARGUMENT naming its uri.
 StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
                                    const ResourceMap& resources = {});
 

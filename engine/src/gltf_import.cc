@@ -1,0 +1,747 @@
+#include "armature/engine/gltf.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "armature/engine/mesh.h"
+#include "gltf_accessor.h"
+#include "polar.h"
+
+namespace armature {
+
+namespace {
+
+using gltf_internal::AccessorReader;
+using gltf_internal::AccessorType;
+
+constexpr int kUnsignedByte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+constexpr int kUnsignedShort = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+constexpr int kUnsignedInt = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+constexpr int kByte = TINYGLTF_COMPONENT_TYPE_BYTE;
+constexpr int kShort = TINYGLTF_COMPONENT_TYPE_SHORT;
+
+// ---- Loading through tinygltf with the resources map as its file system ----
+
+std::string UrlDecode(std::string_view s) {
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '%' && i + 2 < s.size() && std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(s[i + 2]))) {
+      out += static_cast<char>(std::stoi(std::string(s.substr(i + 1, 2)), nullptr, 16));
+      i += 2;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+struct ResourceFiles {
+  const ResourceMap* resources;
+  std::vector<std::string> missing;
+
+  // tinygltf asks for the url-decoded uri, possibly as "./uri".
+  const std::string* Find(std::string path) const {
+    if (path.rfind("./", 0) == 0) path = path.substr(2);
+    if (auto it = resources->find(path); it != resources->end()) return &it->second;
+    for (const auto& [uri, bytes] : *resources)
+      if (UrlDecode(uri) == path) return &bytes;
+    return nullptr;
+  }
+};
+
+bool FileExists(const std::string& path, void* user) {
+  auto* files = static_cast<ResourceFiles*>(user);
+  if (files->Find(path)) return true;
+  const std::string name = path.rfind("./", 0) == 0 ? path.substr(2) : path;
+  if (std::find(files->missing.begin(), files->missing.end(), name) == files->missing.end())
+    files->missing.push_back(name);
+  return false;
+}
+
+std::string ExpandFilePath(const std::string& path, void*) { return path; }
+
+bool ReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  const std::string* bytes = static_cast<ResourceFiles*>(user)->Find(path);
+  if (!bytes) {
+    if (err) *err += "resource '" + path + "' was not provided";
+    return false;
+  }
+  out->assign(bytes->begin(), bytes->end());
+  return true;
+}
+
+bool WriteWholeFile(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
+
+// Images are not needed for animation and skinning: keep them undecoded.
+bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+std::string Trim(std::string s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s;
+}
+
+StatusOr<tinygltf::Model> Load(std::string_view bytes, bool binary, const ResourceMap& resources) {
+  if (bytes.size() > std::numeric_limits<unsigned int>::max())
+    return Status::InvalidArgument("glTF: file is larger than 4 GiB");
+  ResourceFiles files{&resources, {}};
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&FileExists, &ExpandFilePath, &ReadWholeFile, &WriteWholeFile, &files});
+  loader.SetImageLoader(&SkipImage, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  const auto size = static_cast<unsigned int>(bytes.size());
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                                       reinterpret_cast<const unsigned char*>(bytes.data()), size, "")
+                         : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, "");
+  if (ok) return model;
+  for (const std::string& name : files.missing)
+    if (err.find("File not found : " + name) != std::string::npos)
+      return Status::InvalidArgument("buffer uri '" + name +
+                                     "' was not provided: pass the file's bytes as a resource keyed by its uri");
+  return Status::InvalidArgument("glTF: " + Trim(err.empty() ? warn : err));
+}
+
+// ---- Helpers ----
+
+std::string Unique(std::string base, std::set<std::string>& used) {
+  std::string name = base;
+  for (int i = 1; !used.insert(name).second; ++i) name = base + "_" + std::to_string(i);
+  return name;
+}
+
+Status CheckNumbers(const std::vector<double>& v, std::initializer_list<size_t> sizes, const std::string& where) {
+  if (std::find(sizes.begin(), sizes.end(), v.size()) == sizes.end())
+    return Status::InvalidArgument(where + ": expected " + std::to_string(*(sizes.end() - 1)) + " numbers, got " +
+                                   std::to_string(v.size()));
+  for (double x : v)
+    if (!std::isfinite(x)) return Status::InvalidArgument(where + " is not finite");
+  return Status::Ok();
+}
+
+// A node matrix as T·R·S. Exact for matrices built from TRS; a matrix with
+// shear keeps its nearest rotation and is reported.
+StatusOr<Trs> DecomposeMatrix(const std::vector<double>& values, const std::string& where,
+                              std::vector<std::string>& warnings) {
+  const Eigen::Matrix4d m = Eigen::Map<const Eigen::Matrix4d>(values.data());  // column-major, as glTF
+  if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6)
+    return Status::InvalidArgument(where + " is not an affine transform (last row is not 0 0 0 1)");
+  Trs trs;
+  trs.translation = m.block<3, 1>(0, 3);
+  const Eigen::Matrix3d l = m.topLeftCorner<3, 3>();
+  Eigen::Vector3d scale = l.colwise().norm();
+  if (l.determinant() < 0) scale.x() = -scale.x();
+  Eigen::Matrix3d r = l;
+  bool exact = scale.cwiseAbs().minCoeff() > 0;
+  if (exact) {
+    r = l * scale.cwiseInverse().asDiagonal();
+    exact = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-5;
+  }
+  if (!exact) {
+    PolarDecompose(l, &r, nullptr);
+    warnings.push_back(where + " has shear or zero scale; decomposed into the nearest rotation and scale");
+  }
+  trs.rotation = Eigen::Quaterniond(r).normalized();
+  trs.scale = scale;
+  return trs;
+}
+
+// ---- The importer ----
+
+class Importer {
+ public:
+  Importer(const tinygltf::Model& model, std::string_view name) : model_(model), reader_(model), name_(name) {}
+
+  StatusOr<AssetContents> Run() {
+    // Compressed geometry would read as empty accessors: refuse it plainly.
+    for (const std::string& ext : model_.extensionsRequired)
+      if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
+        return Status::InvalidArgument("extensionsRequired: '" + ext + "' (compressed geometry) is not supported");
+    if (!model_.nodes.empty()) ARMATURE_RETURN_IF_ERROR(BuildSkeleton());
+    mesh_names_.resize(model_.meshes.size());
+    target_counts_.resize(model_.meshes.size());
+    instance_.assign(model_.meshes.size(), -1);
+    for (size_t i = 0; i < model_.nodes.size(); ++i) {
+      const int m = model_.nodes[i].mesh;
+      if (m < -1 || m >= static_cast<int>(model_.meshes.size()))
+        return Status::InvalidArgument("nodes[" + std::to_string(i) + "].mesh: mesh " + std::to_string(m) +
+                                       " does not exist (file has " + std::to_string(model_.meshes.size()) + ")");
+      if (m >= 0 && instance_[static_cast<size_t>(m)] < 0) instance_[static_cast<size_t>(m)] = static_cast<int>(i);
+    }
+    for (size_t m = 0; m < model_.meshes.size(); ++m) ARMATURE_RETURN_IF_ERROR(ImportMesh(m));
+    for (size_t a = 0; a < model_.animations.size(); ++a) ARMATURE_RETURN_IF_ERROR(ImportAnimation(a));
+    contents_.warnings = std::move(warnings_);
+    return std::move(contents_);
+  }
+
+ private:
+  Status BuildSkeleton() {
+    const size_t n = model_.nodes.size();
+    std::vector<int> parent(n, -1);
+    for (size_t i = 0; i < n; ++i) {
+      for (int c : model_.nodes[i].children) {
+        const std::string where = "nodes[" + std::to_string(i) + "].children";
+        if (c < 0 || static_cast<size_t>(c) >= n)
+          return Status::InvalidArgument(where + ": node " + std::to_string(c) + " does not exist (file has " +
+                                         std::to_string(n) + ")");
+        if (static_cast<size_t>(c) == i) return Status::InvalidArgument(where + ": a node cannot be its own child");
+        if (parent[static_cast<size_t>(c)] >= 0)
+          return Status::InvalidArgument(where + ": node " + std::to_string(c) + " already has parent node " +
+                                         std::to_string(parent[static_cast<size_t>(c)]));
+        parent[static_cast<size_t>(c)] = static_cast<int>(i);
+      }
+    }
+    // Depth-first from each root: parents before children.
+    std::vector<size_t> order;
+    std::vector<size_t> stack;
+    for (size_t root = 0; root < n; ++root) {
+      if (parent[root] >= 0) continue;
+      stack.push_back(root);
+      while (!stack.empty()) {
+        const size_t i = stack.back();
+        stack.pop_back();
+        order.push_back(i);
+        const auto& children = model_.nodes[i].children;
+        for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(static_cast<size_t>(*it));
+      }
+    }
+    joint_of_.assign(n, -1);
+    for (size_t j = 0; j < order.size(); ++j) joint_of_[order[j]] = static_cast<int>(j);
+    for (size_t i = 0; i < n; ++i)
+      if (joint_of_[i] < 0)
+        return Status::InvalidArgument("nodes[" + std::to_string(i) + "]: the node hierarchy has a cycle");
+
+    auto skeleton = std::make_shared<Skeleton>();
+    std::set<std::string> used;
+    for (size_t j = 0; j < n; ++j) {
+      const size_t i = order[j];
+      const tinygltf::Node& node = model_.nodes[i];
+      skeleton->names.push_back(Unique(node.name.empty() ? "node" + std::to_string(i) : node.name, used));
+      skeleton->parents.push_back(parent[i] < 0 ? -1 : joint_of_[static_cast<size_t>(parent[i])]);
+      auto rest = NodeTrs(node, "nodes[" + std::to_string(i) + "]");
+      if (!rest.ok()) return rest.status();
+      skeleton->rest.push_back(*rest);
+    }
+    skeleton->channels.resize(n);
+    skeleton->end_sites.resize(n);
+    ARMATURE_RETURN_IF_ERROR(skeleton->Validate());
+    skeleton_ = skeleton;
+    contents_.skeletons.push_back({name_, skeleton_});
+    return Status::Ok();
+  }
+
+  StatusOr<Trs> NodeTrs(const tinygltf::Node& node, const std::string& where) {
+    if (!node.matrix.empty()) {
+      ARMATURE_RETURN_IF_ERROR(CheckNumbers(node.matrix, {16}, where + ".matrix"));
+      return DecomposeMatrix(node.matrix, where + ".matrix", warnings_);
+    }
+    Trs trs;
+    ARMATURE_RETURN_IF_ERROR(CheckNumbers(node.translation, {0, 3}, where + ".translation"));
+    ARMATURE_RETURN_IF_ERROR(CheckNumbers(node.rotation, {0, 4}, where + ".rotation"));
+    ARMATURE_RETURN_IF_ERROR(CheckNumbers(node.scale, {0, 3}, where + ".scale"));
+    if (!node.translation.empty()) trs.translation = Eigen::Vector3d(node.translation.data());
+    if (!node.rotation.empty()) {
+      const Eigen::Vector4d q(node.rotation.data());  // x, y, z, w
+      if (q.norm() < 1e-9) return Status::InvalidArgument(where + ".rotation is a zero quaternion");
+      trs.rotation = Eigen::Quaterniond(Eigen::Vector4d(q / q.norm()));
+    }
+    if (!node.scale.empty()) trs.scale = Eigen::Vector3d(node.scale.data());
+    return trs;
+  }
+
+  // ---- Meshes ----
+
+  struct SkinBinding {
+    std::vector<int> joints;
+    std::vector<Eigen::Affine3d> inverse_bind;
+    int root = -1;
+  };
+
+  StatusOr<SkinBinding> ReadSkin(int s) {
+    const std::string where = "skins[" + std::to_string(s) + "]";
+    if (s < 0 || static_cast<size_t>(s) >= model_.skins.size())
+      return Status::InvalidArgument(where + " does not exist (file has " + std::to_string(model_.skins.size()) + ")");
+    const tinygltf::Skin& skin = model_.skins[static_cast<size_t>(s)];
+    SkinBinding b;
+    if (skin.joints.empty()) return Status::InvalidArgument(where + ".joints is empty");
+    std::set<int> seen;
+    for (size_t k = 0; k < skin.joints.size(); ++k) {
+      const int node = skin.joints[k];
+      if (node < 0 || static_cast<size_t>(node) >= model_.nodes.size())
+        return Status::InvalidArgument(where + ".joints[" + std::to_string(k) + "]: node " + std::to_string(node) +
+                                       " does not exist (file has " + std::to_string(model_.nodes.size()) + ")");
+      if (!seen.insert(node).second)
+        return Status::InvalidArgument(where + ".joints[" + std::to_string(k) + "]: node " + std::to_string(node) +
+                                       " is listed twice");
+      b.joints.push_back(joint_of_[static_cast<size_t>(node)]);
+    }
+    b.inverse_bind.assign(skin.joints.size(), Eigen::Affine3d::Identity());
+    if (skin.inverseBindMatrices >= 0) {
+      std::vector<float> m;
+      auto data = reader_.ReadFloats(skin.inverseBindMatrices, where + ".inverseBindMatrices", AccessorType::kMat4,
+                                     {}, &m);
+      if (!data.ok()) return data.status();
+      if (data->count < skin.joints.size())
+        return Status::InvalidArgument(where + ".inverseBindMatrices: accessor " +
+                                       std::to_string(skin.inverseBindMatrices) + " has " +
+                                       std::to_string(data->count) + " matrices for " +
+                                       std::to_string(skin.joints.size()) + " joints");
+      for (size_t k = 0; k < skin.joints.size(); ++k)
+        b.inverse_bind[k].matrix() = Eigen::Map<const Eigen::Matrix4f>(m.data() + 16 * k).cast<double>();
+    }
+    if (skin.skeleton >= 0) {
+      if (static_cast<size_t>(skin.skeleton) >= model_.nodes.size())
+        return Status::InvalidArgument(where + ".skeleton: node " + std::to_string(skin.skeleton) +
+                                       " does not exist");
+      b.root = joint_of_[static_cast<size_t>(skin.skeleton)];
+    }
+    return b;
+  }
+
+  // Dense per-mesh morph data while primitives are appended.
+  struct DenseTarget {
+    std::vector<Eigen::Vector3f> positions, normals;
+    bool has_normals = false;
+  };
+
+  Status ImportMesh(size_t m) {
+    const tinygltf::Mesh& gm = model_.meshes[m];
+    const std::string where = "meshes[" + std::to_string(m) + "]";
+    auto mesh = std::make_shared<Mesh>();
+    mesh->name = Unique(gm.name.empty() ? std::to_string(m) : gm.name, used_mesh_names_);
+    mesh_names_[m] = mesh->name;
+    const int node = instance_[m];
+    const int skin = node >= 0 ? model_.nodes[static_cast<size_t>(node)].skin : -1;
+    if (skin >= 0) {
+      auto binding = ReadSkin(skin);
+      if (!binding.ok()) return binding.status().WithContext("nodes[" + std::to_string(node) + "].skin: ");
+      mesh->joints = std::move(binding->joints);
+      mesh->inverse_bind = std::move(binding->inverse_bind);
+      mesh->skeleton_root = binding->root;
+    } else if (node >= 0) {
+      // No skin: the mesh follows its node rigidly.
+      mesh->joints = {joint_of_[static_cast<size_t>(node)]};
+      mesh->inverse_bind = {Eigen::Affine3d::Identity()};
+    } else {
+      warnings_.push_back(where + " is not used by any node; imported unbound, in its own space");
+    }
+    if (gm.primitives.empty()) return Status::InvalidArgument(where + ".primitives is empty");
+
+    std::vector<DenseTarget> targets;
+    bool any_normals = false, missing_normals = false;
+    size_t zero_weight_vertices = 0;
+    for (size_t p = 0; p < gm.primitives.size(); ++p) {
+      ARMATURE_RETURN_IF_ERROR(AppendPrimitive(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
+                                               p == 0, skin, *mesh, targets, any_normals, missing_normals,
+                                               zero_weight_vertices));
+    }
+    if (!any_normals) mesh->normals.clear();
+    if (any_normals && missing_normals)
+      warnings_.push_back(where + ": some primitives have no NORMAL; computed from their triangles");
+    if (zero_weight_vertices > 0)
+      warnings_.push_back(where + ": " + std::to_string(zero_weight_vertices) +
+                          " vertices have all-zero weights; bound to their first listed joint");
+
+    // Morph targets: sparse deltas, names, default weights (the node's override the mesh's).
+    std::vector<std::string> names(targets.size());
+    for (size_t t = 0; t < targets.size(); ++t) names[t] = std::to_string(t);
+    if (gm.extras.Has("targetNames")) {
+      const tinygltf::Value& list = gm.extras.Get("targetNames");
+      if (!list.IsArray() || list.ArrayLen() != targets.size())
+        warnings_.push_back(where + ".extras.targetNames is not an array of " + std::to_string(targets.size()) +
+                            " names; targets are named by index");
+      else
+        for (size_t t = 0; t < targets.size(); ++t)
+          if (list.Get(static_cast<int>(t)).IsString()) names[t] = list.Get(static_cast<int>(t)).Get<std::string>();
+    }
+    for (size_t t = 0; t < targets.size(); ++t) {
+      MorphTarget target;
+      target.name = names[t];
+      for (size_t v = 0; v < mesh->positions.size(); ++v) {
+        const bool moves = !targets[t].positions[v].isZero(0) ||
+                           (targets[t].has_normals && !targets[t].normals[v].isZero(0));
+        if (!moves) continue;
+        target.vertices.push_back(static_cast<uint32_t>(v));
+        target.position_deltas.push_back(targets[t].positions[v]);
+        if (targets[t].has_normals && any_normals) target.normal_deltas.push_back(targets[t].normals[v]);
+      }
+      mesh->targets.push_back(std::move(target));
+    }
+    std::vector<double> weights = gm.weights;
+    if (node >= 0 && !model_.nodes[static_cast<size_t>(node)].weights.empty())
+      weights = model_.nodes[static_cast<size_t>(node)].weights;
+    if (!weights.empty() && weights.size() != targets.size())
+      return Status::InvalidArgument(where + ".weights: " + std::to_string(weights.size()) + " weights for " +
+                                     std::to_string(targets.size()) + " morph targets");
+    mesh->default_weights.assign(targets.size(), 0.f);
+    for (size_t t = 0; t < weights.size(); ++t) {
+      if (!std::isfinite(weights[t])) return Status::InvalidArgument(where + ".weights is not finite");
+      mesh->default_weights[t] = static_cast<float>(weights[t]);
+    }
+    target_counts_[m] = targets.size();
+
+    std::vector<std::string> mesh_warnings;
+    ARMATURE_RETURN_IF_ERROR(FinalizeMesh(*mesh, &mesh_warnings).WithContext(where + ": "));
+    for (const std::string& w : mesh_warnings) warnings_.push_back(where + ": " + w);
+    contents_.meshes.push_back({name_ + "." + mesh->name, node >= 0 ? name_ : "", mesh});
+    return Status::Ok();
+  }
+
+  Status AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin, Mesh& mesh,
+                         std::vector<DenseTarget>& targets, bool& any_normals, bool& missing_normals,
+                         size_t& zero_weight_vertices) {
+    const size_t base = mesh.positions.size();
+    auto attribute = [&](const char* semantic) {
+      auto it = prim.attributes.find(semantic);
+      return it == prim.attributes.end() ? -1 : it->second;
+    };
+    const std::string attrs = where + ".attributes.";
+    const int position_accessor = attribute("POSITION");
+    if (position_accessor < 0) return Status::InvalidArgument(where + ".attributes has no POSITION");
+    std::vector<float> positions;
+    auto pos = reader_.ReadFloats(position_accessor, attrs + "POSITION", AccessorType::kVec3, {}, &positions);
+    if (!pos.ok()) return pos.status();
+    const size_t count = pos->count;
+    auto check_count = [&](const gltf_internal::AccessorData& d, const std::string& field, int accessor) -> Status {
+      if (d.count != count)
+        return Status::InvalidArgument(field + ": accessor " + std::to_string(accessor) + " has " +
+                                       std::to_string(d.count) + " elements, POSITION has " + std::to_string(count));
+      return Status::Ok();
+    };
+    for (size_t v = 0; v < count; ++v)
+      mesh.positions.emplace_back(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+
+    // Triangles.
+    std::vector<uint32_t> indices;
+    if (prim.indices >= 0) {
+      auto idx = reader_.ReadUints(prim.indices, where + ".indices", AccessorType::kScalar,
+                                   {kUnsignedByte, kUnsignedShort, kUnsignedInt}, &indices);
+      if (!idx.ok()) return idx.status();
+      for (size_t i = 0; i < indices.size(); ++i)
+        if (indices[i] >= count)
+          return Status::InvalidArgument(where + ".indices: accessor " + std::to_string(prim.indices) + " element " +
+                                         std::to_string(i) + " = " + std::to_string(indices[i]) +
+                                         " is out of range (" + std::to_string(count) + " vertices)");
+    } else {
+      indices.resize(count);
+      for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
+    }
+    const size_t first_triangle = mesh.triangles.size();
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    auto tri = [&](uint32_t a, uint32_t b, uint32_t c) {
+      mesh.triangles.insert(mesh.triangles.end(), {uint32_t(base + a), uint32_t(base + b), uint32_t(base + c)});
+    };
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      for (size_t i = 0; i + 2 < indices.size(); i += 3) tri(indices[i], indices[i + 1], indices[i + 2]);
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      for (size_t i = 0; i + 2 < indices.size(); ++i)
+        i % 2 == 0 ? tri(indices[i], indices[i + 1], indices[i + 2]) : tri(indices[i + 1], indices[i], indices[i + 2]);
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+      for (size_t i = 1; i + 1 < indices.size(); ++i) tri(indices[0], indices[i], indices[i + 1]);
+    } else if (mode >= 0 && mode <= 3) {
+      warnings_.push_back(where + ": points/lines primitive; its vertices are kept without triangles");
+    } else {
+      return Status::InvalidArgument(where + ".mode " + std::to_string(mode) + " is not a glTF primitive mode");
+    }
+
+    // Normals.
+    const int normal_accessor = attribute("NORMAL");
+    if (normal_accessor >= 0) {
+      std::vector<float> normals;
+      auto nrm = reader_.ReadFloats(normal_accessor, attrs + "NORMAL", AccessorType::kVec3, {}, &normals);
+      if (!nrm.ok()) return nrm.status();
+      ARMATURE_RETURN_IF_ERROR(check_count(*nrm, attrs + "NORMAL", normal_accessor));
+      mesh.normals.resize(base);
+      for (size_t v = 0; v < count; ++v) mesh.normals.emplace_back(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+      any_normals = true;
+    } else {
+      missing_normals = true;
+      // Placeholder normals from this primitive's triangles, used only if
+      // another primitive has NORMAL.
+      std::vector<Eigen::Vector3f> local(mesh.positions.begin() + static_cast<ptrdiff_t>(base), mesh.positions.end());
+      std::vector<uint32_t> local_triangles;
+      for (size_t i = first_triangle; i < mesh.triangles.size(); ++i)
+        local_triangles.push_back(static_cast<uint32_t>(mesh.triangles[i] - base));
+      mesh.normals.resize(base);
+      const auto computed = ComputeVertexNormals(local, local_triangles);
+      mesh.normals.insert(mesh.normals.end(), computed.begin(), computed.end());
+    }
+
+    // Skin influences: every JOINTS_n/WEIGHTS_n pair.
+    if (skin >= 0) {
+      const size_t joint_count = model_.skins[static_cast<size_t>(skin)].joints.size();
+      std::vector<std::vector<uint32_t>> joint_sets;
+      std::vector<std::vector<float>> weight_sets;
+      for (int set = 0;; ++set) {
+        const std::string js = "JOINTS_" + std::to_string(set), ws = "WEIGHTS_" + std::to_string(set);
+        const int ja = attribute(js.c_str()), wa = attribute(ws.c_str());
+        if (ja < 0 && wa < 0) break;
+        if (ja < 0 || wa < 0)
+          return Status::InvalidArgument(attrs + (ja < 0 ? ws : js) + " has no matching " + (ja < 0 ? js : ws));
+        joint_sets.emplace_back();
+        weight_sets.emplace_back();
+        auto jd = reader_.ReadUints(ja, attrs + js, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort},
+                                    &joint_sets.back());
+        if (!jd.ok()) return jd.status();
+        ARMATURE_RETURN_IF_ERROR(check_count(*jd, attrs + js, ja));
+        auto wd = reader_.ReadFloats(wa, attrs + ws, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort},
+                                     &weight_sets.back());
+        if (!wd.ok()) return wd.status();
+        ARMATURE_RETURN_IF_ERROR(check_count(*wd, attrs + ws, wa));
+        for (size_t i = 0; i < joint_sets.back().size(); ++i) {
+          const float w = weight_sets.back()[i];
+          if (w < 0)
+            return Status::InvalidArgument(attrs + ws + ": accessor " + std::to_string(wa) + " element " +
+                                           std::to_string(i / 4) + " has a negative weight");
+          if (w > 0 && joint_sets.back()[i] >= joint_count)
+            return Status::InvalidArgument(attrs + js + ": accessor " + std::to_string(ja) + " element " +
+                                           std::to_string(i / 4) + " uses joint " +
+                                           std::to_string(joint_sets.back()[i]) + " but skin " +
+                                           std::to_string(skin) + " has " + std::to_string(joint_count) + " joints");
+        }
+      }
+      if (joint_sets.empty())
+        return Status::InvalidArgument(where + ": the node's skin " + std::to_string(skin) +
+                                       " needs JOINTS_0 and WEIGHTS_0 attributes");
+      if (mesh.influence_offsets.empty()) mesh.influence_offsets.push_back(0);
+      for (size_t v = 0; v < count; ++v) {
+        const size_t before = mesh.influence_joints.size();
+        for (size_t s = 0; s < joint_sets.size(); ++s)
+          for (size_t c = 0; c < 4; ++c)
+            if (weight_sets[s][4 * v + c] > 0) {
+              mesh.influence_joints.push_back(joint_sets[s][4 * v + c]);
+              mesh.influence_weights.push_back(weight_sets[s][4 * v + c]);
+            }
+        if (mesh.influence_joints.size() == before) {
+          // As three.js's normalizeSkinWeights: all weight on the first listed joint.
+          ++zero_weight_vertices;
+          const uint32_t j = joint_sets[0][4 * v];
+          if (j >= joint_count)
+            return Status::InvalidArgument(attrs + "JOINTS_0: element " + std::to_string(v) + " uses joint " +
+                                           std::to_string(j) + " but skin " + std::to_string(skin) + " has " +
+                                           std::to_string(joint_count) + " joints");
+          mesh.influence_joints.push_back(j);
+          mesh.influence_weights.push_back(1.f);
+        }
+        mesh.influence_offsets.push_back(static_cast<uint32_t>(mesh.influence_joints.size()));
+      }
+    } else if (!mesh.joints.empty()) {
+      if (attribute("JOINTS_0") >= 0) warnings_.push_back(where + ": JOINTS_0 without a skin on the node; ignored");
+      if (mesh.influence_offsets.empty()) mesh.influence_offsets.push_back(0);
+      for (size_t v = 0; v < count; ++v) {
+        mesh.influence_joints.push_back(0);
+        mesh.influence_weights.push_back(1.f);
+        mesh.influence_offsets.push_back(static_cast<uint32_t>(mesh.influence_joints.size()));
+      }
+    }
+
+    // Morph targets.
+    if (first) targets.resize(prim.targets.size());
+    if (prim.targets.size() != targets.size())
+      return Status::InvalidArgument(where + ".targets: " + std::to_string(prim.targets.size()) +
+                                     " targets, the first primitive has " + std::to_string(targets.size()));
+    for (size_t t = 0; t < targets.size(); ++t) {
+      DenseTarget& dense = targets[t];
+      dense.positions.resize(base + count, Eigen::Vector3f::Zero());
+      dense.normals.resize(base + count, Eigen::Vector3f::Zero());
+      const std::string twhere = where + ".targets[" + std::to_string(t) + "].";
+      for (const char* semantic : {"POSITION", "NORMAL"}) {
+        auto it = prim.targets[t].find(semantic);
+        if (it == prim.targets[t].end()) continue;
+        std::vector<float> deltas;
+        auto d = reader_.ReadFloats(it->second, twhere + semantic, AccessorType::kVec3, {}, &deltas);
+        if (!d.ok()) return d.status();
+        ARMATURE_RETURN_IF_ERROR(check_count(*d, twhere + semantic, it->second));
+        const bool is_normal = semantic[0] == 'N';
+        if (is_normal) dense.has_normals = true;
+        auto& out = is_normal ? dense.normals : dense.positions;
+        for (size_t v = 0; v < count; ++v) out[base + v] = {deltas[3 * v], deltas[3 * v + 1], deltas[3 * v + 2]};
+      }
+    }
+    return Status::Ok();
+  }
+
+  // ---- Animations ----
+
+  Status ImportAnimation(size_t a) {
+    const tinygltf::Animation& anim = model_.animations[a];
+    const std::string where = "animations[" + std::to_string(a) + "]";
+    if (!skeleton_) return Status::InvalidArgument(where + ": the file has no nodes to animate");
+    auto clip = std::make_shared<Clip>();
+    clip->skeleton = skeleton_;
+    clip->joints.resize(skeleton_->size());
+    clip->default_interpolation = Interpolation::kLinear;
+    std::set<std::pair<int, std::string>> animated;
+    for (size_t c = 0; c < anim.channels.size(); ++c) {
+      const tinygltf::AnimationChannel& channel = anim.channels[c];
+      const std::string cwhere = where + ".channels[" + std::to_string(c) + "]";
+      if (channel.target_node < 0) {
+        warnings_.push_back(cwhere + " has no target node; ignored");
+        continue;
+      }
+      if (static_cast<size_t>(channel.target_node) >= model_.nodes.size())
+        return Status::InvalidArgument(cwhere + ".target.node: node " + std::to_string(channel.target_node) +
+                                       " does not exist (file has " + std::to_string(model_.nodes.size()) + ")");
+      const std::string& path = channel.target_path;
+      if (path != "translation" && path != "rotation" && path != "scale" && path != "weights") {
+        warnings_.push_back(cwhere + ".target.path '" + path + "' is not supported; ignored");
+        continue;
+      }
+      if (channel.sampler < 0 || static_cast<size_t>(channel.sampler) >= anim.samplers.size())
+        return Status::InvalidArgument(cwhere + ".sampler: sampler " + std::to_string(channel.sampler) +
+                                       " does not exist (animation has " + std::to_string(anim.samplers.size()) + ")");
+      if (!animated.insert({channel.target_node, path}).second)
+        warnings_.push_back(cwhere + " animates node " + std::to_string(channel.target_node) + " " + path +
+                            " again; the later channel wins");
+      ARMATURE_RETURN_IF_ERROR(ImportChannel(anim, channel, where + ".samplers[" + std::to_string(channel.sampler) + "]",
+                                             *clip));
+    }
+    ARMATURE_RETURN_IF_ERROR(clip->Validate().WithContext(where + ": "));
+    const std::string local = Unique(anim.name.empty() ? std::to_string(a) : anim.name, used_clip_names_);
+    contents_.clips.push_back({name_ + "." + local, name_, clip});
+    return Status::Ok();
+  }
+
+  Status ImportChannel(const tinygltf::Animation& anim, const tinygltf::AnimationChannel& channel,
+                       const std::string& swhere, Clip& clip) {
+    const tinygltf::AnimationSampler& sampler = anim.samplers[static_cast<size_t>(channel.sampler)];
+    Interpolation interpolation;
+    if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty()) interpolation = Interpolation::kLinear;
+    else if (sampler.interpolation == "STEP") interpolation = Interpolation::kStep;
+    else if (sampler.interpolation == "CUBICSPLINE") interpolation = Interpolation::kCubic;
+    else
+      return Status::InvalidArgument(swhere + ".interpolation '" + sampler.interpolation +
+                                     "' is not LINEAR, STEP or CUBICSPLINE");
+    const bool cubic = interpolation == Interpolation::kCubic;
+
+    std::vector<float> input;
+    auto in = reader_.ReadFloats(sampler.input, swhere + ".input", AccessorType::kScalar, {}, &input);
+    if (!in.ok()) return in.status();
+    std::vector<double> times(input.begin(), input.end());
+    for (size_t k = 1; k < times.size(); ++k)
+      if (!(times[k] > times[k - 1]))
+        return Status::InvalidArgument(swhere + ".input: accessor " + std::to_string(sampler.input) + " key " +
+                                       std::to_string(k) + " time " + std::to_string(times[k]) +
+                                       " does not increase");
+    const size_t keys = times.size();
+
+    const std::string& path = channel.target_path;
+    const size_t node = static_cast<size_t>(channel.target_node);
+    size_t per_key = cubic ? 3 : 1;
+    AccessorType type = AccessorType::kVec3;
+    std::initializer_list<int> normalized = {};
+    static constexpr std::initializer_list<int> kNormalizedInts = {kByte, kUnsignedByte, kShort, kUnsignedShort};
+    int mesh = -1;
+    if (path == "rotation") {
+      type = AccessorType::kVec4;
+      normalized = kNormalizedInts;
+    } else if (path == "weights") {
+      type = AccessorType::kScalar;
+      normalized = kNormalizedInts;
+      mesh = model_.nodes[node].mesh;
+      if (mesh < 0)
+        return Status::InvalidArgument(swhere + ": weights channel targets node " + std::to_string(node) +
+                                       ", which has no mesh");
+      if (instance_[static_cast<size_t>(mesh)] != static_cast<int>(node)) {
+        warnings_.push_back(swhere + ": weights of a second instance of mesh " + std::to_string(mesh) + "; ignored");
+        return Status::Ok();
+      }
+      per_key *= target_counts_[static_cast<size_t>(mesh)];
+    }
+    std::vector<float> output;
+    auto out = reader_.ReadFloats(sampler.output, swhere + ".output", type, normalized, &output);
+    if (!out.ok()) return out.status();
+    if (out->count != keys * per_key)
+      return Status::InvalidArgument(swhere + ".output: accessor " + std::to_string(sampler.output) + " has " +
+                                     std::to_string(out->count) + " elements, expected " +
+                                     std::to_string(keys * per_key) + " (" + std::to_string(keys) + " keys" +
+                                     (cubic ? " × 3 for CUBICSPLINE" : "") +
+                                     (mesh >= 0 ? " × " + std::to_string(target_counts_[size_t(mesh)]) + " targets"
+                                                : std::string()) +
+                                     ")");
+    clip.duration = std::max(clip.duration, times.back());
+    clip.frame_count = std::max(clip.frame_count, keys);
+
+    if (mesh >= 0) {
+      WeightsTrack track;
+      track.mesh = mesh_names_[static_cast<size_t>(mesh)];
+      track.targets = target_counts_[static_cast<size_t>(mesh)];
+      track.times = times;
+      track.values.assign(output.begin(), output.end());
+      track.interpolation = interpolation;
+      auto same = std::find_if(clip.weights.begin(), clip.weights.end(),
+                               [&](const WeightsTrack& w) { return w.mesh == track.mesh; });
+      if (same != clip.weights.end()) *same = std::move(track);
+      else clip.weights.push_back(std::move(track));
+      return Status::Ok();
+    }
+
+    JointTrack& joint = clip.joints[static_cast<size_t>(joint_of_[node])];
+    // Element e of key k: CUBICSPLINE stores (in-tangent, value, out-tangent) per key.
+    auto element = [&](size_t k, size_t part) { return output.data() + (k * (cubic ? 3 : 1) + part) * out->components; };
+    if (path == "rotation") {
+      QuatTrack& track = joint.rotation;
+      track = QuatTrack{};
+      track.times = times;
+      track.interpolation = interpolation;
+      auto quat = [](const float* p) { return Eigen::Quaterniond(p[3], p[0], p[1], p[2]); };
+      for (size_t k = 0; k < keys; ++k) {
+        Eigen::Quaterniond q = quat(element(k, cubic ? 1 : 0));
+        if (q.norm() < 1e-6)
+          return Status::InvalidArgument(swhere + ".output: accessor " + std::to_string(sampler.output) + " key " +
+                                         std::to_string(k) + " is a zero quaternion");
+        track.values.push_back(q.normalized());
+        if (cubic) {
+          track.in_tangents.push_back(quat(element(k, 0)));
+          track.out_tangents.push_back(quat(element(k, 2)));
+        }
+      }
+    } else {
+      Vec3Track& track = path == "translation" ? joint.translation : joint.scale;
+      track = Vec3Track{};
+      track.times = times;
+      track.interpolation = interpolation;
+      auto vec = [](const float* p) { return Eigen::Vector3d(p[0], p[1], p[2]); };
+      for (size_t k = 0; k < keys; ++k) {
+        track.values.push_back(vec(element(k, cubic ? 1 : 0)));
+        if (cubic) {
+          track.in_tangents.push_back(vec(element(k, 0)));
+          track.out_tangents.push_back(vec(element(k, 2)));
+        }
+      }
+    }
+    return Status::Ok();
+  }
+
+  const tinygltf::Model& model_;
+  AccessorReader reader_;
+  std::string name_;
+  AssetContents contents_;
+  std::vector<std::string> warnings_;
+  std::shared_ptr<const Skeleton> skeleton_;
+  std::vector<int> joint_of_;            // node → skeleton joint
+  std::vector<int> instance_;            // mesh → first node using it, or -1
+  std::vector<std::string> mesh_names_;  // mesh → local name
+  std::vector<size_t> target_counts_;    // mesh → morph targets
+  std::set<std::string> used_mesh_names_, used_clip_names_;
+};
+
+}  // namespace
+
+StatusOr<AssetContents> ParseGltf(std::string_view bytes, bool binary, std::string_view name,
+                                  const ResourceMap& resources) {
+  auto model = Load(bytes, binary, resources);
+  if (!model.ok()) return model.status();
+  return Importer(*model, name).Run();
+}
+
+}  // namespace armature

@@ -1,0 +1,24 @@
+#include "server/asset_limits.h"
+
+#include <algorithm>
+#include <string>
+
+namespace armature::server {
+
+Status CheckAssetLimits(const AssetContents& contents, const Limits& limits) {
+  for (const NamedClip& c : contents.clips) {
+    // The source's frame count, or the most keys of any track if that is more.
+    size_t keys = c.clip->frame_count;
+    for (const JointTrack& j : c.clip->joints)
+      keys = std::max({keys, j.translation.times.size(), j.rotation.times.size(), j.scale.times.size()});
+    for (const WeightsTrack& w : c.clip->weights) keys = std::max(keys, w.times.size());
+    const auto frames = static_cast<int64_t>(keys);
+    if (frames > limits.max_clip_frames)
+      return Status::ResourceExhausted("clip '" + c.name + "' has " + std::to_string(frames) +
+                                       " frames, over the limit of " + std::to_string(limits.max_clip_frames) +
+                                       " (--max-clip-frames)");
+  }
+  return Status::Ok();
+}
+
+}  // namespace armature::server

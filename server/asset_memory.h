@@ -1,0 +1,24 @@
+// How much memory the loaded assets take, for /metrics.
+#pragma once
+
+#include <cstddef>
+
+#include "armature/engine/asset.h"
+#include "server/asset_store.h"
+#include "server/metrics.h"
+
+namespace armature::server {
+
+// Estimated bytes of an asset's parsed data: skeletons (names, parents,
+// rest transforms, BVH channels, end sites), clip tracks (key times,
+// values, tangents) and morph-weight tracks, each skeleton counted once,
+// element storage only (no allocator overhead). The uploaded source is not
+// held in memory and is not counted; meshes are not counted yet (struct Mesh
+// is not part of this build).
+size_t EstimateAssetBytes(const AssetContents& contents);
+
+// armature_assets_loaded{kind}, armature_assets_memory_bytes and
+// armature_assets_source_bytes of a catalog.
+void CollectAssetMetrics(const Catalog& catalog, PrometheusText& out);
+
+}  // namespace armature::server

@@ -1,0 +1,143 @@
+// --auth-token-file: API calls need "authorization: Bearer <token>" and are
+// refused before any service code runs; health checks stay open.
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "armature/client.h"
+#include "client_helpers.h"
+#include "http_get.h"
+#include "server_process.h"
+
+namespace armature::testing {
+namespace {
+namespace fs = std::filesystem;
+
+constexpr char kToken[] = "s3cret-token-one";
+constexpr char kRotatedToken[] = "s3cret-token-two";
+
+class Auth : public ::testing::Test {
+ protected:
+  Auth()
+      : token_file_(WriteTemp(files_, "tokens", std::string("\n  ") + kToken + "  \n" + kRotatedToken + "\n")),
+        server_(data_.path(), {"--auth-token-file", token_file_.string()}) {}
+
+  Client ClientWith(const std::string& token) {
+    ClientOptions o = OptionsFor(server_);
+    o.token = token;
+    return Client(o);
+  }
+  std::string Url(const std::string& path) const { return "http://127.0.0.1:" + std::to_string(server_.http_port()) + path; }
+
+  TempDir data_, files_;
+  fs::path token_file_;
+  ServerProcess server_;
+};
+
+TEST_F(Auth, CallsWithoutTheTokenAreUnauthenticated) {
+  Client none = ClientWith(""), wrong = ClientWith("s3cret-token-on"), good = ClientWith(kToken);
+  EXPECT_EQ(CodeOf([&] { none.ListClips(); }), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_NE(MessageOf([&] { none.ListClips(); }).find("Bearer"), std::string::npos);
+  EXPECT_EQ(CodeOf([&] { wrong.ListClips(); }), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(MessageOf([&] { wrong.ListClips(); }), "invalid bearer token");
+  EXPECT_EQ(good.ListClips().clips_size(), 1);
+  // Every token in the file works (rotation), whitespace around it ignored.
+  EXPECT_EQ(ClientWith(kRotatedToken).ListClips().clips_size(), 1);
+  // Another scheme is refused.
+  grpc::ClientContext context;
+  context.AddMetadata("authorization", std::string("Basic ") + kToken);
+  v1::ListClipsResponse clips;
+  EXPECT_EQ(v1::AssetService::NewStub(none.channel())->ListClips(&context, {}, &clips).error_code(),
+            grpc::StatusCode::UNAUTHENTICATED);
+}
+
+TEST_F(Auth, RefusedCallsChangeNothing) {
+  Client none = ClientWith(""), good = ClientWith(kToken);
+  // Unary: the delete never runs.
+  EXPECT_EQ(CodeOf([&] { none.DeleteAsset("demo_walk"); }), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(good.GetClip("demo_walk").name(), "demo_walk");
+  // Client stream: nothing is imported.
+  EXPECT_EQ(CodeOf([&] { none.Import({"arm.bvh", kArmBvh}); }), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(CodeOf([&] { good.GetClip("arm"); }), grpc::StatusCode::NOT_FOUND);
+  // Server stream: no frame is sent.
+  v1::StreamClipRequest s;
+  s.set_clip("demo_walk");
+  s.set_duration(0.2);
+  int frames = 0;
+  EXPECT_EQ(CodeOf([&] { none.StreamClip(s, [&](const v1::PoseFrame&) { return ++frames > 0; }); }),
+            grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(frames, 0);
+  // With the token all three work.
+  EXPECT_EQ(good.Import({"arm.bvh", kArmBvh}).asset().name(), "arm");
+  good.StreamClip(s, [&](const v1::PoseFrame&) { return ++frames > 0; });
+  EXPECT_GT(frames, 0);
+  EXPECT_EQ(good.DeleteAsset("arm").name(), "arm");
+}
+
+TEST_F(Auth, HealthStaysOpenAndRefusalsAreCounted) {
+  Client none = ClientWith("");
+  EXPECT_TRUE(none.Healthy());
+  EXPECT_EQ(HttpGet(Url("/healthz")).status, 200);
+  EXPECT_EQ(HttpGet(Url("/readyz")).status, 200);
+  EXPECT_EQ(CodeOf([&] { none.ListAssets(); }), grpc::StatusCode::UNAUTHENTICATED);
+  // /metrics is protected like the API.
+  const HttpResponse refused = HttpGet(Url("/metrics"));
+  EXPECT_EQ(refused.status, 401);
+  EXPECT_NE(refused.body.find("UNAUTHENTICATED"), std::string::npos) << refused.body;
+  EXPECT_EQ(HttpGet(Url("/metrics"), {"Authorization: Bearer wrong"}).status, 401);
+  const HttpResponse metrics = HttpGet(Url("/metrics"), {std::string("Authorization: Bearer ") + kToken});
+  ASSERT_EQ(metrics.status, 200);
+  EXPECT_NE(metrics.body.find(
+                "armature_rpc_requests_total{method=\"armature.v1.AssetService/ListAssets\",code=\"UNAUTHENTICATED\"} 1"),
+            std::string::npos)
+      << metrics.body;
+}
+
+// REST rides the same gate: the gateway forwards the authorization header.
+TEST_F(Auth, RestCallsNeedTheTokenToo) {
+  const HttpResponse refused = HttpGet(Url("/v1/clips"));
+  EXPECT_EQ(refused.status, 401);
+  const auto body = nlohmann::json::parse(refused.body, nullptr, false);
+  ASSERT_FALSE(body.is_discarded()) << refused.body;
+  EXPECT_EQ(body["code"], 16);  // UNAUTHENTICATED
+  EXPECT_TRUE(body["details"].is_array());
+  EXPECT_EQ(HttpGet(Url("/v1/clips"), {"Authorization: Bearer wrong"}).status, 401);
+  const HttpResponse ok = HttpGet(Url("/v1/clips"), {std::string("Authorization: Bearer ") + kRotatedToken});
+  ASSERT_EQ(ok.status, 200) << ok.body;
+  EXPECT_NE(ok.body.find("\"demo_walk\""), std::string::npos) << ok.body;
+}
+
+TEST_F(Auth, CliSendsTheToken) {
+  auto refused = RunCli(server_.target(), {"list"});
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.err.find("UNAUTHENTICATED"), std::string::npos) << refused.err;
+  auto flag = RunCli(server_.target(), {"--token", kToken, "list"});
+  EXPECT_EQ(flag.exit_code, 0) << flag.err;
+  EXPECT_NE(flag.out.find("demo_walk"), std::string::npos);
+  auto env = RunCommand("ARMATURE_TOKEN=" + ShellQuote(kRotatedToken) + " " + ShellQuote(ARMATURE_CLI_BIN) +
+                        " --server " + server_.target() + " list");
+  EXPECT_EQ(env.exit_code, 0) << env.err;
+  auto health = RunCli(server_.target(), {"health"});
+  EXPECT_EQ(health.exit_code, 0) << health.err;
+}
+
+TEST(AuthConfig, AnEmptyOrMissingTokenFileStopsTheServer) {
+  TempDir data, files;
+  const fs::path empty = WriteTemp(files, "empty", "\n  \n");
+  try {
+    ServerProcess server(data.path(), {"--auth-token-file", empty.string()});
+    ADD_FAILURE() << "the server started with no token";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("holds no token"), std::string::npos) << e.what();
+  }
+  try {
+    ServerProcess server(data.path(), {"--auth-token-file", (files.path() / "missing").string()});
+    ADD_FAILURE() << "the server started with a missing token file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("auth-token-file"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace armature::testing
