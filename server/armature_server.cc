@@ -57,7 +57,7 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   interceptors.push_back(std::make_unique<RpcObserverFactory>(*s->metrics_));
   builder.experimental().SetInterceptorCreators(std::move(interceptors));
   // With a token file, each API service sits behind an auth gate; health and reflection stay open.
-  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits)) {
+  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_)) {
     if (s->tokens_) {
       auto gated = GateService(std::move(entry.service), entry.name, s->tokens_);
       if (!gated.ok()) return gated.status();

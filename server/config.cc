@@ -64,6 +64,8 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
       ->envname("ARMATURE_MAX_SESSIONS_PER_CLIENT")->check(CLI::PositiveNumber);
   app.add_option("--max-sessions", c.limits.max_sessions, "Most IK/deformation sessions open at once in all")
       ->envname("ARMATURE_MAX_SESSIONS")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most IK sessions open at once, all clients together")
+      ->envname("ARMATURE_MAX_IK_SESSIONS")->check(CLI::NonNegativeNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

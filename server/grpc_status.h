@@ -1,6 +1,9 @@
 // The one boundary between engine Status and gRPC status.
 #pragma once
 
+#include <chrono>
+#include <optional>
+
 #include <grpcpp/grpcpp.h>
 
 #include "armature/engine/status.h"
@@ -14,5 +17,8 @@ const char* GrpcCodeName(grpc::StatusCode code);
 
 // Finishes a callback unary call with `status` (the thin-handler idiom).
 grpc::ServerUnaryReactor* FinishUnary(grpc::CallbackServerContext* context, const Status& status);
+
+// The call's deadline on the steady clock the engine checks (IkRequest.deadline), or none.
+std::optional<std::chrono::steady_clock::time_point> SteadyDeadline(const grpc::ServerContextBase& context);
 
 }  // namespace armature::server

@@ -18,6 +18,7 @@ struct Limits {
   int max_ik_iterations = 1000;            // --max-ik-iterations: solver iterations one IK request may ask for
   int max_sessions_per_client = 16;        // --max-sessions-per-client: open IK/deformation sessions per client
   int max_sessions = 256;                  // --max-sessions: open IK/deformation sessions in all
+  int max_ik_sessions = 64;                // --max-ik-sessions: IK sessions open at once, all clients
 };
 
 }  // namespace armature::server

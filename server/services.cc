@@ -2,15 +2,19 @@
 
 #include "server/asset_service.h"
 #include "server/deform_service.h"
+#include "server/ik_service.h"
 #include "server/pose_service.h"
 
 namespace armature::server {
 
-std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits) {
+std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics) {
+  // Sessions of every kind share the per-client limit.
+  auto sessions = std::make_shared<SessionGate>(limits.max_sessions_per_client, metrics.sessions());
   std::vector<ServiceEntry> services;
   services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
   services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits));
   services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits));
+  services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions));
   return services;
 }
 

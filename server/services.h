@@ -13,6 +13,7 @@
 
 #include "server/asset_store.h"
 #include "server/limits.h"
+#include "server/metrics.h"
 
 namespace armature::server {
 
@@ -29,6 +30,6 @@ ServiceEntry MakeService(Args&&... args) {
   return {Generated::service_full_name(), std::make_unique<Impl>(std::forward<Args>(args)...)};
 }
 
-std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits);
+std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics);
 
 }  // namespace armature::server

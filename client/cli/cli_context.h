@@ -37,5 +37,6 @@ void AddExportCommand(CLI::App& app, CliContext& ctx);
 void AddDeleteCommand(CLI::App& app, CliContext& ctx);
 void AddHealthCommand(CLI::App& app, CliContext& ctx);
 void AddDeformCommand(CLI::App& app, CliContext& ctx);
+void AddIkCommand(CLI::App& app, CliContext& ctx);
 
 }  // namespace armature::cli

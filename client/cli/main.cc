@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   AddInfoCommand(app, ctx);
   AddPoseCommand(app, ctx);
   AddStreamCommand(app, ctx);
+  AddIkCommand(app, ctx);
   AddExportCommand(app, ctx);
   AddDeleteCommand(app, ctx);
   AddHealthCommand(app, ctx);

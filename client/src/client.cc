@@ -90,7 +90,8 @@ Client::Client(ClientOptions options) : Client(MakeChannel(options), options) {}
 
 Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
     : options_(std::move(options)), channel_(std::move(channel)),
-      assets_(v1::AssetService::NewStub(channel_)), poses_(v1::PoseService::NewStub(channel_)) {}
+      assets_(v1::AssetService::NewStub(channel_)), poses_(v1::PoseService::NewStub(channel_)),
+      ik_(v1::IkService::NewStub(channel_)) {}
 
 void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
   const auto timeout = streaming ? options_.stream_timeout : options_.timeout;
@@ -179,6 +180,61 @@ v1::EvaluateClipResponse Client::EvaluateClip(const v1::EvaluateClipRequest& r) 
 }
 v1::ComputeFkResponse Client::ComputeFk(const v1::ComputeFkRequest& r) {
   return Call(&v1::PoseService::Stub::ComputeFk, *poses_, r);
+}
+
+v1::SolveIkResponse Client::SolveIk(const v1::SolveIkRequest& r) {
+  return Call(&v1::IkService::Stub::SolveIk, *ik_, r);
+}
+
+std::unique_ptr<IkSession> Client::OpenIkSession(const v1::SolveIkRequest& start) {
+  std::unique_ptr<IkSession> session(new IkSession());
+  session->context_ = std::make_unique<grpc::ClientContext>();
+  Prepare(*session->context_, true);
+  session->stream_ = ik_->IkSession(session->context_.get());
+  v1::IkSessionRequest first;
+  *first.mutable_start() = start;
+  session->Send(first);
+  return session;
+}
+
+const v1::SolveIkResponse& IkSession::Send(const v1::IkSessionRequest& message) {
+  if (closed_) throw ClientError(grpc::Status(grpc::StatusCode::FAILED_PRECONDITION, "the IK session is closed"));
+  if (!stream_->Write(message) || !stream_->Read(&last_)) Fail();
+  return last_;
+}
+
+const v1::SolveIkResponse& IkSession::MoveTarget(int effector, double x, double y, double z) {
+  v1::IkSessionRequest message;
+  v1::IkTargetUpdate* target = message.add_targets();
+  target->set_effector(effector);
+  for (double v : {x, y, z}) target->add_target_position(v);
+  return Send(message);
+}
+
+void IkSession::Fail() {
+  closed_ = true;
+  grpc::Status status = stream_->Finish();
+  if (status.ok()) status = grpc::Status(grpc::StatusCode::UNKNOWN, "the server ended the IK session without an answer");
+  throw ClientError(status);
+}
+
+void IkSession::Close() {
+  if (closed_) return;
+  closed_ = true;
+  stream_->WritesDone();
+  v1::SolveIkResponse extra;
+  while (stream_->Read(&extra)) {
+  }
+  Check(stream_->Finish());
+}
+
+IkSession::~IkSession() {
+  if (closed_ || !stream_) return;
+  context_->TryCancel();
+  v1::SolveIkResponse extra;
+  while (stream_->Read(&extra)) {
+  }
+  (void)stream_->Finish();
 }
 
 void Client::StreamClip(const v1::StreamClipRequest& request,

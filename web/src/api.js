@@ -26,13 +26,20 @@ export function getSkeleton(skeleton) {
   return call(`/v1/skeletons/${encodeURIComponent(skeleton)}`);
 }
 
-// World-space poses of every joint at `times`.
-export function evaluate(clip, times) {
-  return call(`${clipPath(clip)}:evaluate`, {
-    method: 'POST',
-    headers: { 'Content-Type': 'application/json' },
-    body: JSON.stringify({ times, space: 'WORLD' }),
-  });
+const postJson = (body) => ({
+  method: 'POST',
+  headers: { 'Content-Type': 'application/json' },
+  body: JSON.stringify(body),
+});
+
+// Poses of every joint at `times`, in `space` ('WORLD' or 'LOCAL').
+export function evaluate(clip, times, space = 'WORLD') {
+  return call(`${clipPath(clip)}:evaluate`, postJson({ times, space }));
+}
+
+// One inverse kinematics solve (a SolveIkRequest as JSON, less the skeleton).
+export function solveIk(skeleton, request) {
+  return call(`/v1/skeletons/${encodeURIComponent(skeleton)}:solveIk`, postJson(request));
 }
 
 // Plays `clip` over Server-Sent Events. `onFrame(frame)` gets each PoseFrame,

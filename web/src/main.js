@@ -1,5 +1,6 @@
 // The viewer page: choose a clip, play / pause, scrub, set the speed.
 import * as api from './api.js';
+import { IkDrag } from './ik_drag.js';
 import { Player } from './player.js';
 import { SkeletonView } from './skeleton_view.js';
 
@@ -11,6 +12,7 @@ const ui = {
 
 const view = new SkeletonView($('viewport'));
 const player = new Player({ fps: 30 });
+const ik = new IkDrag(view, player);
 let scrubbing = false;
 const arrivals = [];  // stream frame arrival times, for the rate shown
 
@@ -51,6 +53,16 @@ player.addEventListener('state', ({ detail: { playing } }) => {
 
 player.addEventListener('error', ({ detail }) => showMessage(detail));
 
+ik.addEventListener('solve', ({ detail: { joint, response } }) => {
+  const [residual] = response.residuals;
+  showMessage(
+    response.converged
+      ? `IK: ${joint} reached (${response.iterations} iterations)`
+      : `IK: ${joint} out of reach by ${residual.positionError.toFixed(2)}`,
+  );
+});
+ik.addEventListener('error', ({ detail }) => showMessage(`IK: ${detail}`));
+
 ui.play.addEventListener('click', () => (player.playing ? player.pause() : player.play()));
 ui.scrub.addEventListener('pointerdown', () => (scrubbing = true));
 ui.scrub.addEventListener('pointerup', () => (scrubbing = false));
@@ -74,6 +86,6 @@ async function start() {
 }
 
 // For tests and the console.
-window.armatureViewer = { player, view };
+window.armatureViewer = { player, view, ik };
 
 start().catch((e) => showMessage(`Cannot reach the server: ${e.message}`));

@@ -132,6 +132,58 @@ try {
   check(Math.abs(times[0] - 1.5) < 1e-6 && steps.every((d) => Math.abs(d - 2 / 30) < 1e-6),
         `playing at 2× from the scrubbed time steps ${steps.map((d) => d.toFixed(4)).join(', ')} s per frame`);
 
+  // IK: drag the left wrist with the mouse; the skeleton follows through
+  // SolveIk calls, the other end joints stay pinned.
+  const beforeIk = await page.evaluate(() => window.armatureViewer.player.stats.evaluations);
+  await page.$eval('#scrub', (s) => {
+    s.value = '1.0';
+    s.dispatchEvent(new Event('input'));
+  });
+  await page.waitForFunction((n) => window.armatureViewer.player.stats.evaluations > n, beforeIk);
+  const grab = await page.evaluate(() => {
+    const { view, ik } = window.armatureViewer;
+    const names = view.skeleton.joints.map((j) => j.name);
+    const wrist = names.indexOf('LeftWrist');
+    const at = ik.screenPosition(wrist);
+    const nearest = Math.min(...names.map((_, i) => i === wrist ? Infinity : Math.hypot(
+      ik.screenPosition(i).x - at.x, ik.screenPosition(i).y - at.y)));
+    const world = (i) => view.joints[i].position.toArray();
+    return { wrist, at, nearest, world: world(wrist), pinned: world(names.indexOf('RightWrist')) };
+  });
+  check(grab.nearest > 16, `the left wrist can be grabbed (the nearest other joint is ${grab.nearest.toFixed(1)} px away)`);
+  const drop = { x: grab.at.x + 40, y: grab.at.y - 60 };
+  await page.mouse.move(grab.at.x, grab.at.y);
+  await page.mouse.down();
+  await page.mouse.move(drop.x, drop.y, { steps: 15 });
+  await page.mouse.up();
+  await page.waitForFunction(() => {
+    const { ik } = window.armatureViewer;
+    return !ik.solving && !ik.wanted && ik.stats.solves > 0;
+  }, null, { timeout: 30000 });
+  const dragged = await page.evaluate(({ wrist }) => {
+    const { view, ik } = window.armatureViewer;
+    const names = view.skeleton.joints.map((j) => j.name);
+    return {
+      stats: { solves: ik.stats.solves, converged: ik.stats.converged },
+      joint: ik.stats.lastResponse.residuals[0].joint,
+      converged: ik.stats.lastResponse.converged,
+      at: ik.screenPosition(wrist),
+      world: view.joints[wrist].position.toArray(),
+      pinned: view.joints[names.indexOf('RightWrist')].position.toArray(),
+      message: document.getElementById('message').textContent,
+    };
+  }, grab);
+  const moved = Math.hypot(...dragged.world.map((v, k) => v - grab.world[k]));
+  const pinShift = Math.hypot(...dragged.pinned.map((v, k) => v - grab.pinned[k]));
+  const miss = Math.hypot(dragged.at.x - drop.x, dragged.at.y - drop.y);
+  check(dragged.joint === 'LeftWrist' && dragged.stats.solves >= 2,
+        `dragging solves IK for the wrist (${dragged.stats.solves} SolveIk calls, ${dragged.stats.converged} converged)`);
+  check(dragged.converged && /LeftWrist reached/.test(dragged.message), `the last solve converged (${dragged.message})`);
+  check(moved > 10, `the wrist moved ${moved.toFixed(1)} units in the world`);
+  check(miss < 2, `the wrist is drawn under the pointer (${miss.toFixed(2)} px away)`);
+  check(pinShift < 0.05, `the other wrist stayed pinned (moved ${pinShift.toFixed(4)})`);
+  await page.screenshot({ path: screenshot.replace(/\.png$/, '') + '_ik.png' });
+
   check(problems.length === 0, `no console errors${problems.length ? ':\n  ' + problems.join('\n  ') : ''}`);
   console.log(`screenshot: ${path.resolve(screenshot)}`);
 } catch (error) {

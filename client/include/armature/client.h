@@ -12,6 +12,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "armature/v1/assets.grpc.pb.h"
+#include "armature/v1/ik.grpc.pb.h"
 #include "armature/v1/poses.grpc.pb.h"
 
 namespace armature {
@@ -45,6 +46,36 @@ struct UploadFile {
   std::string bytes;
 };
 
+// An open IK session (Client::OpenIkSession): each message sends new
+// targets and waits for the pose that reaches them, solved from the last
+// one. One thread at a time; the Client must outlive it. Throws ClientError
+// when the server ends the session with an error.
+class IkSession {
+ public:
+  IkSession(const IkSession&) = delete;
+  IkSession& operator=(const IkSession&) = delete;
+  ~IkSession();  // cancels the session unless Close() ended it
+
+  // The answer to the last message (after opening: to the start request).
+  const v1::SolveIkResponse& last() const { return last_; }
+  // Sends one message (new targets) and waits for its answer.
+  const v1::SolveIkResponse& Send(const v1::IkSessionRequest& message);
+  // Moves effector `effector`'s target position (its index in the start request).
+  const v1::SolveIkResponse& MoveTarget(int effector, double x, double y, double z);
+  // Ends the session; throws ClientError if the server ended it with an error.
+  void Close();
+
+ private:
+  friend class Client;
+  IkSession() = default;
+  [[noreturn]] void Fail();  // the stream broke: finishes it and throws its status
+
+  std::unique_ptr<grpc::ClientContext> context_;
+  std::unique_ptr<grpc::ClientReaderWriter<v1::IkSessionRequest, v1::SolveIkResponse>> stream_;
+  v1::SolveIkResponse last_;
+  bool closed_ = false;
+};
+
 class Client {
  public:
   explicit Client(ClientOptions options = ClientOptions::FromEnvironment());
@@ -70,6 +101,12 @@ class Client {
   void StreamClip(const v1::StreamClipRequest& request, const std::function<bool(const v1::PoseFrame&)>& on_frame);
   v1::ComputeFkResponse ComputeFk(const v1::ComputeFkRequest& request);
 
+  // Inverse kinematics. An unreachable target is not an error: converged() is false.
+  v1::SolveIkResponse SolveIk(const v1::SolveIkRequest& request);
+  // Opens an IK session and solves `start`; its answer is last(). The
+  // session's deadline is ClientOptions::stream_timeout.
+  std::unique_ptr<IkSession> OpenIkSession(const v1::SolveIkRequest& start);
+
   // grpc.health.v1: true when the server reports SERVING.
   bool Healthy();
 
@@ -90,6 +127,7 @@ class Client {
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::AssetService::Stub> assets_;
   std::unique_ptr<v1::PoseService::Stub> poses_;
+  std::unique_ptr<v1::IkService::Stub> ik_;
 };
 
 // Throws ClientError unless `status` is OK.

@@ -1,0 +1,39 @@
+// IkService: one-shot inverse kinematics solves and interactive sessions.
+#pragma once
+
+#include <atomic>
+#include <memory>
+
+#include "armature/engine/ik_workspace.h"
+#include "armature/v1/ik.grpc.pb.h"
+#include "server/asset_store.h"
+#include "server/ik_convert.h"
+#include "server/limits.h"
+#include "server/session_gate.h"
+
+namespace armature::server {
+
+class IkServiceImpl final : public v1::IkService::CallbackService {
+ public:
+  IkServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionGate> sessions)
+      : store_(store), limits_(limits), gate_(std::move(sessions)) {}
+
+  grpc::ServerUnaryReactor* SolveIk(grpc::CallbackServerContext* context, const v1::SolveIkRequest* request,
+                                    v1::SolveIkResponse* response) override;
+  grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>* IkSession(
+      grpc::CallbackServerContext* context) override;
+
+ private:
+  AssetStore& store_;
+  const Limits& limits_;
+  std::shared_ptr<SessionGate> gate_;  // per-client session limit, shared with other session kinds
+  std::atomic<int> sessions_{0};       // open IkSession streams (--max-ik-sessions)
+};
+
+// Solves `call` (its request carrying any deadline and cancel check) and
+// writes the answer. INVALID_ARGUMENT naming the API field for bad input;
+// DEADLINE_EXCEEDED or CANCELLED when interrupted; an unreachable target is OK.
+Status RunIk(const IkCall& call, IkWorkspace& workspace, IkResult& result, PoseWorkspace& pose,
+             v1::SolveIkResponse* response);
+
+}  // namespace armature::server

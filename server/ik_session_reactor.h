@@ -1,0 +1,54 @@
+// One IK session: a bidirectional stream answering each message with a
+// solve warm-started from the previous answer. Reads, solves and writes
+// strictly in turn (one operation in flight), so answers keep the order of
+// the messages and the state needs no lock. Everything is freed in OnDone.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "armature/engine/ik_workspace.h"
+#include "armature/v1/ik.grpc.pb.h"
+#include "server/asset_store.h"
+#include "server/ik_convert.h"
+#include "server/limits.h"
+#include "server/session_gate.h"
+
+namespace armature::server {
+
+class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse> {
+ public:
+  // `sessions` counts open IK sessions; over limits.max_ik_sessions, or
+  // when `gate` refuses the client a place, the stream ends at once with
+  // RESOURCE_EXHAUSTED.
+  IkSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
+                   std::atomic<int>& sessions, SessionGate& gate);
+
+  void OnReadDone(bool ok) override;
+  void OnWriteDone(bool ok) override;
+  void OnDone() override;
+
+ private:
+  void End(grpc::Status status);  // finishes the call (once)
+  void ReleasePlaces();           // the session limits' places; idempotent
+  Status Answer();                // solves request_ into response_
+  Status Start();   // the first message
+  Status Update();  // a later one
+
+  grpc::CallbackServerContext* context_;
+  AssetStore& store_;
+  const Limits& limits_;
+  std::atomic<int>& sessions_;
+  bool counted_ = true;          // holds a place in `sessions_`
+  SessionGate::Ticket ticket_;  // this client's place
+
+  v1::IkSessionRequest request_;
+  v1::SolveIkResponse response_;
+  uint64_t index_ = 0;  // messages answered
+  IkCall call_;
+  IkWorkspace workspace_;
+  IkResult result_;
+  PoseWorkspace pose_;
+};
+
+}  // namespace armature::server

@@ -1,0 +1,152 @@
+// Drag a joint and the skeleton follows, by inverse kinematics on the server.
+//
+// The gateway maps bidirectional streams as a batch (NDJSON in, SSE out,
+// the whole request body read before the call starts), so the IkSession RPC
+// cannot run interactively from a browser. Each drag step is therefore one
+// SolveIk call warm-started from the previous answer's local pose, with at
+// most one call in flight: while it runs only the latest target is kept.
+//
+// The dragged joint follows the pointer in the plane facing the camera
+// through its starting point; the other end joints (hands, feet, head) stay
+// pinned where they were, so a hand moves its arm rather than the body.
+// Emits 'solve' ({ joint, response }) and 'error' (message) events.
+import * as THREE from 'three';
+import * as api from './api.js';
+
+const PICK_RADIUS_PX = 16;
+const TARGET_COLOR = 0x2ec4ff;
+
+export class IkDrag extends EventTarget {
+  // `view`: the SkeletonView drawing the poses; `player`: the clip Player
+  // (paused when a drag starts; its poses replace the IK pose).
+  constructor(view, player) {
+    super();
+    this.view = view;
+    this.player = player;
+    this.local = null;  // the local pose the next solve starts from; null: the clip's at player.time
+    this.drag = null;   // { joint, plane, pins }
+    this.wanted = null; // the latest target not yet solved
+    this.solving = false;
+    this.stats = { solves: 0, converged: 0, lastResponse: null };
+    this.marker = new THREE.Mesh(
+      new THREE.SphereGeometry(1, 16, 12),
+      new THREE.MeshBasicMaterial({ color: TARGET_COLOR, transparent: true, opacity: 0.7 }),
+    );
+    this.marker.visible = false;
+    view.scene.add(this.marker);
+
+    const canvas = view.renderer.domElement;
+    // Capture phase on the container: a press on a joint never reaches the
+    // orbit controls listening on the canvas.
+    view.container.addEventListener('pointerdown', (e) => this.onPointerDown(e), { capture: true });
+    canvas.addEventListener('pointermove', (e) => this.onPointerMove(e));
+    canvas.addEventListener('pointerup', (e) => this.onPointerUp(e));
+    canvas.addEventListener('pointercancel', (e) => this.onPointerUp(e));
+    // The clip moved on (play, scrub, another clip): start from it next time.
+    player.addEventListener('pose', () => {
+      if (!this.drag && !this.solving) this.local = null;
+    });
+  }
+
+  // Client (page) coordinates of joint `index` as drawn now.
+  screenPosition(index) {
+    const rect = this.view.renderer.domElement.getBoundingClientRect();
+    const p = this.view.joints[index].position.clone().project(this.view.camera);
+    return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height };
+  }
+
+  // The joint drawn nearest the pointer, within PICK_RADIUS_PX, or -1.
+  pick(event) {
+    let best = -1;
+    let bestDistance = PICK_RADIUS_PX;
+    this.view.joints.forEach((_, i) => {
+      const s = this.screenPosition(i);
+      const d = Math.hypot(s.x - event.clientX, s.y - event.clientY);
+      if (d < bestDistance) [best, bestDistance] = [i, d];
+    });
+    return best;
+  }
+
+  // Where the pointer's ray meets the drag plane, or null.
+  pointerTarget(event) {
+    const rect = this.view.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(
+      ((event.clientX - rect.left) / rect.width) * 2 - 1,
+      -((event.clientY - rect.top) / rect.height) * 2 + 1,
+    );
+    const ray = new THREE.Raycaster();
+    ray.setFromCamera(ndc, this.view.camera);
+    return ray.ray.intersectPlane(this.drag.plane, new THREE.Vector3());
+  }
+
+  onPointerDown(event) {
+    if (event.button !== 0 || !this.view.skeleton || !this.player.clip) return;
+    const joint = this.pick(event);
+    if (joint < 0) return;
+    event.stopPropagation();
+    event.preventDefault();
+    this.player.pause();
+    const joints = this.view.skeleton.joints;
+    const position = (i) => this.view.joints[i].position.clone();
+    const facing = this.view.camera.getWorldDirection(new THREE.Vector3());
+    const hasChild = new Set(joints.map((j) => j.parent));
+    const pins = joints
+      .map((_, i) => i)
+      .filter((i) => i !== joint && !hasChild.has(i))
+      .map((i) => ({ joint: joints[i].name, targetPosition: position(i).toArray() }));
+    this.drag = { joint, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(facing, position(joint)), pins };
+    this.view.renderer.domElement.setPointerCapture?.(event.pointerId);
+    this.view.controls.enabled = false;
+    this.marker.scale.setScalar(this.view.joints[joint].geometry.parameters.radius * 1.3);
+    this.marker.position.copy(position(joint));
+    this.marker.visible = true;
+  }
+
+  onPointerMove(event) {
+    if (!this.drag) return;
+    const target = this.pointerTarget(event);
+    if (!target) return;
+    this.marker.position.copy(target);
+    this.wanted = { joint: this.drag.joint, pins: this.drag.pins, target };
+    if (!this.solving) this.pump();
+  }
+
+  onPointerUp() {
+    if (!this.drag) return;
+    this.drag = null;
+    this.view.controls.enabled = true;
+    this.marker.visible = false;
+  }
+
+  // Solves the latest target until none is left; each solve starts from the
+  // last answer.
+  async pump() {
+    this.solving = true;
+    try {
+      while (this.wanted) {
+        const { joint, pins, target } = this.wanted;
+        this.wanted = null;
+        const clip = this.player.clip;
+        if (!this.local) this.local = (await api.evaluate(clip.name, [this.player.time], 'LOCAL')).poses[0];
+        const name = this.view.skeleton.joints[joint].name;
+        const response = await api.solveIk(clip.skeleton, {
+          startPose: { rotations: this.local.rotations, translations: this.local.translations },
+          effectors: [{ joint: name, targetPosition: target.toArray() }, ...pins],
+          options: { regularization: 0.5 },  // prefer small changes from the last pose
+          freeRootTranslation: this.view.skeleton.joints[joint].parent < 0,  // dragging the root moves it
+        });
+        this.local = response.local;
+        this.view.setPose(response.world);
+        this.stats.solves++;
+        if (response.converged) this.stats.converged++;
+        this.stats.lastResponse = response;
+        this.dispatchEvent(new CustomEvent('solve', { detail: { joint: name, response } }));
+      }
+    } catch (error) {
+      this.wanted = null;
+      this.dispatchEvent(new CustomEvent('error', { detail: error.message }));
+    } finally {
+      this.solving = false;
+    }
+  }
+}
