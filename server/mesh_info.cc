@@ -1,5 +1,6 @@
 // MeshInfo lives apart from proto_convert.cc because it is the one converter
 // that needs the Mesh type.
+#include "armature/engine/mesh.h"
 #include "server/proto_convert.h"
 
 namespace armature::server {
@@ -9,6 +10,11 @@ v1::MeshInfo MeshInfoOf(const StoredAsset& asset, const NamedMesh& m) {
   info.set_name(m.name);
   info.set_asset(asset.record.name);
   info.set_skeleton(m.skeleton);
+  const Mesh& mesh = *m.mesh;
+  info.set_vertex_count(static_cast<int>(mesh.vertex_count()));
+  info.set_triangle_count(static_cast<int>(mesh.triangle_count()));
+  info.set_max_influences(static_cast<int>(mesh.max_influences()));
+  for (const MorphTarget& t : mesh.targets) info.add_target_names(t.name);
   return info;
 }
 

@@ -36,5 +36,6 @@ void AddStreamCommand(CLI::App& app, CliContext& ctx);
 void AddExportCommand(CLI::App& app, CliContext& ctx);
 void AddDeleteCommand(CLI::App& app, CliContext& ctx);
 void AddHealthCommand(CLI::App& app, CliContext& ctx);
+void AddSkinCommand(CLI::App& app, CliContext& ctx);
 
 }  // namespace armature::cli

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   AddExportCommand(app, ctx);
   AddDeleteCommand(app, ctx);
   AddHealthCommand(app, ctx);
+  AddSkinCommand(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -12,6 +12,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "armature/v1/assets.grpc.pb.h"
+#include "armature/v1/meshes.grpc.pb.h"
 #include "armature/v1/poses.grpc.pb.h"
 
 namespace armature {
@@ -70,6 +71,15 @@ class Client {
   void StreamClip(const v1::StreamClipRequest& request, const std::function<bool(const v1::PoseFrame&)>& on_frame);
   v1::ComputeFkResponse ComputeFk(const v1::ComputeFkRequest& request);
 
+  v1::ListMeshesResponse ListMeshes();
+  v1::MeshInfo GetMesh(const std::string& mesh);
+  v1::SkinMeshResponse SkinMesh(const v1::SkinMeshRequest& request);
+  // As StreamClip: `on_frame` per skinned frame until the end or it returns false.
+  void StreamSkinnedMesh(const v1::StreamSkinnedMeshRequest& request,
+                         const std::function<bool(const v1::SkinnedMeshFrame&)>& on_frame);
+  v1::EvaluateBlendshapesResponse EvaluateBlendshapes(const v1::EvaluateBlendshapesRequest& request);
+  v1::BindMeshResponse BindMesh(const v1::BindMeshRequest& request);
+
   // grpc.health.v1: true when the server reports SERVING.
   bool Healthy();
 
@@ -90,6 +100,7 @@ class Client {
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::AssetService::Stub> assets_;
   std::unique_ptr<v1::PoseService::Stub> poses_;
+  std::unique_ptr<v1::MeshService::Stub> meshes_;
 };
 
 // Throws ClientError unless `status` is OK.
