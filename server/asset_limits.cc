@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include "armature/engine/mesh.h"
+
 namespace armature::server {
 
 Status CheckAssetLimits(const AssetContents& contents, const Limits& limits) {
@@ -17,6 +19,13 @@ Status CheckAssetLimits(const AssetContents& contents, const Limits& limits) {
       return Status::ResourceExhausted("clip '" + c.name + "' has " + std::to_string(frames) +
                                        " frames, over the limit of " + std::to_string(limits.max_clip_frames) +
                                        " (--max-clip-frames)");
+  }
+  for (const NamedMesh& m : contents.meshes) {
+    const auto vertices = static_cast<int64_t>(m.mesh->vertex_count());
+    if (vertices > limits.max_mesh_vertices)
+      return Status::ResourceExhausted("mesh '" + m.name + "' has " + std::to_string(vertices) +
+                                       " vertices, over the limit of " + std::to_string(limits.max_mesh_vertices) +
+                                       " (--max-mesh-vertices)");
   }
   return Status::Ok();
 }

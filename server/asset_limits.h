@@ -9,8 +9,7 @@
 namespace armature::server {
 
 // RESOURCE_EXHAUSTED naming the part, its size, the limit and its flag:
-// clips over --max-clip-frames. Meshes over --max-mesh-vertices are checked
-// here as well once struct Mesh (engine/mesh.h) is part of the build.
+// clips over --max-clip-frames, meshes over --max-mesh-vertices.
 Status CheckAssetLimits(const AssetContents& contents, const Limits& limits);
 
 }  // namespace armature::server

@@ -1,8 +1,8 @@
 // MeshInfo lives apart from proto_convert.cc because it is the one converter
 // that needs the Mesh type.
+#include "armature/engine/mesh.h"
 #include "server/proto_convert.h"
 
-#include "armature/engine/mesh.h"
 
 namespace armature::server {
 

@@ -68,23 +68,14 @@ grpc::ServerUnaryReactor* PoseServiceImpl::ComputeFk(grpc::CallbackServerContext
   return FinishUnary(context, server::ComputeFk(*store_.Snapshot(), *request, response));
 }
 
-namespace {
-// A stream that fails before its first frame.
-class FailedStream final : public grpc::ServerWriteReactor<v1::PoseFrame> {
- public:
-  explicit FailedStream(const Status& status) { Finish(ToGrpcStatus(status)); }
-  void OnDone() override { delete this; }
-};
-}  // namespace
-
 grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext*,
                                                                      const v1::StreamClipRequest* request) {
   v1::StreamClipRequest r = *request;
   auto ref = store_.Snapshot()->FindClip(r.clip());
-  if (!ref.ok()) return new FailedStream(ref.status());
-  if (Status st = ValidateStreamRequest(r, limits_); !st.ok()) return new FailedStream(st);
+  if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
+  if (Status st = ValidateStreamRequest(r, limits_); !st.ok()) return new FailedStream<v1::PoseFrame>(st);
   auto joints = ResolveJoints(*ref->part->clip->skeleton, r.joints(), "joints");
-  if (!joints.ok()) return new FailedStream(joints.status());
+  if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
   return new StreamClipReactor(scheduler_, std::move(*ref), std::move(r), std::move(*joints));
 }
 

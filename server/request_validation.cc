@@ -41,19 +41,44 @@ StatusOr<std::vector<int>> ResolveJoints(const Skeleton& skeleton,
   return joints;
 }
 
-Status ValidateStreamRequest(v1::StreamClipRequest& r, const Limits& limits) {
-  ARMATURE_RETURN_IF_ERROR(ValidateFinite(r.fps(), "fps"));
-  ARMATURE_RETURN_IF_ERROR(ValidateFinite(r.speed(), "speed"));
-  ARMATURE_RETURN_IF_ERROR(ValidateFinite(r.start_time(), "start_time"));
-  ARMATURE_RETURN_IF_ERROR(ValidateFinite(r.duration(), "duration"));
-  if (r.fps() == 0) r.set_fps(30);
-  if (r.speed() == 0) r.set_speed(1);
-  if (r.fps() < 0) return Status::InvalidArgument("fps: must be positive");
-  if (r.fps() > limits.max_stream_fps)
-    return Status::InvalidArgument("fps: " + std::to_string(r.fps()) + " is above the maximum of " +
+Status ValidatePacing(StreamPacing& p, const Limits& limits) {
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(p.fps, "fps"));
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(p.speed, "speed"));
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(p.start_time, "start_time"));
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(p.duration, "duration"));
+  if (p.fps == 0) p.fps = 30;
+  if (p.speed == 0) p.speed = 1;
+  if (p.fps < 0) return Status::InvalidArgument("fps: must be positive");
+  if (p.fps > limits.max_stream_fps)
+    return Status::InvalidArgument("fps: " + std::to_string(p.fps) + " is above the maximum of " +
                                    std::to_string(limits.max_stream_fps));
-  if (r.start_time() < 0) return Status::InvalidArgument("start_time: must not be negative");
-  if (r.duration() < 0) return Status::InvalidArgument("duration: must not be negative");
+  if (p.start_time < 0) return Status::InvalidArgument("start_time: must not be negative");
+  if (p.duration < 0) return Status::InvalidArgument("duration: must not be negative");
+  return Status::Ok();
+}
+
+Status ValidateStreamRequest(v1::StreamClipRequest& r, const Limits& limits) {
+  StreamPacing p{r.fps(), r.speed(), r.loop(), r.start_time(), r.duration()};
+  ARMATURE_RETURN_IF_ERROR(ValidatePacing(p, limits));
+  r.set_fps(p.fps);
+  r.set_speed(p.speed);
+  return Status::Ok();
+}
+
+Status ValidateClipTime(double time, const std::string& field) {
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(time, field));
+  if (time < 0) return Status::InvalidArgument(field + ": must not be negative");
+  return Status::Ok();
+}
+
+Status ValidateWeights(std::span<const float> weights, size_t targets, const std::string& field) {
+  if (weights.empty()) return Status::Ok();
+  if (weights.size() != targets)
+    return Status::InvalidArgument(field + ": " + std::to_string(weights.size()) + " values for " +
+                                   std::to_string(targets) + " morph targets (give one per target, or none)");
+  for (size_t i = 0; i < weights.size(); ++i)
+    if (!std::isfinite(weights[i]))
+      return Status::InvalidArgument(field + "[" + std::to_string(i) + "]: must be a finite number");
   return Status::Ok();
 }
 

@@ -12,6 +12,7 @@
 #include "armature/engine/status.h"
 #include "armature/v1/poses.pb.h"
 #include "server/limits.h"
+#include "server/stream_pacing.h"
 
 namespace armature::server {
 
@@ -26,6 +27,15 @@ Status ValidateFinite(double value, const std::string& field);
 StatusOr<std::vector<int>> ResolveJoints(const Skeleton& skeleton,
                                          const google::protobuf::RepeatedPtrField<std::string>& names,
                                          const std::string& field);
+
+// Normalizes stream pacing in place (defaults: 30 fps, speed 1) and checks it.
+Status ValidatePacing(StreamPacing& pacing, const Limits& limits);
+
+// A clip time: finite and >= 0.
+Status ValidateClipTime(double time, const std::string& field);
+
+// Morph weights: empty, or one finite value per target.
+Status ValidateWeights(std::span<const float> weights, size_t targets, const std::string& field);
 
 // Normalizes a stream request in place (defaults for fps and speed) and checks it.
 Status ValidateStreamRequest(v1::StreamClipRequest& request, const Limits& limits);

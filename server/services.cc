@@ -3,6 +3,7 @@
 #include "server/asset_service.h"
 #include "server/deform_service.h"
 #include "server/ik_service.h"
+#include "server/mesh_service.h"
 #include "server/pose_service.h"
 
 namespace armature::server {
@@ -15,6 +16,7 @@ std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, 
   services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits));
   services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits));
   services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions));
+  services.push_back(MakeService<v1::MeshService, MeshServiceImpl>(store, limits));
   return services;
 }
 

@@ -38,5 +38,6 @@ void AddDeleteCommand(CLI::App& app, CliContext& ctx);
 void AddHealthCommand(CLI::App& app, CliContext& ctx);
 void AddDeformCommand(CLI::App& app, CliContext& ctx);
 void AddIkCommand(CLI::App& app, CliContext& ctx);
+void AddSkinCommand(CLI::App& app, CliContext& ctx);
 
 }  // namespace armature::cli

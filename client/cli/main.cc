@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   AddDeleteCommand(app, ctx);
   AddHealthCommand(app, ctx);
   AddDeformCommand(app, ctx);
+  AddSkinCommand(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -91,7 +91,8 @@ Client::Client(ClientOptions options) : Client(MakeChannel(options), options) {}
 Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
     : options_(std::move(options)), channel_(std::move(channel)),
       assets_(v1::AssetService::NewStub(channel_)), poses_(v1::PoseService::NewStub(channel_)),
-      ik_(v1::IkService::NewStub(channel_)) {}
+      ik_(v1::IkService::NewStub(channel_)),
+      meshes_(v1::MeshService::NewStub(channel_)) {}
 
 void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
   const auto timeout = streaming ? options_.stream_timeout : options_.timeout;
@@ -237,22 +238,55 @@ IkSession::~IkSession() {
   (void)stream_->Finish();
 }
 
+namespace {
+// Reads a server stream into `on_frame` until it ends or `on_frame` returns
+// false (then cancels it, draining what is in flight).
+template <class Frame>
+void ReadStream(grpc::ClientContext& context, grpc::ClientReader<Frame>& reader,
+                const std::function<bool(const Frame&)>& on_frame) {
+  Frame frame;
+  while (reader.Read(&frame)) {
+    if (!on_frame(frame)) {
+      context.TryCancel();
+      while (reader.Read(&frame)) {
+      }
+      reader.Finish();
+      return;
+    }
+  }
+  Check(reader.Finish());
+}
+}  // namespace
+
 void Client::StreamClip(const v1::StreamClipRequest& request,
                         const std::function<bool(const v1::PoseFrame&)>& on_frame) {
   grpc::ClientContext context;
   Prepare(context, true);
-  auto reader = poses_->StreamClip(&context, request);
-  v1::PoseFrame frame;
-  while (reader->Read(&frame)) {
-    if (!on_frame(frame)) {
-      context.TryCancel();
-      while (reader->Read(&frame)) {
-      }
-      reader->Finish();
-      return;
-    }
-  }
-  Check(reader->Finish());
+  ReadStream(context, *poses_->StreamClip(&context, request), on_frame);
+}
+
+v1::ListMeshesResponse Client::ListMeshes() {
+  return Call(&v1::MeshService::Stub::ListMeshes, *meshes_, v1::ListMeshesRequest());
+}
+v1::MeshInfo Client::GetMesh(const std::string& mesh) {
+  v1::GetMeshRequest r;
+  r.set_mesh(mesh);
+  return Call(&v1::MeshService::Stub::GetMesh, *meshes_, r);
+}
+v1::SkinMeshResponse Client::SkinMesh(const v1::SkinMeshRequest& r) {
+  return Call(&v1::MeshService::Stub::SkinMesh, *meshes_, r);
+}
+void Client::StreamSkinnedMesh(const v1::StreamSkinnedMeshRequest& request,
+                               const std::function<bool(const v1::SkinnedMeshFrame&)>& on_frame) {
+  grpc::ClientContext context;
+  Prepare(context, true);
+  ReadStream(context, *meshes_->StreamSkinnedMesh(&context, request), on_frame);
+}
+v1::EvaluateBlendshapesResponse Client::EvaluateBlendshapes(const v1::EvaluateBlendshapesRequest& r) {
+  return Call(&v1::MeshService::Stub::EvaluateBlendshapes, *meshes_, r);
+}
+v1::BindMeshResponse Client::BindMesh(const v1::BindMeshRequest& r) {
+  return Call(&v1::MeshService::Stub::BindMesh, *meshes_, r);
 }
 
 bool Client::Healthy() {

@@ -13,6 +13,7 @@
 
 #include "armature/v1/assets.grpc.pb.h"
 #include "armature/v1/ik.grpc.pb.h"
+#include "armature/v1/meshes.grpc.pb.h"
 #include "armature/v1/poses.grpc.pb.h"
 
 namespace armature {
@@ -106,6 +107,14 @@ class Client {
   // Opens an IK session and solves `start`; its answer is last(). The
   // session's deadline is ClientOptions::stream_timeout.
   std::unique_ptr<IkSession> OpenIkSession(const v1::SolveIkRequest& start);
+  v1::ListMeshesResponse ListMeshes();
+  v1::MeshInfo GetMesh(const std::string& mesh);
+  v1::SkinMeshResponse SkinMesh(const v1::SkinMeshRequest& request);
+  // As StreamClip: `on_frame` per skinned frame until the end or it returns false.
+  void StreamSkinnedMesh(const v1::StreamSkinnedMeshRequest& request,
+                         const std::function<bool(const v1::SkinnedMeshFrame&)>& on_frame);
+  v1::EvaluateBlendshapesResponse EvaluateBlendshapes(const v1::EvaluateBlendshapesRequest& request);
+  v1::BindMeshResponse BindMesh(const v1::BindMeshRequest& request);
 
   // grpc.health.v1: true when the server reports SERVING.
   bool Healthy();
@@ -128,6 +137,7 @@ class Client {
   std::unique_ptr<v1::AssetService::Stub> assets_;
   std::unique_ptr<v1::PoseService::Stub> poses_;
   std::unique_ptr<v1::IkService::Stub> ik_;
+  std::unique_ptr<v1::MeshService::Stub> meshes_;
 };
 
 // Throws ClientError unless `status` is OK.

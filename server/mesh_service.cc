@@ -1,0 +1,239 @@
+#include "server/mesh_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include "armature/engine/auto_weights.h"
+#include "armature/engine/blendshape.h"
+#include "armature/engine/fk.h"
+#include "armature/engine/mesh.h"
+#include "armature/engine/skinning.h"
+#include "server/grpc_status.h"
+#include "server/paced_stream_reactor.h"
+#include "server/proto_convert.h"
+#include "server/request_validation.h"
+
+namespace armature::server {
+namespace {
+
+StatusOr<SkinningMethod> FromProto(v1::SkinningMethod method) {
+  switch (method) {
+    case v1::SKINNING_METHOD_UNSPECIFIED:
+    case v1::LBS: return SkinningMethod::kLinear;
+    case v1::DQS: return SkinningMethod::kDualQuaternion;
+    default: return Status::InvalidArgument("method: unknown skinning method " + std::to_string(method));
+  }
+}
+
+// The clip that poses `mesh`: it must animate the mesh's skeleton (any
+// clip for an unbound mesh, which only its morph weights track moves).
+StatusOr<PartRef<NamedClip>> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name) {
+  auto clip = catalog.FindClip(name);
+  if (!clip.ok()) return clip.status().WithContext("clip: ");
+  if (!mesh.skeleton.empty() && clip->part->skeleton != mesh.skeleton)
+    return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + clip->part->skeleton +
+                                   "', not the mesh's skeleton '" + mesh.skeleton + "'");
+  return clip;
+}
+
+// Output arrays sized in the response (its only allocation) and viewed as spans.
+template <class Response>
+std::pair<std::span<float>, std::span<float>> OutputsOf(const Mesh& mesh, Response* response) {
+  const int n = static_cast<int>(mesh.vertex_count());
+  response->mutable_positions()->Resize(3 * n, 0.f);
+  if (!mesh.normals.empty()) response->mutable_normals()->Resize(3 * n, 0.f);
+  return {{response->mutable_positions()->mutable_data(), static_cast<size_t>(response->positions_size())},
+          {response->mutable_normals()->mutable_data(), static_cast<size_t>(response->normals_size())}};
+}
+
+// Per-thread scratch: skinning is allocation-free after a thread's first call.
+struct MeshWorkspace {
+  SkinningWorkspace skin;
+  std::vector<Trs> local;
+};
+
+}  // namespace
+
+Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response) {
+  auto ref = catalog.FindMesh(request.mesh());
+  if (!ref.ok()) return ref.status().WithContext("mesh: ");
+  const NamedMesh& named = *ref->part;
+  const Mesh& mesh = *named.mesh;
+  auto method = FromProto(request.method());
+  if (!method.ok()) return method.status();
+  ARMATURE_RETURN_IF_ERROR(ValidateWeights(AsSpan(request.morph_weights()), mesh.targets.size(), "morph_weights"));
+  SkinningOptions options;
+  options.method = *method;
+  options.morph_weights = AsSpan(request.morph_weights());
+
+  thread_local MeshWorkspace ws;
+  if (!request.clip().empty()) {
+    auto clip = ClipFor(catalog, named, request.clip());
+    if (!clip.ok()) return clip.status();
+    ARMATURE_RETURN_IF_ERROR(ValidateClipTime(request.time(), "time"));
+    SampleOptions sample;
+    sample.interpolation = server::FromProto(request.interpolation());
+    sample.wrap = server::FromProto(request.wrap());
+    auto [positions, normals] = OutputsOf(mesh, response);
+    ARMATURE_RETURN_IF_ERROR(
+        SkinClip(mesh, *clip->part->clip, request.time(), sample, options, positions, normals, ws.skin));
+  } else {
+    if (request.pose().rotations().empty())
+      return Status::InvalidArgument("clip or pose.rotations: one is required (pose: 4 rotation values per joint)");
+    if (named.skeleton.empty())
+      return Status::InvalidArgument("pose: mesh '" + named.name + "' has no skeleton to pose; give a clip");
+    auto skeleton_ref = catalog.FindSkeleton(named.skeleton);
+    if (!skeleton_ref.ok()) return skeleton_ref.status();
+    const Skeleton& skeleton = *skeleton_ref->part->skeleton;
+    ws.local.resize(skeleton.size());
+    ARMATURE_RETURN_IF_ERROR(PoseFromArrays(skeleton, AsSpan(request.pose().rotations()),
+                                            AsSpan(request.pose().translations()), ws.local)
+                                 .WithContext("pose: "));
+    auto [positions, normals] = OutputsOf(mesh, response);
+    ARMATURE_RETURN_IF_ERROR(SkinPose(mesh, skeleton, ws.local, options, positions, normals, ws.skin));
+  }
+  response->set_mesh(named.name);
+  response->set_vertex_count(static_cast<int>(mesh.vertex_count()));
+  return Status::Ok();
+}
+
+Status EvaluateBlendshapes(const Catalog& catalog, const v1::EvaluateBlendshapesRequest& request,
+                           v1::EvaluateBlendshapesResponse* response) {
+  auto ref = catalog.FindMesh(request.mesh());
+  if (!ref.ok()) return ref.status().WithContext("mesh: ");
+  const Mesh& mesh = *ref->part->mesh;
+  ARMATURE_RETURN_IF_ERROR(ValidateWeights(AsSpan(request.weights()), mesh.targets.size(), "weights"));
+  thread_local SkinningWorkspace ws;
+  auto [positions, normals] = OutputsOf(mesh, response);
+  BlendshapeJob job;
+  job.mesh = &mesh;
+  job.weights = AsSpan(request.weights());
+  job.positions = positions;
+  job.normals = normals;
+  job.workspace = &ws;
+  ARMATURE_RETURN_IF_ERROR(job.Run());
+  response->set_mesh(ref->part->name);
+  response->set_vertex_count(static_cast<int>(mesh.vertex_count()));
+  return Status::Ok();
+}
+
+Status BindMesh(const Catalog& catalog, const v1::BindMeshRequest& request, v1::BindMeshResponse* response) {
+  auto ref = catalog.FindMesh(request.mesh());
+  if (!ref.ok()) return ref.status().WithContext("mesh: ");
+  auto skeleton_ref = catalog.FindSkeleton(request.skeleton());
+  if (!skeleton_ref.ok()) return skeleton_ref.status().WithContext("skeleton: ");
+  BindOptions options;
+  switch (request.method()) {
+    case v1::WEIGHT_METHOD_UNSPECIFIED:
+    case v1::HEAT: options.method = WeightMethod::kHeat; break;
+    case v1::DISTANCE: options.method = WeightMethod::kDistance; break;
+    default: return Status::InvalidArgument("method: unknown weight method " + std::to_string(request.method()));
+  }
+  if (request.max_influences() != 0) {
+    if (request.max_influences() < 1 || request.max_influences() > 8)
+      return Status::InvalidArgument("max_influences: must be between 1 and 8");
+    options.max_influences = request.max_influences();
+  }
+  auto bound = armature::BindMesh(*ref->part->mesh, *skeleton_ref->part->skeleton, options);
+  if (!bound.ok()) return bound.status();
+  const Mesh& mesh = bound->mesh;
+  response->set_mesh(ref->part->name);
+  response->set_skeleton(skeleton_ref->part->name);
+  response->mutable_influence_offsets()->Add(mesh.influence_offsets.begin(), mesh.influence_offsets.end());
+  response->mutable_influence_joints()->Reserve(static_cast<int>(mesh.influence_joints.size()));
+  for (uint32_t k : mesh.influence_joints) response->add_influence_joints(mesh.joints[k]);  // skin → skeleton joint
+  response->mutable_influence_weights()->Add(mesh.influence_weights.begin(), mesh.influence_weights.end());
+  for (const std::string& w : bound->warnings) response->add_warnings(w);
+  response->set_max_influences(static_cast<int>(mesh.max_influences()));
+  return Status::Ok();
+}
+
+namespace {
+
+// Plays a clip on a mesh: one skinned mesh per frame.
+class StreamSkinnedMeshReactor final : public PacedStreamReactor<v1::SkinnedMeshFrame> {
+ public:
+  StreamSkinnedMeshReactor(FrameScheduler& scheduler, StreamPacing pacing, PartRef<NamedMesh> mesh,
+                           PartRef<NamedClip> clip, SkinningMethod method, v1::Interpolation interpolation)
+      : PacedStreamReactor(scheduler, pacing, clip.part->clip->duration), mesh_(std::move(mesh)),
+        clip_(std::move(clip)), interpolation_(interpolation) {
+    options_.method = method;
+    Start();
+  }
+
+ private:
+  Status Fill(uint64_t index, double t, WrapMode wrap, v1::SkinnedMeshFrame& frame) override {
+    SampleOptions sample;
+    sample.interpolation = server::FromProto(interpolation_);
+    sample.wrap = wrap;
+    const Mesh& mesh = *mesh_.part->mesh;
+    auto [positions, normals] = OutputsOf(mesh, &frame);
+    ARMATURE_RETURN_IF_ERROR(SkinClip(mesh, *clip_.part->clip, t, sample, options_, positions, normals, ws_));
+    frame.set_index(index);
+    frame.set_time(t);
+    frame.set_wall_time(wall_time());
+    return Status::Ok();
+  }
+  void OnStreamDone(uint64_t frames) override {
+    spdlog::debug("skinned stream of '{}' by '{}' done after {} frames", mesh_.part->name, clip_.part->name, frames);
+  }
+
+  PartRef<NamedMesh> mesh_;
+  PartRef<NamedClip> clip_;
+  v1::Interpolation interpolation_;
+  SkinningOptions options_;
+  SkinningWorkspace ws_;
+};
+
+}  // namespace
+
+grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMesh(
+    grpc::CallbackServerContext*, const v1::StreamSkinnedMeshRequest* request) {
+  using Failed = FailedStream<v1::SkinnedMeshFrame>;
+  auto catalog = store_.Snapshot();
+  auto mesh = catalog->FindMesh(request->mesh());
+  if (!mesh.ok()) return new Failed(mesh.status().WithContext("mesh: "));
+  if (request->clip().empty()) return new Failed(Status::InvalidArgument("clip: required"));
+  auto clip = ClipFor(*catalog, *mesh->part, request->clip());
+  if (!clip.ok()) return new Failed(clip.status());
+  auto method = FromProto(request->method());
+  if (!method.ok()) return new Failed(method.status());
+  StreamPacing pacing{request->fps(), request->speed(), request->loop(), request->start_time(), request->duration()};
+  if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new Failed(st);
+  return new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*clip), *method,
+                                      request->interpolation());
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::ListMeshes(grpc::CallbackServerContext* context,
+                                                      const v1::ListMeshesRequest*,
+                                                      v1::ListMeshesResponse* response) {
+  auto catalog = store_.Snapshot();
+  for (const auto& [name, ref] : catalog->meshes) *response->add_meshes() = MeshInfoOf(*ref.asset, *ref.part);
+  return FinishUnary(context, Status::Ok());
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::GetMesh(grpc::CallbackServerContext* context,
+                                                   const v1::GetMeshRequest* request, v1::MeshInfo* response) {
+  auto ref = store_.Snapshot()->FindMesh(request->mesh());
+  if (ref.ok()) *response = MeshInfoOf(*ref->asset, *ref->part);
+  return FinishUnary(context, ref.ok() ? Status::Ok() : ref.status().WithContext("mesh: "));
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::SkinMesh(grpc::CallbackServerContext* context,
+                                                    const v1::SkinMeshRequest* request,
+                                                    v1::SkinMeshResponse* response) {
+  return FinishUnary(context, server::SkinMesh(*store_.Snapshot(), *request, response));
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::EvaluateBlendshapes(grpc::CallbackServerContext* context,
+                                                               const v1::EvaluateBlendshapesRequest* request,
+                                                               v1::EvaluateBlendshapesResponse* response) {
+  return FinishUnary(context, server::EvaluateBlendshapes(*store_.Snapshot(), *request, response));
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::BindMesh(grpc::CallbackServerContext* context,
+                                                    const v1::BindMeshRequest* request,
+                                                    v1::BindMeshResponse* response) {
+  return FinishUnary(context, server::BindMesh(*store_.Snapshot(), *request, response));
+}
+
+}  // namespace armature::server

@@ -1,0 +1,42 @@
+// MeshService: mesh details, skinning (one pose or a real-time stream),
+// blendshapes and automatic skin weights.
+#pragma once
+
+#include "armature/v1/meshes.grpc.pb.h"
+#include "server/asset_store.h"
+#include "server/frame_scheduler.h"
+#include "server/limits.h"
+
+namespace armature::server {
+
+class MeshServiceImpl final : public v1::MeshService::CallbackService {
+ public:
+  MeshServiceImpl(AssetStore& store, const Limits& limits) : store_(store), limits_(limits) {}
+
+  grpc::ServerUnaryReactor* ListMeshes(grpc::CallbackServerContext* context, const v1::ListMeshesRequest* request,
+                                       v1::ListMeshesResponse* response) override;
+  grpc::ServerUnaryReactor* GetMesh(grpc::CallbackServerContext* context, const v1::GetMeshRequest* request,
+                                    v1::MeshInfo* response) override;
+  grpc::ServerUnaryReactor* SkinMesh(grpc::CallbackServerContext* context, const v1::SkinMeshRequest* request,
+                                     v1::SkinMeshResponse* response) override;
+  grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* StreamSkinnedMesh(
+      grpc::CallbackServerContext* context, const v1::StreamSkinnedMeshRequest* request) override;
+  grpc::ServerUnaryReactor* EvaluateBlendshapes(grpc::CallbackServerContext* context,
+                                                const v1::EvaluateBlendshapesRequest* request,
+                                                v1::EvaluateBlendshapesResponse* response) override;
+  grpc::ServerUnaryReactor* BindMesh(grpc::CallbackServerContext* context, const v1::BindMeshRequest* request,
+                                     v1::BindMeshResponse* response) override;
+
+ private:
+  AssetStore& store_;
+  const Limits& limits_;
+  FrameScheduler scheduler_;  // paces StreamSkinnedMesh
+};
+
+// The handlers' work, callable without gRPC (benchmarks, tests).
+Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response);
+Status EvaluateBlendshapes(const Catalog& catalog, const v1::EvaluateBlendshapesRequest& request,
+                           v1::EvaluateBlendshapesResponse* response);
+Status BindMesh(const Catalog& catalog, const v1::BindMeshRequest& request, v1::BindMeshResponse* response);
+
+}  // namespace armature::server

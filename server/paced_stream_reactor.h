@@ -1,0 +1,130 @@
+// A server stream that plays a clip in real time: frame k is due at
+// start + k/fps and shows clip time start_time + speed·k/fps. The
+// FrameScheduler paces it, so no thread sleeps waiting for a frame. What a
+// frame carries (a pose, a skinned mesh) is the subclass's Fill.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <mutex>
+
+#include <grpcpp/grpcpp.h>
+
+#include "armature/engine/clip.h"
+#include "armature/engine/status.h"
+#include "server/frame_scheduler.h"
+#include "server/grpc_status.h"
+#include "server/stream_pacing.h"
+
+namespace armature::server {
+
+template <class Frame>
+class PacedStreamReactor : public grpc::ServerWriteReactor<Frame> {
+ public:
+  void OnWriteDone(bool ok) override {
+    std::lock_guard lock(mu_);
+    write_pending_ = false;
+    if (!ok) return FinishOnce(grpc::Status(grpc::StatusCode::CANCELLED, "the client went away"));
+    if (cancelled_ || finished_) return FinishOnce(grpc::Status::CANCELLED);
+    // Frame k is due at start + k/fps; a late frame goes at once.
+    const auto due = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                  std::chrono::duration<double>(static_cast<double>(index_) / pacing_.fps));
+    refs_.fetch_add(1, std::memory_order_relaxed);
+    scheduler_.Schedule(due, [this] {
+      {
+        std::lock_guard lock(mu_);
+        if (!finished_) SendNext();
+      }
+      Unref();
+    });
+  }
+
+  void OnCancel() override {
+    std::lock_guard lock(mu_);
+    cancelled_ = true;
+    // Waiting for a scheduled frame: finish now rather than at its due time.
+    if (!write_pending_) FinishOnce(grpc::Status::CANCELLED);
+  }
+
+  void OnDone() override {
+    OnStreamDone(index_);
+    Unref();
+  }
+
+ protected:
+  // `clip_duration` is the played clip's; `pacing` must be validated.
+  PacedStreamReactor(FrameScheduler& scheduler, StreamPacing pacing, double clip_duration)
+      : scheduler_(scheduler), pacing_(pacing), clip_duration_(clip_duration),
+        start_(std::chrono::steady_clock::now()) {}
+  virtual ~PacedStreamReactor() = default;
+
+  // Sends the first frame; the subclass calls it last in its constructor.
+  void Start() {
+    std::lock_guard lock(mu_);
+    SendNext();
+  }
+
+  // Fills `frame` (cleared) for frame `index` at clip time `time` (already
+  // wrapped or clamped to the clip). An error ends the stream as INTERNAL.
+  virtual Status Fill(uint64_t index, double time, WrapMode wrap, Frame& frame) = 0;
+  virtual void OnStreamDone(uint64_t /*frames*/) {}
+
+  double wall_time() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  // Deleted when gRPC is done with it (OnDone) and no scheduled frame is
+  // pending: either may come last, on any thread.
+  void Unref() {
+    if (refs_.fetch_sub(1, std::memory_order_acq_rel) == 1) delete this;
+  }
+
+  void SendNext() {  // called with mu_ held
+    if (cancelled_) return FinishOnce(grpc::Status::CANCELLED);
+    const double wall = static_cast<double>(index_) / pacing_.fps;
+    if (pacing_.duration > 0 && wall >= pacing_.duration - 1e-9) return FinishOnce(grpc::Status::OK);
+    double t = pacing_.start_time + pacing_.speed * wall;
+    // Past an end: the last frame was the end itself, so stop.
+    if (!pacing_.loop && (t > clip_duration_ + 1e-9 || t < -1e-9) && index_ > 0)
+      return FinishOnce(grpc::Status::OK);
+    const WrapMode wrap = pacing_.loop ? WrapMode::kLoop : WrapMode::kClamp;
+    t = WrapTime(t, clip_duration_, wrap);
+    frame_.Clear();
+    if (Status st = Fill(index_, t, wrap, frame_); !st.ok())
+      return FinishOnce(grpc::Status(grpc::StatusCode::INTERNAL, st.message()));
+    ++index_;
+    write_pending_ = true;
+    this->StartWrite(&frame_);
+  }
+
+  void FinishOnce(grpc::Status status) {  // called with mu_ held
+    if (finished_) return;
+    finished_ = true;
+    this->Finish(std::move(status));
+  }
+
+  FrameScheduler& scheduler_;
+  const StreamPacing pacing_;
+  const double clip_duration_;
+  const std::chrono::steady_clock::time_point start_;
+  Frame frame_;
+  uint64_t index_ = 0;
+
+  std::atomic<int> refs_{1};  // OnDone's
+  std::mutex mu_;
+  bool cancelled_ = false;
+  bool finished_ = false;
+  bool write_pending_ = false;
+};
+
+// A stream that fails before its first frame.
+template <class Frame>
+class FailedStream final : public grpc::ServerWriteReactor<Frame> {
+ public:
+  explicit FailedStream(const Status& status) { this->Finish(ToGrpcStatus(status)); }
+  void OnDone() override { delete this; }
+};
+
+}  // namespace armature::server
