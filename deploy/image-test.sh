@@ -100,7 +100,9 @@ code=$(curl -s -o /tmp/$name.rest -w '%{http_code}' "http://$http/v1/clips")
 grep -q demo_walk /tmp/$name.rest || fail "GET /v1/clips does not list demo_walk: $(cat /tmp/$name.rest)"
 echo "ok   REST: GET /v1/clips lists demo_walk"
 rm -f /tmp/$name.rest
-curl -s "http://$http/metrics" | grep -q 'armature_rpc_requests_total{method="armature.v1.PoseService/EvaluateClip",code="OK"} 1' \
+# Captured first: with pipefail, `curl | grep -q` fails when grep exits early and curl gets SIGPIPE.
+metrics=$(curl -s "http://$http/metrics")
+grep -q 'armature_rpc_requests_total{method="armature.v1.PoseService/EvaluateClip",code="OK"} 1' <<<"$metrics" \
   || fail "/metrics does not count the EvaluateClip call"
 echo "ok   /metrics counts the call"
 
@@ -118,15 +120,18 @@ podman kill --signal TERM "$name" >/dev/null
 exit_code=$(timeout 10 podman wait "$name") || fail "no exit within 10 s of SIGTERM"
 stop_seconds=$(python3 -c "import time; print(f'{time.time() - $stop_start:.2f}')")
 [[ "$exit_code" == 0 ]] || fail "exit code $exit_code after SIGTERM"
-podman logs "$name" 2>&1 | grep -q '"msg":"stopped"' || fail "no clean shutdown in the log"
+log=$(podman logs "$name" 2>&1)
+grep -q '"msg":"stopped"' <<<"$log" || fail "no clean shutdown in the log"
 echo "ok   SIGTERM: exit 0 after ${stop_seconds} s"
 
 # 5. The data volume outlives the container: a new one serves the same assets, no second seeding.
 podman run -d --name "$name-2" "${run_flags[@]}" -v "$volume:/var/lib/armature/data" -p 127.0.0.1::50051 "$tag" >/dev/null
 grpc2=$(podman port "$name-2" 50051/tcp | head -n1)
 for _ in $(seq 1 120); do "$cli" --server "$grpc2" --timeout 1 health >/dev/null 2>&1 && break; sleep 0.5; done
-"$cli" --server "$grpc2" list | grep -q "clip     demo_walk" || fail "the new container does not serve demo_walk"
-podman logs "$name-2" 2>&1 | grep -q "seeded demo" && fail "the new container seeded the demo again"
+listing=$("$cli" --server "$grpc2" list)
+grep -q "clip     demo_walk" <<<"$listing" || fail "the new container does not serve demo_walk"
+log2=$(podman logs "$name-2" 2>&1)
+grep -q "seeded demo" <<<"$log2" && fail "the new container seeded the demo again"
 echo "ok   the data volume persists across containers"
 podman stop -t 10 "$name-2" >/dev/null
 phase "shutdown, volume"
