@@ -53,6 +53,23 @@ struct MeshWorkspace {
 
 }  // namespace
 
+Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request,
+                       v1::MeshGeometry* response) {
+  auto ref = catalog.FindMesh(request.mesh());
+  if (!ref.ok()) return ref.status().WithContext("mesh: ");
+  const Mesh& mesh = *ref->part->mesh;
+  auto copy = [](const std::vector<Eigen::Vector3f>& points, google::protobuf::RepeatedField<float>* out) {
+    out->Reserve(static_cast<int>(3 * points.size()));
+    for (const Eigen::Vector3f& p : points) out->Add(p.data(), p.data() + 3);
+  };
+  copy(mesh.positions, response->mutable_positions());
+  copy(mesh.normals, response->mutable_normals());
+  response->mutable_triangles()->Add(mesh.triangles.begin(), mesh.triangles.end());
+  response->set_mesh(ref->part->name);
+  response->set_vertex_count(static_cast<int>(mesh.vertex_count()));
+  return Status::Ok();
+}
+
 Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response) {
   auto ref = catalog.FindMesh(request.mesh());
   if (!ref.ok()) return ref.status().WithContext("mesh: ");
@@ -216,6 +233,12 @@ grpc::ServerUnaryReactor* MeshServiceImpl::GetMesh(grpc::CallbackServerContext* 
   auto ref = store_.Snapshot()->FindMesh(request->mesh());
   if (ref.ok()) *response = MeshInfoOf(*ref->asset, *ref->part);
   return FinishUnary(context, ref.ok() ? Status::Ok() : ref.status().WithContext("mesh: "));
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::GetMeshGeometry(grpc::CallbackServerContext* context,
+                                                           const v1::GetMeshGeometryRequest* request,
+                                                           v1::MeshGeometry* response) {
+  return FinishUnary(context, server::GetMeshGeometry(*store_.Snapshot(), *request, response));
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::SkinMesh(grpc::CallbackServerContext* context,

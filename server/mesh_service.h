@@ -17,6 +17,9 @@ class MeshServiceImpl final : public v1::MeshService::CallbackService {
                                        v1::ListMeshesResponse* response) override;
   grpc::ServerUnaryReactor* GetMesh(grpc::CallbackServerContext* context, const v1::GetMeshRequest* request,
                                     v1::MeshInfo* response) override;
+  grpc::ServerUnaryReactor* GetMeshGeometry(grpc::CallbackServerContext* context,
+                                            const v1::GetMeshGeometryRequest* request,
+                                            v1::MeshGeometry* response) override;
   grpc::ServerUnaryReactor* SkinMesh(grpc::CallbackServerContext* context, const v1::SkinMeshRequest* request,
                                      v1::SkinMeshResponse* response) override;
   grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* StreamSkinnedMesh(
@@ -34,6 +37,8 @@ class MeshServiceImpl final : public v1::MeshService::CallbackService {
 };
 
 // The handlers' work, callable without gRPC (benchmarks, tests).
+Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request,
+                       v1::MeshGeometry* response);
 Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response);
 Status EvaluateBlendshapes(const Catalog& catalog, const v1::EvaluateBlendshapesRequest& request,
                            v1::EvaluateBlendshapesResponse* response);

@@ -273,6 +273,11 @@ v1::MeshInfo Client::GetMesh(const std::string& mesh) {
   r.set_mesh(mesh);
   return Call(&v1::MeshService::Stub::GetMesh, *meshes_, r);
 }
+v1::MeshGeometry Client::GetMeshGeometry(const std::string& mesh) {
+  v1::GetMeshGeometryRequest r;
+  r.set_mesh(mesh);
+  return Call(&v1::MeshService::Stub::GetMeshGeometry, *meshes_, r);
+}
 v1::SkinMeshResponse Client::SkinMesh(const v1::SkinMeshRequest& r) {
   return Call(&v1::MeshService::Stub::SkinMesh, *meshes_, r);
 }

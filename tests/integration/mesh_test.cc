@@ -94,6 +94,20 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
   ASSERT_EQ(list.meshes_size(), 1);
   EXPECT_EQ(list.meshes(0).vertex_count(), info.vertex_count());
 
+  // Geometry: the rest mesh exactly as parsed, for clients that draw it.
+  const v1::MeshGeometry geometry = client.GetMeshGeometry(mesh);
+  ASSERT_EQ(geometry.positions_size(), 3 * info.vertex_count());
+  ASSERT_EQ(geometry.normals_size(), 3 * info.vertex_count());
+  ASSERT_EQ(geometry.triangles_size(), 3 * info.triangle_count());
+  for (size_t v = 0; v < engine_mesh.vertex_count(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_EQ(geometry.positions(static_cast<int>(3 * v) + c), engine_mesh.positions[v][c]) << v;
+      ASSERT_EQ(geometry.normals(static_cast<int>(3 * v) + c), engine_mesh.normals[v][c]) << v;
+    }
+  for (size_t i = 0; i < engine_mesh.triangles.size(); ++i)
+    ASSERT_EQ(geometry.triangles(static_cast<int>(i)), engine_mesh.triangles[i]) << i;
+  EXPECT_EQ(CodeOf([&] { client.GetMeshGeometry("nope"); }), grpc::StatusCode::NOT_FOUND);
+
   const double duration = imported.asset().clips(0).duration();
   ASSERT_GT(duration, 1);
   for (double t : {0.0, 0.37, 1.0, duration * 0.8, duration}) {

@@ -109,6 +109,7 @@ class Client {
   std::unique_ptr<IkSession> OpenIkSession(const v1::SolveIkRequest& start);
   v1::ListMeshesResponse ListMeshes();
   v1::MeshInfo GetMesh(const std::string& mesh);
+  v1::MeshGeometry GetMeshGeometry(const std::string& mesh);
   v1::SkinMeshResponse SkinMesh(const v1::SkinMeshRequest& request);
   // As StreamClip: `on_frame` per skinned frame until the end or it returns false.
   void StreamSkinnedMesh(const v1::StreamSkinnedMeshRequest& request,
