@@ -42,18 +42,32 @@ export function solveIk(skeleton, request) {
   return call(`/v1/skeletons/${encodeURIComponent(skeleton)}:solveIk`, postJson(request));
 }
 
-// Plays `clip` over Server-Sent Events. `onFrame(frame)` gets each PoseFrame,
-// `onEnd(status)` the final {code, message} (code 0: the clip ended). Returns
-// a function that stops the stream.
-export function streamClip(clip, { startTime = 0, speed = 1, fps = 30, loop = true }, onFrame, onEnd) {
-  const query = new URLSearchParams({
-    startTime: String(startTime),
-    speed: String(speed),
-    fps: String(fps),
-    loop: String(loop),
-    space: 'WORLD',
-  });
-  const source = new EventSource(`${clipPath(clip)}:stream?${query}`);
+const meshPath = (mesh) => `/v1/meshes/${encodeURIComponent(mesh)}`;
+
+export async function listMeshes() {
+  return (await call('/v1/meshes')).meshes ?? [];
+}
+
+// The rest mesh: { mesh, vertexCount, positions, normals, triangles }.
+export function getMeshGeometry(mesh) {
+  return call(`${meshPath(mesh)}:geometry`);
+}
+
+// World-space positions (and normals) of `mesh` (a SkinMeshRequest as JSON, less the mesh).
+export function skinMesh(mesh, request) {
+  return call(`${meshPath(mesh)}:skin`, postJson(request));
+}
+
+// One Laplacian/ARAP edit (a DeformRequest as JSON, less the mesh).
+export function deform(mesh, request) {
+  return call(`${meshPath(mesh)}:deform`, postJson(request));
+}
+
+// A server stream as Server-Sent Events: `onFrame(message)` per message,
+// `onEnd(status)` with the final {code, message} (code 0: the stream ended).
+// Returns a function that stops the stream.
+function stream(path, query, onFrame, onEnd) {
+  const source = new EventSource(`${path}?${new URLSearchParams(query)}`);
   let open = true;
   const close = () => {
     open = false;
@@ -67,7 +81,21 @@ export function streamClip(clip, { startTime = 0, speed = 1, fps = 30, loop = tr
   source.onerror = () => {
     if (!open) return;
     close();
-    onEnd({ code: 14, message: 'the pose stream was interrupted' });
+    onEnd({ code: 14, message: 'the stream was interrupted' });
   };
   return close;
+}
+
+// Plays `clip` over SSE: `onFrame(frame)` gets each PoseFrame (world space).
+export function streamClip(clip, { startTime = 0, speed = 1, fps = 30, loop = true }, onFrame, onEnd) {
+  const query = { startTime, speed, fps, loop, space: 'WORLD' };
+  return stream(`${clipPath(clip)}:stream`, query, onFrame, onEnd);
+}
+
+// Plays `clip` on `mesh` over SSE: `onFrame(frame)` gets each
+// SkinnedMeshFrame; `method` is 'LBS' or 'DQS'.
+export function streamSkinnedMesh(mesh, clip, { startTime = 0, speed = 1, fps = 30, loop = true, method = 'LBS' },
+  onFrame, onEnd) {
+  const query = { clip, startTime, speed, fps, loop, method };
+  return stream(`${meshPath(mesh)}:stream`, query, onFrame, onEnd);
 }

@@ -116,15 +116,7 @@ export class SkeletonView {
   // Frames the figure on its first pose, then keeps the root in view.
   follow(root) {
     if (!this.framed) {
-      const box = new THREE.Box3().setFromObject(this.figure);
-      const center = box.getCenter(new THREE.Vector3());
-      const span = Math.max(...box.getSize(new THREE.Vector3()).toArray(), 1e-3);
-      this.controls.target.copy(center);
-      this.camera.position.copy(center).add(new THREE.Vector3(1.1, 0.5, 1.6).multiplyScalar(span));
-      this.camera.near = span / 100;
-      this.camera.far = span * 1000;
-      this.camera.updateProjectionMatrix();
-      this.grid.position.y = Math.min(0, box.min.y);
+      this.frameBox(new THREE.Box3().setFromObject(this.figure));
       this.framed = true;
     } else if (this.lastRoot) {
       const delta = root.clone().sub(this.lastRoot).setY(0);
@@ -132,6 +124,20 @@ export class SkeletonView {
       this.camera.position.add(delta);
     }
     this.lastRoot = root;
+  }
+
+  // Points the camera at `box` from the front-right, above, and puts the grid
+  // under it.
+  frameBox(box) {
+    const center = box.getCenter(new THREE.Vector3());
+    const span = Math.max(...box.getSize(new THREE.Vector3()).toArray(), 1e-3);
+    this.controls.target.copy(center);
+    this.camera.position.copy(center).add(new THREE.Vector3(1.1, 0.5, 1.6).multiplyScalar(span));
+    this.camera.near = span / 100;
+    this.camera.far = span * 1000;
+    this.camera.updateProjectionMatrix();
+    if (!this.grid) this.setGrid(span);
+    this.grid.position.y = Math.min(0, box.min.y);
   }
 }
 
