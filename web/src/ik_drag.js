@@ -12,6 +12,7 @@
 // Emits 'solve' ({ joint, response }) and 'error' (message) events.
 import * as THREE from 'three';
 import * as api from './api.js';
+import { LatestWins } from './latest_wins.js';
 
 const PICK_RADIUS_PX = 16;
 const TARGET_COLOR = 0x2ec4ff;
@@ -23,10 +24,10 @@ export class IkDrag extends EventTarget {
     super();
     this.view = view;
     this.player = player;
+    this.enabled = true;  // off while a mesh is shown (its skin would not follow)
     this.local = null;  // the local pose the next solve starts from; null: the clip's at player.time
     this.drag = null;   // { joint, plane, pins }
-    this.wanted = null; // the latest target not yet solved
-    this.solving = false;
+    this.solver = new LatestWins((wanted) => this.solve(wanted));
     this.stats = { solves: 0, converged: 0, lastResponse: null };
     this.marker = new THREE.Mesh(
       new THREE.SphereGeometry(1, 16, 12),
@@ -44,15 +45,13 @@ export class IkDrag extends EventTarget {
     canvas.addEventListener('pointercancel', (e) => this.onPointerUp(e));
     // The clip moved on (play, scrub, another clip): start from it next time.
     player.addEventListener('pose', () => {
-      if (!this.drag && !this.solving) this.local = null;
+      if (!this.drag && !this.busy) this.local = null;
     });
   }
 
   // Client (page) coordinates of joint `index` as drawn now.
   screenPosition(index) {
-    const rect = this.view.renderer.domElement.getBoundingClientRect();
-    const p = this.view.joints[index].position.clone().project(this.view.camera);
-    return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height };
+    return this.view.screenPosition(this.view.joints[index].position);
   }
 
   // The joint drawn nearest the pointer, within PICK_RADIUS_PX, or -1.
@@ -69,18 +68,11 @@ export class IkDrag extends EventTarget {
 
   // Where the pointer's ray meets the drag plane, or null.
   pointerTarget(event) {
-    const rect = this.view.renderer.domElement.getBoundingClientRect();
-    const ndc = new THREE.Vector2(
-      ((event.clientX - rect.left) / rect.width) * 2 - 1,
-      -((event.clientY - rect.top) / rect.height) * 2 + 1,
-    );
-    const ray = new THREE.Raycaster();
-    ray.setFromCamera(ndc, this.view.camera);
-    return ray.ray.intersectPlane(this.drag.plane, new THREE.Vector3());
+    return this.view.raycaster(event).ray.intersectPlane(this.drag.plane, new THREE.Vector3());
   }
 
   onPointerDown(event) {
-    if (event.button !== 0 || !this.view.skeleton || !this.player.clip) return;
+    if (!this.enabled || event.button !== 0 || !this.view.skeleton || !this.player.clip) return;
     const joint = this.pick(event);
     if (joint < 0) return;
     event.stopPropagation();
@@ -107,8 +99,12 @@ export class IkDrag extends EventTarget {
     const target = this.pointerTarget(event);
     if (!target) return;
     this.marker.position.copy(target);
-    this.wanted = { joint: this.drag.joint, pins: this.drag.pins, target };
-    if (!this.solving) this.pump();
+    this.solver.request({ joint: this.drag.joint, pins: this.drag.pins, target });
+  }
+
+  // A solve is running or waiting.
+  get busy() {
+    return this.solver.busy;
   }
 
   onPointerUp() {
@@ -118,35 +114,27 @@ export class IkDrag extends EventTarget {
     this.marker.visible = false;
   }
 
-  // Solves the latest target until none is left; each solve starts from the
-  // last answer.
-  async pump() {
-    this.solving = true;
+  // One solve, from the last answer.
+  async solve({ joint, pins, target }) {
     try {
-      while (this.wanted) {
-        const { joint, pins, target } = this.wanted;
-        this.wanted = null;
-        const clip = this.player.clip;
-        if (!this.local) this.local = (await api.evaluate(clip.name, [this.player.time], 'LOCAL')).poses[0];
-        const name = this.view.skeleton.joints[joint].name;
-        const response = await api.solveIk(clip.skeleton, {
-          startPose: { rotations: this.local.rotations, translations: this.local.translations },
-          effectors: [{ joint: name, targetPosition: target.toArray() }, ...pins],
-          options: { regularization: 0.5 },  // prefer small changes from the last pose
-          freeRootTranslation: this.view.skeleton.joints[joint].parent < 0,  // dragging the root moves it
-        });
-        this.local = response.local;
-        this.view.setPose(response.world);
-        this.stats.solves++;
-        if (response.converged) this.stats.converged++;
-        this.stats.lastResponse = response;
-        this.dispatchEvent(new CustomEvent('solve', { detail: { joint: name, response } }));
-      }
+      const clip = this.player.clip;
+      if (!this.local) this.local = (await api.evaluate(clip.name, [this.player.time], 'LOCAL')).poses[0];
+      const name = this.view.skeleton.joints[joint].name;
+      const response = await api.solveIk(clip.skeleton, {
+        startPose: { rotations: this.local.rotations, translations: this.local.translations },
+        effectors: [{ joint: name, targetPosition: target.toArray() }, ...pins],
+        options: { regularization: 0.5 },  // prefer small changes from the last pose
+        freeRootTranslation: this.view.skeleton.joints[joint].parent < 0,  // dragging the root moves it
+      });
+      this.local = response.local;
+      this.view.setPose(response.world);
+      this.stats.solves++;
+      if (response.converged) this.stats.converged++;
+      this.stats.lastResponse = response;
+      this.dispatchEvent(new CustomEvent('solve', { detail: { joint: name, response } }));
     } catch (error) {
-      this.wanted = null;
+      this.solver.cancel();
       this.dispatchEvent(new CustomEvent('error', { detail: error.message }));
-    } finally {
-      this.solving = false;
     }
   }
 }

@@ -1,39 +1,60 @@
-// The viewer page: choose a clip, play / pause, scrub, set the speed.
+// The viewer page: choose a clip (and a mesh it plays on), play / pause,
+// scrub, set the speed and the skinning method; drag a joint (IK) or, in
+// edit mode, a vertex (Laplacian editing).
 import * as api from './api.js';
 import { IkDrag } from './ik_drag.js';
+import { MeshPlayer, SKINNING_METHODS, clipsFor } from './mesh_player.js';
+import { MeshView } from './mesh_view.js';
 import { Player } from './player.js';
 import { SkeletonView } from './skeleton_view.js';
+import { VertexDrag } from './vertex_drag.js';
 
 const $ = (id) => document.getElementById(id);
 const ui = {
-  clip: $('clip'), play: $('play'), scrub: $('scrub'), speed: $('speed'),
-  time: $('time'), frameTime: $('frame-time'), joints: $('joints'), rate: $('rate'), message: $('message'),
+  mesh: $('mesh'), clip: $('clip'), play: $('play'), scrub: $('scrub'), speed: $('speed'),
+  meshControls: $('mesh-controls'), method: $('method'), showSkeleton: $('show-skeleton'),
+  skeletonToggle: $('skeleton-toggle'), edit: $('edit'),
+  editControls: $('edit-controls'), deformMethod: $('deform-method'), deformWeights: $('deform-weights'),
+  radius: $('radius'), reset: $('reset'), hint: $('hint'),
+  time: $('time'), frameTime: $('frame-time'), joints: $('joints'), vertices: $('vertices'), rate: $('rate'),
+  message: $('message'),
+};
+const HINTS = {
+  skeleton: 'Drag a joint to pose it (IK)',
+  mesh: 'Edit mesh to drag its vertices',
+  edit: 'Drag a vertex to deform the mesh',
 };
 
 const view = new SkeletonView($('viewport'));
-const player = new Player({ fps: 30 });
+const meshView = new MeshView(view);
+const player = new Player({ fps: 30 });          // the skeleton (alone, or over the mesh)
+const meshPlayer = new MeshPlayer({ fps: 30 });  // the chosen mesh
 const ik = new IkDrag(view, player);
+const vertexDrag = new VertexDrag(view, meshView);
+let clips = [];
+let meshes = [];
 let scrubbing = false;
 const arrivals = [];  // stream frame arrival times, for the rate shown
+
+const meshMode = () => ui.mesh.value !== '';
+// What play, scrub and speed drive.
+const playback = () => (meshMode() ? meshPlayer : player);
+// The skeleton over the mesh: when it has one, a clip plays and no edit is on.
+const overlay = () =>
+  ui.showSkeleton.checked && !vertexDrag.editing && Boolean(meshPlayer.mesh?.skeleton && meshPlayer.clip);
 
 function showMessage(text) {
   ui.message.textContent = text ?? '';
 }
 
-player.addEventListener('load', ({ detail: { clip, skeleton } }) => {
-  view.setSkeleton(skeleton);
+function showClip(clip) {
   ui.scrub.max = String(clip.duration);
   ui.scrub.step = String(clip.frameTime > 0 ? clip.frameTime / 4 : clip.duration / 1000);
-  ui.scrub.disabled = false;
-  ui.play.disabled = false;
-  ui.joints.textContent = `${skeleton.joints.length} joints`;
   ui.frameTime.textContent =
     clip.frameTime > 0 ? `frame time ${(clip.frameTime * 1000).toFixed(1)} ms` : 'key-framed';
-});
+}
 
-player.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
-  view.setPose(pose);
-  const clip = player.clip;
+function showTime(time, clip, frame, unit) {
   const frameIndex = clip.frameTime > 0 ? Math.round(time / clip.frameTime) : null;
   ui.time.textContent =
     `t = ${time.toFixed(3)} / ${clip.duration.toFixed(3)} s` + (frameIndex !== null ? ` · frame ${frameIndex}` : '');
@@ -42,16 +63,70 @@ player.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
     const now = performance.now();
     arrivals.push(now);
     while (arrivals.length && now - arrivals[0] > 1000) arrivals.shift();
-    ui.rate.textContent = `${arrivals.length} poses/s`;
+    ui.rate.textContent = `${arrivals.length} ${unit}/s`;
   }
-});
+}
 
-player.addEventListener('state', ({ detail: { playing } }) => {
+function showState(playing) {
   ui.play.textContent = playing ? 'Pause' : 'Play';
   if (!playing) ui.rate.textContent = '';
-});
+  arrivals.length = 0;
+}
 
+// Which controls apply now (mode, mesh, clip, editing), and whether the skeleton shows.
+function updateControls() {
+  const editing = vertexDrag.editing;
+  const mesh = meshMode() ? meshPlayer.mesh : null;
+  const clip = meshMode() ? meshPlayer.clip : player.clip;
+  ui.meshControls.hidden = !meshMode();
+  ui.editControls.hidden = !editing;
+  ui.edit.checked = editing;
+  ui.play.disabled = ui.scrub.disabled = editing || !clip;
+  ui.clip.disabled = editing || !ui.clip.value;
+  ui.method.disabled = editing || !clip || !mesh?.skeleton;
+  ui.skeletonToggle.hidden = !mesh?.skeleton;
+  ui.hint.textContent = editing ? HINTS.edit : meshMode() ? HINTS.mesh : HINTS.skeleton;
+  view.figure.visible = !meshMode() || overlay();
+}
+
+player.addEventListener('load', ({ detail: { clip, skeleton } }) => {
+  view.setSkeleton(skeleton);
+  ui.joints.textContent = `${skeleton.joints.length} joints`;
+  if (!meshMode()) showClip(clip);
+  updateControls();
+});
+player.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
+  view.setPose(pose);
+  if (!meshMode()) showTime(time, player.clip, frame, 'poses');
+});
+player.addEventListener('state', ({ detail: { playing } }) => !meshMode() && showState(playing));
 player.addEventListener('error', ({ detail }) => showMessage(detail));
+
+meshPlayer.addEventListener('load', ({ detail: { mesh, geometry, clip } }) => {
+  if (meshView.geometry !== geometry) {
+    meshView.show(geometry);
+    meshView.frame();
+  }
+  ui.vertices.textContent = `${mesh.vertexCount} vertices · ${mesh.triangleCount} triangles`;
+  if (!(mesh.skeleton && clip))
+    ui.joints.textContent = mesh.targetNames?.length ? `${mesh.targetNames.length} morph targets` : '';
+  if (clip) {
+    showClip(clip);
+  } else {
+    ui.time.textContent = 'at rest';
+    ui.frameTime.textContent = '–';
+  }
+  updateControls();
+});
+meshPlayer.addEventListener('frame', ({ detail: { time, positions, normals, frame } }) => {
+  if (vertexDrag.editing) return;
+  meshView.setPositions(positions, normals);
+  meshView.follow();
+  showTime(time, meshPlayer.clip, frame, 'frames');
+  if (overlay()) player.seek(time);
+});
+meshPlayer.addEventListener('state', ({ detail: { playing } }) => meshMode() && showState(playing));
+meshPlayer.addEventListener('error', ({ detail }) => showMessage(detail));
 
 ik.addEventListener('solve', ({ detail: { joint, response } }) => {
   const [residual] = response.residuals;
@@ -63,29 +138,133 @@ ik.addEventListener('solve', ({ detail: { joint, response } }) => {
 });
 ik.addEventListener('error', ({ detail }) => showMessage(`IK: ${detail}`));
 
-ui.play.addEventListener('click', () => (player.playing ? player.pause() : player.play()));
-ui.scrub.addEventListener('pointerdown', () => (scrubbing = true));
-ui.scrub.addEventListener('pointerup', () => (scrubbing = false));
-ui.scrub.addEventListener('input', () => player.seek(Number(ui.scrub.value)));
-ui.speed.addEventListener('change', () => player.setSpeed(Number(ui.speed.value)));
-ui.clip.addEventListener('change', () => {
-  showMessage('');
-  player.load(ui.clip.value).catch((e) => showMessage(e.message));
+vertexDrag.addEventListener('deform', ({ detail: { response, ms, regionSize } }) => {
+  meshView.setPositions(response.positions);
+  ui.rate.textContent = `deform ${ms.toFixed(1)} ms`;
+  const handles = vertexDrag.handles.size;
+  showMessage(`Deform: ${handles} handle${handles === 1 ? '' : 's'}, ${regionSize} vertices in the region` +
+              (response.iterations ? `, ${response.iterations} ARAP iterations` : ''));
 });
+vertexDrag.addEventListener('error', ({ detail }) => showMessage(`Deform: ${detail}`));
 
-async function start() {
-  const clips = await api.listClips();
-  if (clips.length === 0) {
-    showMessage('No clips loaded: import one (armature import file.bvh)');
+// Fills the clip picker with `list`, keeping `wanted` (or the current
+// choice) when it is there; an empty list offers the rest shape only.
+function fillClips(list, wanted) {
+  const current = wanted ?? ui.clip.value;
+  ui.clip.replaceChildren();
+  for (const clip of list) ui.clip.add(new Option(`${clip.name} (${clip.duration.toFixed(2)} s)`, clip.name));
+  if (list.length === 0) ui.clip.add(new Option('none (at rest)', ''));
+  if (list.some((c) => c.name === current)) ui.clip.value = current;
+}
+
+// The mesh's clip on the mesh and, when the mesh is bound to the clip's
+// skeleton, on the skeleton drawn over it.
+async function loadMeshClip() {
+  const mesh = meshes.find((m) => m.name === ui.mesh.value);
+  const clip = ui.clip.value;
+  await Promise.all([meshPlayer.load(mesh, clip), mesh.skeleton && clip ? player.load(clip) : null]);
+  updateControls();
+}
+
+async function chooseMesh(name, wantedClip) {
+  setEditing(false);
+  showMessage('');
+  ui.mesh.value = name;
+  showState(false);
+  const mesh = meshes.find((m) => m.name === name);
+  if (!mesh) {  // none: the skeleton alone, as before
+    meshPlayer.unload();
+    meshView.clear();
+    view.followRoot = true;
+    view.setOverlay(false);
+    ik.enabled = true;
+    ui.vertices.textContent = '';
+    fillClips(clips, wantedClip);
+    updateControls();
+    if (ui.clip.value) await player.load(ui.clip.value);
     return;
   }
-  for (const clip of clips) ui.clip.add(new Option(`${clip.name} (${clip.duration.toFixed(2)} s)`, clip.name));
-  const wanted = new URLSearchParams(location.search).get('clip');
-  if (wanted && clips.some((c) => c.name === wanted)) ui.clip.value = wanted;
-  await player.load(ui.clip.value);
+  player.pause();
+  ik.enabled = false;
+  view.followRoot = false;  // the camera follows the mesh
+  view.setOverlay(true);
+  fillClips(clipsFor(mesh, clips), wantedClip);
+  await loadMeshClip();
+}
+
+// Edit mode: playback pauses, the mesh is shown at rest and its vertices
+// can be dragged; leaving it shows the clip again.
+function setEditing(on) {
+  if (on !== vertexDrag.editing && (!on || meshPlayer.geometry)) {
+    if (on) {
+      meshPlayer.pause();
+      vertexDrag.start(meshPlayer.mesh.name, meshPlayer.geometry);
+      meshView.showRest();
+    } else {
+      vertexDrag.stop();
+      ui.rate.textContent = '';
+      if (meshPlayer.clip) meshPlayer.refresh();
+      else meshView.showRest();
+    }
+  }
+  updateControls();
+}
+
+const failed = (prefix) => (error) => showMessage(`${prefix}${error.message}`);
+
+ui.play.addEventListener('click', () => (playback().playing ? playback().pause() : playback().play()));
+ui.scrub.addEventListener('pointerdown', () => (scrubbing = true));
+ui.scrub.addEventListener('pointerup', () => (scrubbing = false));
+ui.scrub.addEventListener('input', () => playback().seek(Number(ui.scrub.value)));
+ui.speed.addEventListener('change', () => {
+  player.setSpeed(Number(ui.speed.value));
+  meshPlayer.setSpeed(Number(ui.speed.value));
+});
+ui.clip.addEventListener('change', () => {
+  showMessage('');
+  (meshMode() ? loadMeshClip() : player.load(ui.clip.value)).catch(failed(''));
+});
+ui.mesh.addEventListener('change', () => chooseMesh(ui.mesh.value).catch(failed('')));
+ui.method.addEventListener('change', () => meshPlayer.setMethod(ui.method.value));
+ui.showSkeleton.addEventListener('change', () => {
+  updateControls();
+  if (overlay()) player.seek(meshPlayer.time);
+});
+ui.edit.addEventListener('change', () => setEditing(ui.edit.checked));
+ui.deformMethod.addEventListener('change', () => vertexDrag.setOptions({ method: ui.deformMethod.value }));
+ui.deformWeights.addEventListener('change', () => vertexDrag.setOptions({ weights: ui.deformWeights.value }));
+ui.radius.addEventListener('change', () => vertexDrag.setOptions({ radius: Number(ui.radius.value) }));
+ui.reset.addEventListener('click', () => {
+  vertexDrag.reset();
+  meshView.showRest();
+  showMessage('');
+  ui.rate.textContent = '';
+});
+
+// ?mesh=NAME&clip=NAME&method=LBS|DQS pick what is shown first.
+async function start() {
+  [clips, meshes] = await Promise.all([api.listClips(), api.listMeshes()]);
+  for (const mesh of meshes) ui.mesh.add(new Option(`${mesh.name} (${mesh.vertexCount} vertices)`, mesh.name));
+  const params = new URLSearchParams(location.search);
+  const method = params.get('method')?.toUpperCase();
+  if (SKINNING_METHODS.includes(method)) {
+    ui.method.value = method;
+    meshPlayer.method = method;
+  }
+  const wantedMesh = params.get('mesh');
+  if (wantedMesh && meshes.some((m) => m.name === wantedMesh)) {
+    await chooseMesh(wantedMesh, params.get('clip'));
+    return;
+  }
+  if (clips.length === 0) {
+    showMessage(meshes.length ? 'No clips loaded: choose a mesh' : 'No clips loaded: import one (armature import file.bvh)');
+    return;
+  }
+  await chooseMesh('', params.get('clip'));
+  if (wantedMesh) showMessage(`No mesh named ${wantedMesh}`);
 }
 
 // For tests and the console.
-window.armatureViewer = { player, view, ik };
+window.armatureViewer = { player, view, ik, meshPlayer, meshView, vertexDrag };
 
-start().catch((e) => showMessage(`Cannot reach the server: ${e.message}`));
+start().catch(failed('Cannot reach the server: '));

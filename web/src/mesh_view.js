@@ -13,6 +13,7 @@ export class MeshView {
     this.view = view;
     this.geometry = null;  // the GetMeshGeometry response
     this.object = null;    // the THREE.Mesh
+    this.lastCenter = null;
   }
 
   get vertexCount() {
@@ -53,16 +54,62 @@ export class MeshView {
     buffer.computeBoundingBox();
   }
 
+  // Back to the rest shape.
+  showRest() {
+    if (this.geometry) this.setPositions(this.geometry.positions, this.geometry.normals);
+  }
+
+  // The mean of the vertices as drawn now.
+  centroid() {
+    const p = this.object.geometry.getAttribute('position').array;
+    const c = new THREE.Vector3();
+    for (let i = 0; i < p.length; i += 3) c.set(c.x + p[i], c.y + p[i + 1], c.z + p[i + 2]);
+    return c.divideScalar(Math.max(p.length / 3, 1));
+  }
+
+  // Keeps a mesh that walks in view: the camera moves with its centroid's
+  // shift across the ground (the centroid, not the bounds: swinging limbs
+  // barely move it).
+  follow() {
+    if (!this.object) return;
+    const center = this.centroid();
+    if (this.lastCenter) {
+      const delta = center.clone().sub(this.lastCenter).setY(0);
+      this.view.controls.target.add(delta);
+      this.view.camera.position.add(delta);
+      // The grid comes along, a whole number of cells at a time: it looks still.
+      const { grid, controls } = this.view;
+      const cell = grid.userData.cell;
+      grid.position.x = Math.round(controls.target.x / cell) * cell;
+      grid.position.z = Math.round(controls.target.z / cell) * cell;
+    }
+    this.lastCenter = center;
+  }
+
   // Current position of vertex `index` (world space: the mesh is not transformed).
   vertexPosition(index) {
     return new THREE.Vector3().fromBufferAttribute(this.object.geometry.getAttribute('position'), index);
   }
 
-  // Points the camera at the mesh's bounds.
+  // Points the camera at the mesh's bounds, over a grid three times its
+  // size: big enough to stand on, small enough that the camera (two sizes
+  // away) is off it (software WebGL drops grid lines that pass behind the
+  // camera), and a hair below the mesh so a flat mesh lying on it does not
+  // flicker through it.
   frame() {
     if (!this.object) return;
     const box = new THREE.Box3().setFromObject(this.object);
+    const span = Math.max(...box.getSize(new THREE.Vector3()).toArray(), 1e-3);
+    this.view.setGrid(span / 4);
     this.view.frameBox(box);
+    this.view.grid.position.y -= span * 1e-3;
+    this.lastCenter = this.centroid();
+  }
+
+  // The length of the rest shape's bounding box diagonal.
+  size() {
+    if (!this.geometry) return 0;
+    return new THREE.Box3().setFromArray(this.geometry.positions).getSize(new THREE.Vector3()).length();
   }
 
   clear() {
@@ -72,5 +119,6 @@ export class MeshView {
     this.object.material.dispose();
     this.object = null;
     this.geometry = null;
+    this.lastCenter = null;
   }
 }

@@ -36,6 +36,9 @@ export class SkeletonView {
     this.joints = [];  // spheres
     this.framed = false;
     this.lastRoot = null;
+    this.followRoot = true;  // off when something else (a mesh) steers the camera
+    this.overlay = false;    // thin and see-through, drawn over a mesh
+    this.materials = [];
 
     new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
@@ -70,6 +73,8 @@ export class SkeletonView {
     const jointGeometry = new THREE.SphereGeometry(radius * 1.7, 12, 8);
     const boneMaterial = new THREE.MeshStandardMaterial({ color: BONE_COLOR, roughness: 0.6 });
     const jointMaterial = new THREE.MeshStandardMaterial({ color: JOINT_COLOR, roughness: 0.4 });
+    this.materials.forEach((m) => m.dispose());
+    this.materials = [boneMaterial, jointMaterial];
     this.bones = [];
     this.joints = skeleton.joints.map((joint, i) => {
       const sphere = new THREE.Mesh(jointGeometry, jointMaterial);
@@ -84,13 +89,31 @@ export class SkeletonView {
       if (joint.endSite?.length === 3) bone({ from: i, endSite: new THREE.Vector3(...joint.endSite) });
       return sphere;
     });
-    this.setGrid(size);
+    if (this.followRoot) this.setGrid(size);  // else a mesh sized the grid
+    this.setOverlay(this.overlay);
+  }
+
+  // Overlay: bones half as thick, translucent and drawn over everything (a
+  // mesh's surface hides none of them).
+  setOverlay(on) {
+    this.overlay = on;
+    for (const material of this.materials) {
+      material.transparent = on;
+      material.opacity = on ? 0.6 : 1;
+      material.depthTest = !on;
+      material.needsUpdate = true;
+    }
+    const thickness = on ? 0.5 : 1;
+    for (const child of this.figure.children) child.renderOrder = on ? 1 : 0;
+    for (const joint of this.joints) joint.scale.setScalar(thickness);
+    for (const bone of this.bones) bone.mesh.userData.thickness = thickness;
   }
 
   setGrid(size) {
     if (this.grid) this.scene.remove(this.grid);
     const extent = Math.max(size * 12, 1);
     this.grid = new THREE.GridHelper(extent, 48, 0x6a7280, 0x3a4049);
+    this.grid.userData.cell = extent / 48;
     this.scene.add(this.grid);
   }
 
@@ -110,7 +133,7 @@ export class SkeletonView {
       const b = bone.endSite ? bone.endSite.clone().applyQuaternion(rotation(bone.from)).add(a) : position(bone.to);
       placeCylinder(bone.mesh, a, b);
     }
-    this.follow(position(0));
+    if (this.followRoot) this.follow(position(0));
   }
 
   // Frames the figure on its first pose, then keeps the root in view.
@@ -124,6 +147,25 @@ export class SkeletonView {
       this.camera.position.add(delta);
     }
     this.lastRoot = root;
+  }
+
+  // Client (page) coordinates of the world point `point` as drawn now.
+  screenPosition(point) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const p = point.clone().project(this.camera);
+    return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height };
+  }
+
+  // A raycaster from the camera through the pointer of `event` (clientX, clientY).
+  raycaster(event) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(
+      ((event.clientX - rect.left) / rect.width) * 2 - 1,
+      -((event.clientY - rect.top) / rect.height) * 2 + 1,
+    );
+    const raycaster = new THREE.Raycaster();
+    raycaster.setFromCamera(ndc, this.camera);
+    return raycaster;
   }
 
   // Points the camera at `box` from the front-right, above, and puts the grid
@@ -146,7 +188,7 @@ function placeCylinder(mesh, a, b) {
   const length = direction.length();
   mesh.visible = length > 1e-6;
   if (!mesh.visible) return;
-  const radius = mesh.userData.radius;
+  const radius = mesh.userData.radius * (mesh.userData.thickness ?? 1);
   mesh.position.copy(a);
   mesh.scale.set(radius, length, radius);
   mesh.quaternion.setFromUnitVectors(UP, direction.divideScalar(length));

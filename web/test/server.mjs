@@ -31,6 +31,17 @@ export async function startServer(serverBin, extraArgs = []) {
   return {
     url: `http://127.0.0.1:${ports.http}`,
     log: () => readFileSync(log, 'utf8'),
+    // Imports a file the way `armature import` does over REST: the raw file
+    // is the body of POST /v1/assets:import. Returns the AssetInfo.
+    async importAsset(filename, name, data) {
+      const query = new URLSearchParams({ filename, name });
+      const res = await fetch(`http://127.0.0.1:${ports.http}/v1/assets:import?${query}`, {
+        method: 'POST', headers: { 'Content-Type': 'application/octet-stream' }, body: data,
+      });
+      const body = await res.json();
+      if (!res.ok) throw new Error(`importing ${filename}: ${res.status} ${body.message}`);
+      return body.asset;
+    },
     async stop() {
       if (exited === null) {
         const done = new Promise((r) => child.on('exit', r));

@@ -4,86 +4,9 @@
 // bone colour in a screenshot, and different ones as it walks), scrubbing
 // while paused, and that the console shows no errors. Saves a screenshot.
 //   node viewer_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { existsSync, mkdirSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import path from 'node:path';
-import { chromium } from 'playwright-core';
-import { startServer } from './server.mjs';
+import { besides, check, colourStats, runViewerTest } from './browser.mjs';
 
-const CHROMIUM = process.env.ARMATURE_CHROMIUM ?? '/usr/bin/chromium';
-const [serverBin, webDir, screenshot] = process.argv.slice(2);
-if (!serverBin || !webDir || !screenshot) {
-  console.error('usage: node viewer_e2e.mjs <armature-server> <web dir> <screenshot.png>');
-  process.exit(2);
-}
-if (!existsSync(CHROMIUM)) {
-  console.log(`SKIP: ${CHROMIUM} is not installed (Debian packages chromium and chromium-driver; scripts/setup.sh test)`);
-  process.exit(0);
-}
-if (!existsSync(path.join(webDir, 'index.html'))) {
-  console.error(`FAIL: no viewer in ${webDir} (build the armature_web target)`);
-  process.exit(1);
-}
-
-function check(condition, message) {
-  if (!condition) throw new Error(message);
-  console.log(`ok: ${message}`);
-}
-
-// Counts pixels of a PNG screenshot in the page (the browser decodes it):
-// those close to the bone colour, and their bounding box.
-async function boneStats(page, png) {
-  return page.evaluate(async (base64) => {
-    const image = new Image();
-    image.src = `data:image/png;base64,${base64}`;
-    await image.decode();
-    const canvas = document.createElement('canvas');
-    canvas.width = image.width;
-    canvas.height = image.height;
-    const g = canvas.getContext('2d');
-    g.drawImage(image, 0, 0);
-    const { data } = g.getImageData(0, 0, image.width, image.height);
-    let bone = 0, minX = Infinity, maxX = -1, minY = Infinity, maxY = -1;
-    for (let i = 0; i < data.length; i += 4) {
-      const [r, gr, b] = [data[i], data[i + 1], data[i + 2]];
-      // #ff8c1a lit from any side: red high, green middling, blue low.
-      if (r > 140 && gr > 50 && gr < 0.8 * r && b < 0.45 * r) {
-        ++bone;
-        const p = i / 4, x = p % image.width, y = Math.floor(p / image.width);
-        minX = Math.min(minX, x); maxX = Math.max(maxX, x);
-        minY = Math.min(minY, y); maxY = Math.max(maxY, y);
-      }
-    }
-    return { bone, width: maxX - minX + 1, height: maxY - minY + 1, pixels: data.length / 4 };
-  }, png.toString('base64'));
-}
-
-mkdirSync(path.dirname(path.resolve(screenshot)), { recursive: true });
-const server = await startServer(serverBin, ['--web-dir', webDir]);
-const profile = mkdtempSync(path.join(tmpdir(), 'armature-chromium-'));
-let context;
-let failed = false;
-try {
-  context = await chromium.launchPersistentContext(profile, {
-    executablePath: CHROMIUM,
-    headless: true,
-    viewport: { width: 1024, height: 700 },
-    args: [
-      '--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
-      '--disable-sync', '--no-first-run',
-      // No GPU: WebGL on the CPU.
-      '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    ],
-  });
-  const page = context.pages()[0] ?? (await context.newPage());
-  const problems = [];
-  page.on('console', (m) => m.type() === 'error' && problems.push(`console: ${m.text()}`));
-  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
-  page.on('requestfailed', (r) => {
-    // Closing the SSE stream on pause aborts it: that is no error.
-    if (!r.url().includes(':stream')) problems.push(`request failed: ${r.url()} ${r.failure()?.errorText}`);
-  });
-
+await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
   await page.goto(server.url + '/');
   await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
   const clip = await page.$eval('#clip', (s) => s.value);
@@ -102,9 +25,9 @@ try {
   await page.waitForFunction(() => !window.armatureViewer.player.playing);
   const second = await page.screenshot({ path: screenshot });
 
-  const a = await boneStats(page, first);
-  const b = await boneStats(page, second);
-  check(a.bone > 800 && b.bone > 800, `the skeleton is drawn (${a.bone} and ${b.bone} bone-coloured pixels of ${b.pixels})`);
+  const a = await colourStats(page, first, 'bone');
+  const b = await colourStats(page, second, 'bone');
+  check(a.count > 800 && b.count > 800, `the skeleton is drawn (${a.count} and ${b.count} bone-coloured pixels of ${b.pixels})`);
   check(b.height > 150 && b.width > 30, `it has a body's extent (${b.width}×${b.height} px)`);
   check(!first.equals(second), 'the picture changes as the clip plays');
 
@@ -158,7 +81,7 @@ try {
   await page.mouse.up();
   await page.waitForFunction(() => {
     const { ik } = window.armatureViewer;
-    return !ik.solving && !ik.wanted && ik.stats.solves > 0;
+    return !ik.busy && ik.stats.solves > 0;
   }, null, { timeout: 30000 });
   const dragged = await page.evaluate(({ wrist }) => {
     const { view, ik } = window.armatureViewer;
@@ -182,17 +105,5 @@ try {
   check(moved > 10, `the wrist moved ${moved.toFixed(1)} units in the world`);
   check(miss < 2, `the wrist is drawn under the pointer (${miss.toFixed(2)} px away)`);
   check(pinShift < 0.05, `the other wrist stayed pinned (moved ${pinShift.toFixed(4)})`);
-  await page.screenshot({ path: screenshot.replace(/\.png$/, '') + '_ik.png' });
-
-  check(problems.length === 0, `no console errors${problems.length ? ':\n  ' + problems.join('\n  ') : ''}`);
-  console.log(`screenshot: ${path.resolve(screenshot)}`);
-} catch (error) {
-  failed = true;
-  console.error(`FAIL: ${error.message}`);
-  console.error(server.log().split('\n').slice(-20).join('\n'));
-} finally {
-  await context?.close();
-  await server.stop();
-  rmSync(profile, { recursive: true, force: true });
-}
-process.exit(failed ? 1 : 0);
+  await page.screenshot({ path: besides(screenshot, 'ik') });
+});

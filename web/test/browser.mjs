@@ -1,0 +1,111 @@
+// What the browser tests share: the command line, a real armature-server,
+// headless Chromium (Debian's, driven by playwright-core) with console errors
+// collected, checks that print what they measured, and pixel counts of
+// screenshots.
+import { existsSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+import { startServer } from './server.mjs';
+
+const CHROMIUM = process.env.ARMATURE_CHROMIUM ?? '/usr/bin/chromium';
+
+export function check(condition, message) {
+  if (!condition) throw new Error(message);
+  console.log(`ok: ${message}`);
+}
+
+// Runs `body({ page, server, screenshot })` against a fresh server and
+// browser, for `node <test>.mjs <armature-server> <web dir> <screenshot.png>`;
+// fails on any console error, page error or failed request, and exits with
+// the result. SKIP (exit 0) when Chromium is not installed.
+export async function runViewerTest(script, body) {
+  const [serverBin, webDir, screenshot] = process.argv.slice(2);
+  if (!serverBin || !webDir || !screenshot) {
+    console.error(`usage: node ${script} <armature-server> <web dir> <screenshot.png>`);
+    process.exit(2);
+  }
+  if (!existsSync(CHROMIUM)) {
+    console.log(`SKIP: ${CHROMIUM} is not installed (Debian packages chromium and chromium-driver; scripts/setup.sh test)`);
+    process.exit(0);
+  }
+  if (!existsSync(path.join(webDir, 'index.html'))) {
+    console.error(`FAIL: no viewer in ${webDir} (build the armature_web target)`);
+    process.exit(1);
+  }
+  mkdirSync(path.dirname(path.resolve(screenshot)), { recursive: true });
+  const server = await startServer(serverBin, ['--web-dir', webDir]);
+  const profile = mkdtempSync(path.join(tmpdir(), 'armature-chromium-'));
+  let context;
+  let failed = false;
+  try {
+    context = await chromium.launchPersistentContext(profile, {
+      executablePath: CHROMIUM,
+      headless: true,
+      viewport: { width: 1024, height: 700 },
+      args: [
+        '--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
+        '--disable-sync', '--no-first-run',
+        // No GPU: WebGL on the CPU.
+        '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+      ],
+    });
+    const page = context.pages()[0] ?? (await context.newPage());
+    const problems = [];
+    page.on('console', (m) => m.type() === 'error' && problems.push(`console: ${m.text()}`));
+    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+    page.on('requestfailed', (r) => {
+      // Closing an SSE stream (pause, a new stream) aborts it: that is no error.
+      if (!r.url().includes(':stream')) problems.push(`request failed: ${r.url()} ${r.failure()?.errorText}`);
+    });
+    await body({ page, server, screenshot });
+    check(problems.length === 0, `no console errors${problems.length ? ':\n  ' + problems.join('\n  ') : ''}`);
+    console.log(`screenshot: ${path.resolve(screenshot)}`);
+  } catch (error) {
+    failed = true;
+    console.error(`FAIL: ${error.message}`);
+    console.error(server.log().split('\n').slice(-20).join('\n'));
+  } finally {
+    await context?.close();
+    await server.stop();
+    rmSync(profile, { recursive: true, force: true });
+  }
+  process.exit(failed ? 1 : 0);
+}
+
+// `screenshot` with `suffix` before .png: viewer.png → viewer_ik.png.
+export function besides(screenshot, suffix) {
+  return screenshot.replace(/\.png$/, '') + `_${suffix}.png`;
+}
+
+// Counts the pixels of a PNG screenshot (decoded by the browser) close to a
+// colour the viewer draws: 'bone' (#ff8c1a) or 'mesh' (#8fb3d9), however lit;
+// and their bounding box.
+export async function colourStats(page, png, colour) {
+  return page.evaluate(async ({ base64, colour }) => {
+    const looksLike = {
+      // Red high, green middling, blue low.
+      bone: (r, g, b) => r > 140 && g > 50 && g < 0.8 * r && b < 0.45 * r,
+      // Blue above green above red, clearly saturated (the grid is grey).
+      mesh: (r, g, b) => b > 60 && g > r && b > g && b - r > 0.25 * b,
+    }[colour];
+    const image = new Image();
+    image.src = `data:image/png;base64,${base64}`;
+    await image.decode();
+    const canvas = document.createElement('canvas');
+    canvas.width = image.width;
+    canvas.height = image.height;
+    const g = canvas.getContext('2d');
+    g.drawImage(image, 0, 0);
+    const { data } = g.getImageData(0, 0, image.width, image.height);
+    let count = 0, minX = Infinity, maxX = -1, minY = Infinity, maxY = -1;
+    for (let i = 0; i < data.length; i += 4) {
+      if (!looksLike(data[i], data[i + 1], data[i + 2])) continue;
+      ++count;
+      const p = i / 4, x = p % image.width, y = Math.floor(p / image.width);
+      minX = Math.min(minX, x); maxX = Math.max(maxX, x);
+      minY = Math.min(minY, y); maxY = Math.max(maxY, y);
+    }
+    return { count, width: maxX - minX + 1, height: maxY - minY + 1, pixels: data.length / 4 };
+  }, { base64: png.toString('base64'), colour });
+}
