@@ -8,24 +8,15 @@
 #include <memory>
 #include <vector>
 
-#include "../tests/engine/generated_meshes.h"
 #include "armature/engine/arap.h"
 #include "armature/engine/laplacian_editor.h"
+#include "bench_meshes.h"
 
 namespace armature {
 namespace {
 
-constexpr int kSide = 317;  // 100,489 vertices
-
-const fixtures::GeneratedMesh& Sheet() {
-  static const fixtures::GeneratedMesh mesh = [] {
-    fixtures::GeneratedMesh m = fixtures::MakeGrid(kSide, kSide, 2, 2);
-    for (Eigen::Index v = 0; v < m.positions.rows(); ++v)
-      m.positions(v, 2) = 0.05 * std::sin(20 * m.positions(v, 0)) * std::cos(15 * m.positions(v, 1));
-    return m;
-  }();
-  return mesh;
-}
+using armature_bench::Sheet;
+constexpr int kSide = armature_bench::kSheetSide;
 
 std::shared_ptr<const LaplacianModel> SheetModel(LaplacianWeights weights) {
   static std::shared_ptr<const LaplacianModel> models[2];

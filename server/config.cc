@@ -66,6 +66,11 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
       ->envname("ARMATURE_MAX_SESSIONS")->check(CLI::PositiveNumber);
   app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most IK sessions open at once, all clients together")
       ->envname("ARMATURE_MAX_IK_SESSIONS")->check(CLI::NonNegativeNumber);
+  double deform_cache_mb = static_cast<double>(c.limits.deform_cache_bytes) / (1 << 20);
+  app.add_option("--deform-cache-mb", deform_cache_mb,
+                 "Memory for factorizations kept between unary Deform calls with the same mesh, setup and "
+                 "handle indices, in MiB (0: none)")
+      ->envname("ARMATURE_DEFORM_CACHE_MB")->check(CLI::NonNegativeNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -75,6 +80,7 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   c.limits.max_upload_bytes = static_cast<int64_t>(upload_mb * (1 << 20));
   c.limits.max_message_bytes = static_cast<int64_t>(message_mb * (1 << 20));
   c.limits.max_request_bytes = static_cast<int64_t>(request_kb * 1024);
+  c.limits.deform_cache_bytes = static_cast<int64_t>(deform_cache_mb * (1 << 20));
   return -1;
 }
 

@@ -9,19 +9,19 @@
 
 namespace armature::server {
 
-Status Deform(const Catalog& catalog, const Limits& limits, const v1::DeformRequest& request,
-              v1::DeformResponse* response) {
+Status Deform(DeformerCache& cache, const std::shared_ptr<const Catalog>& catalog, const Limits& limits,
+              const v1::DeformRequest& request, v1::DeformResponse* response) {
   std::vector<uint32_t> handles;
   std::vector<double> positions;
   ARMATURE_RETURN_IF_ERROR(SplitHandles(request, &handles, &positions));
-  auto deformer = MeshDeformer::Create(catalog, limits, SetupOf(request), std::move(handles));
+  auto deformer = cache.Get(catalog, limits, SetupOf(request), std::move(handles));
   if (!deformer.ok()) return deformer.status();
-  return deformer->Solve(positions, "handles", response);
+  return (*deformer)->SolveFresh(positions, "handles", response);
 }
 
 grpc::ServerUnaryReactor* DeformServiceImpl::Deform(grpc::CallbackServerContext* context,
                                                     const v1::DeformRequest* request, v1::DeformResponse* response) {
-  return FinishUnary(context, server::Deform(*store_.Snapshot(), limits_, *request, response));
+  return FinishUnary(context, server::Deform(*cache_, store_.Snapshot(), limits_, *request, response));
 }
 
 namespace {

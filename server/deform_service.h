@@ -1,8 +1,11 @@
 // DeformService: Laplacian / ARAP mesh editing, one-shot and as a session.
 #pragma once
 
+#include <memory>
+
 #include "armature/v1/deform.grpc.pb.h"
 #include "server/asset_store.h"
+#include "server/deformer_cache.h"
 #include "server/limits.h"
 #include "server/session_limiter.h"
 
@@ -10,7 +13,9 @@ namespace armature::server {
 
 class DeformServiceImpl final : public v1::DeformService::CallbackService {
  public:
-  DeformServiceImpl(AssetStore& store, const Limits& limits) : store_(store), limits_(limits), sessions_(limits) {}
+  // `cache` serves the unary Deform (sessions keep their own deformer).
+  DeformServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<DeformerCache> cache)
+      : store_(store), limits_(limits), sessions_(limits), cache_(std::move(cache)) {}
 
   grpc::ServerUnaryReactor* Deform(grpc::CallbackServerContext* context, const v1::DeformRequest* request,
                                    v1::DeformResponse* response) override;
@@ -21,10 +26,11 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
   AssetStore& store_;
   const Limits& limits_;
   SessionLimiter sessions_;
+  std::shared_ptr<DeformerCache> cache_;
 };
 
 // The unary handler's work, callable without gRPC.
-Status Deform(const Catalog& catalog, const Limits& limits, const v1::DeformRequest& request,
-              v1::DeformResponse* response);
+Status Deform(DeformerCache& cache, const std::shared_ptr<const Catalog>& catalog, const Limits& limits,
+              const v1::DeformRequest& request, v1::DeformResponse* response);
 
 }  // namespace armature::server

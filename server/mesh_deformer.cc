@@ -66,7 +66,6 @@ StatusOr<MeshDeformer> MeshDeformer::Create(const Catalog& catalog, const Limits
   MeshDeformer d;
   d.mesh_ = std::move(*ref);
   d.handles_ = c.handles;
-  d.positions_.assign(positions.begin(), positions.end());
   if (setup.method() == v1::ARAP) {
     auto solver = ArapSolver::Create(*model, c);
     if (!solver.ok()) return solver.status();
@@ -80,6 +79,8 @@ StatusOr<MeshDeformer> MeshDeformer::Create(const Catalog& catalog, const Limits
   return d;
 }
 
+size_t MeshDeformer::vertex_count() const { return mesh_.part->mesh->vertex_count(); }
+
 std::vector<double> MeshDeformer::RestHandlePositions() const {
   std::vector<double> rest;
   rest.reserve(3 * handles_.size());
@@ -90,6 +91,20 @@ std::vector<double> MeshDeformer::RestHandlePositions() const {
 
 Status MeshDeformer::Solve(std::span<const double> handle_positions, const std::string& field,
                            v1::DeformResponse* response) {
+  positions_.resize(3 * vertex_count());
+  ARMATURE_RETURN_IF_ERROR(SolveInto(handle_positions, field, arap_options_.warm_start, positions_, response));
+  arap_options_.warm_start = true;
+  return Status::Ok();
+}
+
+Status MeshDeformer::SolveFresh(std::span<const double> handle_positions, const std::string& field,
+                                v1::DeformResponse* response) const {
+  std::vector<double> positions(3 * vertex_count());
+  return SolveInto(handle_positions, field, false, positions, response);
+}
+
+Status MeshDeformer::SolveInto(std::span<const double> handle_positions, const std::string& field, bool warm_start,
+                               std::span<double> positions, v1::DeformResponse* response) const {
   if (handle_positions.size() != 3 * handles_.size())
     return Status::InvalidArgument(field + ": needs " + std::to_string(3 * handles_.size()) + " values (x, y, z per handle), got " +
                                    std::to_string(handle_positions.size()));
@@ -98,19 +113,26 @@ Status MeshDeformer::Solve(std::span<const double> handle_positions, const std::
       return Status::InvalidArgument(field + ": handle " + std::to_string(i / 3) + " has a non-finite coordinate");
   int iterations = 0;
   if (arap_) {
-    auto report = arap_->Solve(handle_positions, arap_options_, positions_);
+    ArapOptions options = arap_options_;
+    options.warm_start = warm_start;
+    auto report = arap_->Solve(handle_positions, options, positions);
     if (!report.ok()) return report.status();
     iterations = report->iterations;
-    arap_options_.warm_start = true;
   } else {
-    ARMATURE_RETURN_IF_ERROR(laplacian_->Solve(handle_positions, positions_));
+    ARMATURE_RETURN_IF_ERROR(laplacian_->Solve(handle_positions, positions));
   }
   response->set_mesh(mesh_.part->name);
   response->set_iterations(iterations);
   auto* out = response->mutable_positions();
-  out->Resize(static_cast<int>(positions_.size()), 0.0f);
-  for (size_t i = 0; i < positions_.size(); ++i) (*out)[static_cast<int>(i)] = static_cast<float>(positions_[i]);
+  out->Resize(static_cast<int>(positions.size()), 0.0f);
+  for (size_t i = 0; i < positions.size(); ++i) (*out)[static_cast<int>(i)] = static_cast<float>(positions[i]);
   return Status::Ok();
+}
+
+size_t MeshDeformer::memory_bytes() const {
+  const size_t solver = arap_ ? arap_->memory_bytes() + arap_->model().memory_bytes()
+                              : laplacian_->memory_bytes() + laplacian_->model().memory_bytes();
+  return sizeof(*this) + solver + handles_.capacity() * sizeof(uint32_t) + positions_.capacity() * sizeof(double);
 }
 
 }  // namespace armature::server

@@ -14,7 +14,9 @@ std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, 
   std::vector<ServiceEntry> services;
   services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
   services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits));
-  services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits));
+  auto deform_cache = std::make_shared<DeformerCache>(static_cast<size_t>(limits.deform_cache_bytes));
+  metrics.AddCollector([deform_cache](PrometheusText& out) { deform_cache->Collect(out); });
+  services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits, deform_cache));
   services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions));
   services.push_back(MakeService<v1::MeshService, MeshServiceImpl>(store, limits));
   return services;

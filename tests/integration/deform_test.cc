@@ -10,7 +10,6 @@
 #include <fstream>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,45 +20,13 @@
 #include "armature/client.h"
 #include "armature/v1/deform.grpc.pb.h"
 #include "client_helpers.h"
+#include "deform_grid.h"
 #include "server_process.h"
 
 namespace armature::testing {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// An n×n grid over [0,1]² with a Gaussian bump of height 0.3 in the middle.
-// Positions are floats (what the server stores), printed so they read back exactly.
-struct Grid {
-  int n = 0;
-  std::vector<float> positions;     // x,y,z per vertex
-  std::vector<uint32_t> triangles;  // 0-based
-  std::string obj;
-  uint32_t at(int i, int j) const { return static_cast<uint32_t>(j * n + i); }
-};
-
-Grid MakeGrid(int n) {
-  Grid g;
-  g.n = n;
-  std::ostringstream obj;
-  char line[128];
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const float x = static_cast<float>(i) / static_cast<float>(n - 1), y = static_cast<float>(j) / static_cast<float>(n - 1);
-      const float z = 0.3f * std::exp(-((x - 0.5f) * (x - 0.5f) + (y - 0.5f) * (y - 0.5f)) / 0.02f);
-      g.positions.insert(g.positions.end(), {x, y, z});
-      std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", x, y, z);
-      obj << line;
-    }
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      const uint32_t a = g.at(i, j), b = g.at(i + 1, j), c = g.at(i + 1, j + 1), d = g.at(i, j + 1);
-      g.triangles.insert(g.triangles.end(), {a, b, c, a, c, d});
-      obj << "f " << a + 1 << ' ' << b + 1 << ' ' << c + 1 << "\nf " << a + 1 << ' ' << c + 1 << ' ' << d + 1 << "\n";
-    }
-  g.obj = obj.str();
-  return g;
-}
 
 bool ScipyAvailable() { return std::system("/usr/bin/python3 -c 'import scipy.sparse' >/dev/null 2>&1") == 0; }
 
@@ -93,34 +60,6 @@ std::optional<std::vector<double>> ScipyReference(const Grid& g, const std::stri
   std::vector<double> r(g.positions.size());
   for (double& x : r) in >> x;
   if (!in) return std::nullopt;
-  return r;
-}
-
-// The bottom row fixed, the top row's middle vertex dragged up and sideways.
-struct Edit {
-  std::vector<uint32_t> fixed, handles;
-  std::vector<double> targets;
-};
-
-Edit BumpEdit(const Grid& g) {
-  Edit e;
-  for (int i = 0; i < g.n; ++i) e.fixed.push_back(g.at(i, 0));
-  const uint32_t h = g.at(g.n / 2, g.n - 1);
-  e.handles = {h};
-  e.targets = {g.positions[3 * h] + 0.1, g.positions[3 * h + 1] + 0.05, g.positions[3 * h + 2] + 0.4};
-  return e;
-}
-
-v1::DeformRequest RequestFor(const std::string& mesh, const Edit& e, v1::DeformWeights weights) {
-  v1::DeformRequest r;
-  r.set_mesh(mesh);
-  r.set_weights(weights);
-  for (uint32_t v : e.fixed) r.add_fixed(v);
-  for (size_t k = 0; k < e.handles.size(); ++k) {
-    auto* h = r.add_handles();
-    h->set_index(e.handles[k]);
-    for (int a = 0; a < 3; ++a) h->add_position(e.targets[3 * k + a]);
-  }
   return r;
 }
 

@@ -12,29 +12,12 @@
 #include "armature/client.h"
 #include "client_helpers.h"
 #include "http_get.h"
+#include "metrics_scrape.h"
 #include "server_process.h"
 
 namespace armature::testing {
 namespace {
 using nlohmann::json;
-
-// Samples of a scrape: "name{labels}" → value, labels as written by the server.
-std::map<std::string, double> ParseSamples(const std::string& text) {
-  std::map<std::string, double> samples;
-  std::istringstream lines(text);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    const auto space = line.rfind(' ');
-    samples[line.substr(0, space)] = line.substr(space + 1) == "+Inf" ? INFINITY : std::stod(line.substr(space + 1));
-  }
-  return samples;
-}
-
-std::map<std::string, double> Scrape(const ServerProcess& server) {
-  const HttpResponse r = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
-  EXPECT_EQ(r.status, 200) << r.error;
-  return ParseSamples(r.body);
-}
 
 constexpr char kEvaluate[] = "armature.v1.PoseService/EvaluateClip";
 
@@ -55,7 +38,7 @@ TEST(Metrics, HistogramsCountsAndAssetGauges) {
 
   const HttpResponse raw = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
   EXPECT_NE(raw.body.find("# TYPE armature_rpc_duration_seconds histogram"), std::string::npos) << raw.body;
-  const auto m = ParseSamples(raw.body);
+  const auto m = ParseMetricSamples(raw.body);
   // The histogram of EvaluateClip: three calls, cumulative buckets ending in +Inf = count.
   const std::string method = kEvaluate;
   EXPECT_EQ(m.at(Bucket(method, "+Inf")), 3);
@@ -84,7 +67,7 @@ TEST(Metrics, HistogramsCountsAndAssetGauges) {
   EXPECT_LT(small, 1 << 20);
   // A 1000-frame clip adds at least its 2 × 1000 rotation keys.
   client.Import({"long.bvh", ArmBvhWithFrames(1000)});
-  EXPECT_GE(Scrape(server).at("armature_assets_memory_bytes") - small, 2 * 1000 * (8 + 32));
+  EXPECT_GE(ScrapeMetrics(server).at("armature_assets_memory_bytes") - small, 2 * 1000 * (8 + 32));
 }
 
 // A call to a method the server does not have, through gRPC's generic stub.
@@ -112,7 +95,7 @@ TEST(Metrics, MadeUpMethodsShareOneLabel) {
     EXPECT_EQ(CallUnknownMethod(client, "/made.Up/Method" + std::to_string(i)), grpc::StatusCode::UNIMPLEMENTED);
   const HttpResponse r = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
   EXPECT_EQ(r.body.find("made.Up"), std::string::npos) << r.body;
-  EXPECT_EQ(ParseSamples(r.body).at("armature_rpc_requests_total{method=\"unknown\",code=\"UNIMPLEMENTED\"}"), 3);
+  EXPECT_EQ(ParseMetricSamples(r.body).at("armature_rpc_requests_total{method=\"unknown\",code=\"UNIMPLEMENTED\"}"), 3);
 }
 
 TEST(Metrics, StreamsInFlightGauge) {
@@ -131,13 +114,13 @@ TEST(Metrics, StreamsInFlightGauge) {
     });
   });
   ASSERT_TRUE(WaitFor([&] { return frames > 2; }, 30));
-  auto m = Scrape(server);
+  auto m = ScrapeMetrics(server);
   EXPECT_EQ(m.at("armature_streams_in_flight"), 1);
   EXPECT_EQ(m.at("armature_rpc_in_flight{method=\"armature.v1.PoseService/StreamClip\"}"), 1);
   stop = true;
   streamer.join();
-  EXPECT_TRUE(WaitFor([&] { return Scrape(server).at("armature_streams_in_flight") == 0; }, 30));
-  m = Scrape(server);
+  EXPECT_TRUE(WaitFor([&] { return ScrapeMetrics(server).at("armature_streams_in_flight") == 0; }, 30));
+  m = ScrapeMetrics(server);
   EXPECT_EQ(m.at("armature_rpc_in_flight{method=\"armature.v1.PoseService/StreamClip\"}"), 0);
   EXPECT_EQ(m.at("armature_rpc_duration_seconds_count{method=\"armature.v1.PoseService/StreamClip\"}"), 1);
 }
