@@ -84,7 +84,8 @@ try {
     if (!r.url().includes(':stream')) problems.push(`request failed: ${r.url()} ${r.failure()?.errorText}`);
   });
 
-  await page.goto(server.url + '/');
+  // The seeded clips sort demo_character.walk first; this test plays the BVH demo.
+  await page.goto(server.url + '/?clip=demo_walk');
   await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
   const clip = await page.$eval('#clip', (s) => s.value);
   check(clip === 'demo_walk', `the clip list offers the demo (selected: ${clip})`);
