@@ -1,5 +1,6 @@
 // Built-in demo assets, seeded into an empty data dir so a first `make run`
-// serves real motion with nothing to download.
+// serves real motion with nothing to download: the clip demo_walk (a BVH)
+// and the skinned, walking character demo_character (a glb).
 #pragma once
 
 #include "armature/engine/status.h"

@@ -2,12 +2,16 @@
 // (GLTFLoader + AnimationMixer, run by node on tests/reference/) gives every
 // mesh's world-space vertices at several times; the engine must agree within
 // 1e-4 of the model's size.
+#include <unistd.h>
+
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include <gtest/gtest.h>
 
+#include "armature/engine/demo_character.h"
 #include "armature/engine/skinning.h"
 #include "mesh_test_util.h"
 
@@ -27,35 +31,23 @@ std::optional<std::string> RunCommand(const std::string& command) {
   return pclose(pipe) == 0 ? std::optional(out) : std::nullopt;
 }
 
-// Why the reference cannot run here, or empty when it can.
-std::string ReferenceUnavailable() {
-  if (!fs::exists(SharedData("gltf")))
-    return "shared test data not found at " + SharedData("gltf").string();
+// Why three.js cannot run here, or empty when it can.
+std::string ThreeJsUnavailable() {
   if (std::system("node --version > /dev/null 2>&1") != 0) return "node is not installed";
   if (!fs::exists(fs::path(ARMATURE_TEST_DIR) / "reference/node_modules/three"))
     return "three.js is not installed: run scripts/setup.sh test (npm ci in tests/reference)";
   return "";
 }
 
-struct Case {
-  const char* file;
-  int animation;  // -1: rest pose
-};
-
-class GltfReference : public ::testing::TestWithParam<Case> {};
-
-TEST_P(GltfReference, MatchesThreeJs) {
-  if (const std::string why = ReferenceUnavailable(); !why.empty()) GTEST_SKIP() << why;
-  const Case c = GetParam();
-  const fs::path path = SharedData(std::string("gltf/") + c.file);
-  auto contents = LoadGltfFile(path, "model");
-  ASSERT_TRUE(contents.ok()) << contents.status().message();
-  ASSERT_FALSE(contents->meshes.empty());
-
+// Skins every mesh of `contents` (imported from `path`) with its animation
+// `animation` (-1: the rest pose) at times across the clip, and expects
+// three.js's world-space vertices within 1e-4 of the model's size.
+void ExpectMatchesThreeJs(const fs::path& path, const AssetContents& contents, int animation) {
+  ASSERT_FALSE(contents.meshes.empty());
   const Clip* clip = nullptr;
-  if (c.animation >= 0) {
-    ASSERT_GT(contents->clips.size(), static_cast<size_t>(c.animation));
-    clip = contents->clips[static_cast<size_t>(c.animation)].clip.get();
+  if (animation >= 0) {
+    ASSERT_GT(contents.clips.size(), static_cast<size_t>(animation));
+    clip = contents.clips[static_cast<size_t>(animation)].clip.get();
   }
   // Times inside and at the ends of the clip, mostly between keys.
   const double duration = clip ? clip->duration : 0;
@@ -66,7 +58,7 @@ TEST_P(GltfReference, MatchesThreeJs) {
   for (size_t i = 0; i < times.size(); ++i) list << (i ? "," : "") << times[i];
 
   const std::string script = (fs::path(ARMATURE_TEST_DIR) / "reference/gltf_skin_reference.mjs").string();
-  auto out = RunCommand("node '" + script + "' '" + path.string() + "' " + std::to_string(c.animation) + " " + list.str());
+  auto out = RunCommand("node '" + script + "' '" + path.string() + "' " + std::to_string(animation) + " " + list.str());
   ASSERT_TRUE(out.has_value()) << "the three.js reference failed";
   const auto reference = nlohmann::json::parse(*out);
 
@@ -75,8 +67,8 @@ TEST_P(GltfReference, MatchesThreeJs) {
   const SampleOptions sample;
   for (const auto& ref_mesh : reference["meshes"]) {
     const size_t m = ref_mesh["mesh"];
-    ASSERT_LT(m, contents->meshes.size());
-    const Mesh& mesh = *contents->meshes[m].mesh;
+    ASSERT_LT(m, contents.meshes.size());
+    const Mesh& mesh = *contents.meshes[m].mesh;
     const size_t n = mesh.vertex_count();
     std::vector<float> positions(3 * n), normals(mesh.normals.empty() ? 0 : 3 * n);
 
@@ -96,7 +88,7 @@ TEST_P(GltfReference, MatchesThreeJs) {
       if (clip) {
         ASSERT_TRUE(SkinClip(mesh, *clip, t, sample, options, positions, normals, workspace).ok());
       } else {
-        const Skeleton& skeleton = *contents->skeletons[0].skeleton;
+        const Skeleton& skeleton = *contents.skeletons[0].skeleton;
         ASSERT_TRUE(SkinPose(mesh, skeleton, skeleton.rest, options, positions, normals, workspace).ok());
       }
       const auto& p = frame["positions"];
@@ -105,12 +97,44 @@ TEST_P(GltfReference, MatchesThreeJs) {
       if (!normals.empty() && nr.size() == 3 * n)
         for (size_t i = 0; i < 3 * n; ++i) worst_normal = std::max(worst_normal, std::abs(normals[i] - nr[i].get<double>()));
     }
-    std::cout << "[ reference ] " << c.file << " mesh " << m << " (" << n << " vertices, size " << size
-              << "): max position error " << worst_position << " (" << worst_position / size
+    std::cout << "[ reference ] " << path.filename().string() << " mesh " << m << " (" << n << " vertices, size "
+              << size << "): max position error " << worst_position << " (" << worst_position / size
               << " of size), max normal error " << worst_normal << "\n";
-    EXPECT_LE(worst_position, 1e-4 * size) << c.file << " mesh " << m;
-    EXPECT_LE(worst_normal, 1e-3) << c.file << " mesh " << m;
+    EXPECT_LE(worst_position, 1e-4 * size) << path.filename().string() << " mesh " << m;
+    EXPECT_LE(worst_normal, 1e-3) << path.filename().string() << " mesh " << m;
   }
+}
+
+struct Case {
+  const char* file;
+  int animation;  // -1: rest pose
+};
+
+class GltfReference : public ::testing::TestWithParam<Case> {};
+
+TEST_P(GltfReference, MatchesThreeJs) {
+  if (!fs::exists(SharedData("gltf"))) GTEST_SKIP() << "shared test data not found at " << SharedData("gltf").string();
+  if (const std::string why = ThreeJsUnavailable(); !why.empty()) GTEST_SKIP() << why;
+  const Case c = GetParam();
+  const fs::path path = SharedData(std::string("gltf/") + c.file);
+  auto contents = LoadGltfFile(path, "model");
+  ASSERT_TRUE(contents.ok()) << contents.status().message();
+  ExpectMatchesThreeJs(path, *contents, c.animation);
+}
+
+// The project's own demo character (made here, so it needs no shared data):
+// its walk and its bind (rest) pose.
+TEST(GltfReferenceDemoCharacter, MatchesThreeJs) {
+  if (const std::string why = ThreeJsUnavailable(); !why.empty()) GTEST_SKIP() << why;
+  auto glb = MakeDemoCharacterGlb();
+  ASSERT_TRUE(glb.ok()) << glb.status().message();
+  const fs::path path = fs::temp_directory_path() / ("armature_demo_character_" + std::to_string(getpid()) + ".glb");
+  std::ofstream(path, std::ios::binary) << *glb;
+  auto contents = LoadGltfFile(path, "demo_character");
+  ASSERT_TRUE(contents.ok()) << contents.status().message();
+  ExpectMatchesThreeJs(path, *contents, 0);
+  ExpectMatchesThreeJs(path, *contents, -1);
+  fs::remove(path);
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, GltfReference,

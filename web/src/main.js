@@ -251,7 +251,10 @@ async function start() {
     ui.method.value = method;
     meshPlayer.method = method;
   }
-  const wantedMesh = params.get('mesh');
+  // With nothing asked for, a skinned mesh that has a clip to play (the
+  // seeded demo character) is the most telling first view.
+  const playable = meshes.find((m) => m.skeleton && clipsFor(m, clips).length > 0);
+  const wantedMesh = params.get('mesh') ?? (params.has('clip') ? null : playable?.name);
   if (wantedMesh && meshes.some((m) => m.name === wantedMesh)) {
     await chooseMesh(wantedMesh, params.get('clip'));
     return;

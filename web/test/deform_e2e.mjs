@@ -76,7 +76,7 @@ await runViewerTest('deform_e2e.mjs', async ({ page, server, screenshot }) => {
   check(asset.meshes?.[0]?.name === MESH && asset.meshes[0].vertexCount === grid.vertexCount,
         `the grid imports over REST (${asset.meshes?.[0]?.vertexCount} vertices, ${asset.meshes?.[0]?.triangleCount} triangles)`);
 
-  await page.goto(server.url + '/');
+  await page.goto(server.url + '/?clip=demo_walk');
   await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
   await page.selectOption('#mesh', MESH);
   await page.waitForFunction((mesh) => window.armatureViewer.meshView.geometry?.mesh === mesh, MESH, { timeout: 30000 });

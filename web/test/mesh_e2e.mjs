@@ -59,7 +59,7 @@ await runViewerTest('mesh_e2e.mjs', async ({ page, server, screenshot }) => {
         `the tube imports over REST (mesh ${asset.meshes?.[0]?.name}, clip ${asset.clips?.[0]?.name}, ` +
         `${asset.meshes?.[0]?.vertexCount} vertices)`);
 
-  await page.goto(server.url + '/');
+  await page.goto(server.url + '/?clip=demo_walk');  // skeleton mode first: the picker takes it from there
   await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
   await page.evaluate(defineRingRadius, MIDDLE);
   const meshes = await page.$$eval('#mesh option', (options) => options.map((o) => o.value));
@@ -188,4 +188,29 @@ await runViewerTest('mesh_e2e.mjs', async ({ page, server, screenshot }) => {
   const all = await page.$$eval('#clip option', (options) => options.map((o) => o.value));
   check(all.includes('demo_walk') && all.includes(CLIP) && await page.$eval('#mesh-controls', (e) => e.hidden),
         `choosing no mesh shows the skeleton alone again (clips: ${all.join(', ')})`);
+
+  // The plain page opens on the seeded demo character, walking when played.
+  await page.goto(server.url + '/');
+  await page.waitForFunction(() => window.armatureViewer?.meshPlayer.stats.evaluations > 0, null, { timeout: 30000 });
+  const opened = await page.evaluate(() => ({
+    mesh: document.getElementById('mesh').value, clip: document.getElementById('clip').value,
+  }));
+  check(opened.mesh === 'demo_character.body' && opened.clip === 'demo_character.walk',
+        `/ opens on the demo character (${opened.mesh} playing ${opened.clip})`);
+  const hips = () => page.evaluate(() => {
+    const { meshView } = window.armatureViewer;
+    const p = meshView.object.geometry.getAttribute('position').array;
+    let z = 0;
+    for (let i = 2; i < p.length; i += 3) z += p[i];
+    return z / (p.length / 3);
+  });
+  const startZ = await hips();
+  await page.click('#play');
+  await page.waitForFunction(() => window.armatureViewer.meshPlayer.stats.framesReceived >= 30, null, { timeout: 30000 });
+  await page.click('#play');  // pause
+  const walkedZ = await hips();
+  const demoShot = await page.screenshot({ path: besides(screenshot, 'demo_character') });
+  const demoDrawn = await colourStats(page, demoShot, 'mesh');
+  check(demoDrawn.count > 5000 && walkedZ - startZ > 20,
+        `the demo character walks (${demoDrawn.count} mesh-coloured pixels; its mean z moved ${fmt(walkedZ - startZ)} cm)`);
 });
