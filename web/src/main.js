@@ -105,7 +105,9 @@ player.addEventListener('error', ({ detail }) => showMessage(detail));
 meshPlayer.addEventListener('load', ({ detail: { mesh, geometry, clip } }) => {
   if (meshView.geometry !== geometry) {
     meshView.show(geometry);
-    meshView.frame();
+    // A clip places the mesh (a walk's root sits at hip height, not at the
+    // bind pose's origin): frame its first skinned frame instead.
+    if (!clip) meshView.frame();
   }
   ui.vertices.textContent = `${mesh.vertexCount} vertices · ${mesh.triangleCount} triangles`;
   if (!(mesh.skeleton && clip))
@@ -121,6 +123,7 @@ meshPlayer.addEventListener('load', ({ detail: { mesh, geometry, clip } }) => {
 meshPlayer.addEventListener('frame', ({ detail: { time, positions, normals, frame } }) => {
   if (vertexDrag.editing) return;
   meshView.setPositions(positions, normals);
+  if (!meshView.lastCenter) meshView.frame();
   meshView.follow();
   showTime(time, meshPlayer.clip, frame, 'frames');
   if (overlay()) player.seek(time);
