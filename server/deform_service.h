@@ -1,16 +1,19 @@
 // DeformService: Laplacian / ARAP mesh editing, one-shot and as a session.
 #pragma once
 
+#include <memory>
+
 #include "armature/v1/deform.grpc.pb.h"
 #include "server/asset_store.h"
 #include "server/limits.h"
-#include "server/session_limiter.h"
+#include "server/session_admission.h"
 
 namespace armature::server {
 
 class DeformServiceImpl final : public v1::DeformService::CallbackService {
  public:
-  DeformServiceImpl(AssetStore& store, const Limits& limits) : store_(store), limits_(limits), sessions_(limits) {}
+  DeformServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions)
+      : store_(store), limits_(limits), sessions_(std::move(sessions)) {}
 
   grpc::ServerUnaryReactor* Deform(grpc::CallbackServerContext* context, const v1::DeformRequest* request,
                                    v1::DeformResponse* response) override;
@@ -20,7 +23,7 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
  private:
   AssetStore& store_;
   const Limits& limits_;
-  SessionLimiter sessions_;
+  std::shared_ptr<SessionAdmission> sessions_;  // shared with the other session kinds
 };
 
 // The unary handler's work, callable without gRPC.

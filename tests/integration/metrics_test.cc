@@ -1,5 +1,6 @@
 // GET /metrics in the Prometheus text format, and the per-call request log.
 #include <atomic>
+#include <cstdio>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -9,32 +10,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../engine/generated_meshes.h"
 #include "armature/client.h"
 #include "client_helpers.h"
 #include "http_get.h"
+#include "metrics_scrape.h"
 #include "server_process.h"
 
 namespace armature::testing {
 namespace {
 using nlohmann::json;
-
-// Samples of a scrape: "name{labels}" → value, labels as written by the server.
-std::map<std::string, double> ParseSamples(const std::string& text) {
-  std::map<std::string, double> samples;
-  std::istringstream lines(text);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    const auto space = line.rfind(' ');
-    samples[line.substr(0, space)] = line.substr(space + 1) == "+Inf" ? INFINITY : std::stod(line.substr(space + 1));
-  }
-  return samples;
-}
-
-std::map<std::string, double> Scrape(const ServerProcess& server) {
-  const HttpResponse r = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
-  EXPECT_EQ(r.status, 200) << r.error;
-  return ParseSamples(r.body);
-}
 
 constexpr char kEvaluate[] = "armature.v1.PoseService/EvaluateClip";
 
@@ -85,6 +70,28 @@ TEST(Metrics, HistogramsCountsAndAssetGauges) {
   // A 1000-frame clip adds at least its 2 × 1000 rotation keys.
   client.Import({"long.bvh", ArmBvhWithFrames(1000)});
   EXPECT_GE(Scrape(server).at("armature_assets_memory_bytes") - small, 2 * 1000 * (8 + 32));
+}
+
+// A mesh adds at least its raw vertex data: float positions and 32-bit triangle indices.
+TEST(Metrics, ImportedMeshesCountInAssetMemory) {
+  TempDir data;
+  ServerProcess server(data.path(), {"--no-demo"});
+  Client client(OptionsFor(server));
+  const double before = Scrape(server).at("armature_assets_memory_bytes");
+  const fixtures::GeneratedMesh grid = fixtures::MakeGrid(100, 100, 1, 1);
+  const auto imported = client.Import({"grid.obj", fixtures::ToObj(grid)}, "grid");
+  ASSERT_EQ(imported.asset().meshes_size(), 1);
+  const double vertices = 100 * 100, triangles = 99 * 99 * 2;
+  const double raw = vertices * 3 * sizeof(float) + triangles * 3 * sizeof(uint32_t);
+  const auto m = Scrape(server);
+  EXPECT_EQ(m.at("armature_assets_loaded{kind=\"mesh\"}"), 1);
+  const double grown = m.at("armature_assets_memory_bytes") - before;
+  std::printf("a %g-vertex, %g-triangle mesh: +%g bytes (raw vertex data %g)\n", vertices, triangles, grown, raw);
+  EXPECT_GE(grown, raw);
+  // Copies of the vertex data (normals, the skinning layout's positions and order) but nothing per pair of vertices.
+  EXPECT_LT(grown, 4 * raw);
+  client.DeleteAsset("grid");
+  EXPECT_EQ(Scrape(server).at("armature_assets_memory_bytes"), before);
 }
 
 // A call to a method the server does not have, through gRPC's generic stub.
