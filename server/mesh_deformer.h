@@ -45,7 +45,7 @@ class MeshDeformer {
   std::optional<DeformationSolver> laplacian_;
   std::optional<ArapSolver> arap_;
   ArapOptions arap_options_;
-  std::vector<double> positions_;  // the last result (ARAP's warm start)
+  std::vector<double> positions_;  // ARAP: the last result (its warm start); sized 3 per vertex either way
 };
 
 // The unary request's constraint fields as a setup, and its handles split
