@@ -1,179 +1,150 @@
-// Unary Deform over a real gRPC connection on the 100k-vertex sheet
-// (bench_meshes.h), one handle at the centre, the boundary fixed: the first
-// call for a setup (a cache miss: model, factorization, solve) against
-// repeated calls with new handle positions (a hit: solve only), with the
-// empty RPC (BM_EmptyRpc_HealthCheck in evaluate_rpc_bench.cc, same server,
-// same run) as the baseline. The answer is 300k floats; the in-process
-// protobuf and JSON encodings of such an answer are measured too, to show how
-// much of a hit's round trip is the payload.
-#include <chrono>
-#include <filesystem>
+// Mesh deformation over a real gRPC connection on a ~100k-vertex mesh (the
+// 317 × 317 sheet of laplacian_bench.cc, imported as OBJ bytes made here).
+// Measured: DeformSession setup (factorization and the rest-shape answer),
+// one move round trip (write + read) with 1 and 64 handles, Laplacian
+// (uniform) and ARAP (cotangent) — the drag budget is 10 ms per move — and
+// the parts of a move, to see where its time goes: the server's handler
+// alone (solve + filling the response, no gRPC) and the response's
+// serialization and parsing. The baseline is the empty RPC
+// (BM_EmptyRpc_HealthCheck in evaluate_rpc_bench.cc, same server, same run):
+// report ratios to it.
+#include <memory>
+#include <optional>
 #include <string>
-#include <string_view>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
-#include "armature/v1/deform.grpc.pb.h"
-#include "bench_meshes.h"
 #include "rpc_bench_server.h"
-#include "server/deform_service.h"
-#include "server/gateway/json_codec.h"
+#include "server/mesh_deformer.h"
+#include "sheet_mesh.h"
 
 namespace {
 
-using armature_bench::Server;
 namespace v1 = armature::v1;
+using armature_bench::Server;
 
-constexpr int kSide = armature_bench::kSheetSide;
-constexpr uint32_t kCentre = static_cast<uint32_t>((kSide / 2) * kSide + kSide / 2);
+constexpr char kSheet[] = "sheet";
+constexpr int kTargetSets = 100;  // drag steps cycled through
 
-const std::string& SheetName() {
-  static const std::string name = [] {
-    Server().client->Import({"sheet.obj", armature_bench::SheetObj()}, "sheet");
-    return std::string("sheet");
+// Imports the sheet once (the OBJ made here: ~4 MB of text).
+void ImportSheet() {
+  static const bool imported = [] {
+    Server().client->Import({"sheet.obj", armature::fixtures::ToObj(armature_bench::Sheet())}, kSheet);
+    return true;
   }();
-  return name;
+  (void)imported;
 }
 
-// The boundary fixed, `handle` lifted by `lift`.
-v1::DeformRequest SheetRequest(v1::DeformMethod method, uint32_t handle, double lift) {
-  v1::DeformRequest r;
-  r.set_mesh(SheetName());
-  r.set_method(method);
-  r.set_weights(method == v1::ARAP ? v1::COTANGENT : v1::UNIFORM);
-  for (int j = 0; j < kSide; ++j)
-    for (int i = 0; i < kSide; ++i)
-      if (i == 0 || j == 0 || i == kSide - 1 || j == kSide - 1) r.add_fixed(static_cast<uint32_t>(j * kSide + i));
-  auto* h = r.add_handles();
-  h->set_index(handle);
-  const auto& rest = armature_bench::Sheet().positions;
-  for (int a = 0; a < 3; ++a) h->add_position(rest(handle, a) + (a == 2 ? lift : 0.0));
-  return r;
-}
+// Args: (handle patch side: 1 → 1 handle, 8 → 64; method: 0 Laplacian uniform, 1 ARAP cotangent).
+struct Drag {
+  armature::DeformationConstraints constraints;
+  v1::DeformSessionStart start;
+  std::vector<std::vector<double>> targets;  // kTargetSets drag steps
 
-v1::DeformResponse Deform(const v1::DeformRequest& r) {
-  static const auto stub = v1::DeformService::NewStub(Server().client->channel());
-  return Server().client->Call(&v1::DeformService::Stub::Deform, *stub, r);
-}
-
-double CacheCounter(std::string_view name) {
-  const std::string text = Server().server->metrics().Render();
-  const size_t at = text.find("\n" + std::string(name) + " ");
-  return at == std::string::npos ? -1 : std::stod(text.substr(at + name.size() + 2));
-}
-
-// Puts the hits and misses the benchmark caused in its counters.
-struct CacheCounts {
-  double hits = CacheCounter("armature_deform_cache_hits_total");
-  double misses = CacheCounter("armature_deform_cache_misses_total");
-  void Report(benchmark::State& state) const {
-    state.counters["cache_hits"] = CacheCounter("armature_deform_cache_hits_total") - hits;
-    state.counters["cache_misses"] = CacheCounter("armature_deform_cache_misses_total") - misses;
-    state.counters["cache_MiB"] = CacheCounter("armature_deform_cache_bytes") / (1 << 20);
+  explicit Drag(const benchmark::State& state) {
+    ImportSheet();
+    constraints = armature_bench::SheetConstraints(static_cast<int>(state.range(0)));
+    v1::DeformSetup* setup = start.mutable_setup();
+    setup->set_mesh(kSheet);
+    const bool arap = state.range(1) == 1;
+    setup->set_method(arap ? v1::ARAP : v1::LAPLACIAN);
+    setup->set_weights(arap ? v1::COTANGENT : v1::UNIFORM);
+    setup->mutable_fixed()->Add(constraints.fixed.begin(), constraints.fixed.end());
+    start.mutable_handle_indices()->Add(constraints.handles.begin(), constraints.handles.end());
+    for (int step = 1; step <= kTargetSets; ++step) targets.push_back(armature_bench::SheetDragTargets(constraints, step));
   }
+  const std::vector<double>& Targets(int64_t step) const { return targets[static_cast<size_t>(step % kTargetSets)]; }
 };
 
-// The handle's lift on call `step` of a drag: up to 0.2 (the sheet is 2 wide).
-double Lift(int step) { return 0.002 * (1 + step % 100); }
-
-// Each call names a handle no earlier call used: every one factors.
-void Miss(benchmark::State& state, v1::DeformMethod method) {
-  static uint32_t next_handle = kCentre + 1;
-  SheetName();
-  const CacheCounts before;
-  int step = 0, iterations = 0;
-  for (auto _ : state) iterations += Deform(SheetRequest(method, next_handle++, Lift(step++))).iterations();
-  before.Report(state);
-  state.counters["arap_iterations"] = benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+// 1 and 64 handles, Laplacian and ARAP, in ms of wall time.
+void DragCases(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"patch", "arap"})->Unit(benchmark::kMillisecond)->UseRealTime();
+  for (int arap : {0, 1})
+    for (int patch : {1, 8}) b->Args({patch, arap});
 }
 
-// One call outside the timing factors; the timed ones move the handle.
-void Hit(benchmark::State& state, v1::DeformMethod method) {
-  Deform(SheetRequest(method, kCentre, Lift(0)));
-  const CacheCounts before;
-  int step = 0, iterations = 0;
-  for (auto _ : state) iterations += Deform(SheetRequest(method, kCentre, Lift(++step))).iterations();
-  before.Report(state);
-  state.counters["arap_iterations"] = benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
+void Label(benchmark::State& state, const v1::DeformResponse& answer) {
+  state.SetLabel(std::string(state.range(1) ? "arap" : "laplacian") + ", " + std::to_string(state.range(0) * state.range(0)) +
+                 " handle(s)");
+  state.counters["vertices"] = answer.positions_size() / 3;
+  state.counters["arap_rounds"] = answer.iterations();
 }
 
-void BM_Deform_Sheet100k_Laplacian_Miss(benchmark::State& state) { Miss(state, v1::LAPLACIAN); }
-BENCHMARK(BM_Deform_Sheet100k_Laplacian_Miss)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(5);
-
-void BM_Deform_Sheet100k_Laplacian_Hit(benchmark::State& state) { Hit(state, v1::LAPLACIAN); }
-BENCHMARK(BM_Deform_Sheet100k_Laplacian_Hit)->UseRealTime()->Unit(benchmark::kMillisecond);
-
-void BM_Deform_Sheet100k_Arap_Miss(benchmark::State& state) { Miss(state, v1::ARAP); }
-BENCHMARK(BM_Deform_Sheet100k_Arap_Miss)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
-
-void BM_Deform_Sheet100k_Arap_Hit(benchmark::State& state) { Hit(state, v1::ARAP); }
-BENCHMARK(BM_Deform_Sheet100k_Arap_Hit)->UseRealTime()->Unit(benchmark::kMillisecond);
-
-// The server's work for a hit without gRPC: the cache lookup, the solve and
-// filling the response (a store and cache of its own, in this process).
-void BM_Deform_Sheet100k_Laplacian_HitInProcess(benchmark::State& state) {
-  namespace server = armature::server;
-  const auto dir = Server().dir.parent_path() / (Server().dir.filename().string() + "-inprocess");
-  armature::server::StoreOptions options;
-  options.watch_interval = std::chrono::milliseconds(0);
-  auto store = server::AssetStore::Open(dir, options);
-  if (!store.ok()) return state.SkipWithError(store.status().message().c_str());
-  server::ImportRequest import;
-  import.name = "sheet";
-  import.filename = "sheet.obj";
-  import.bytes = armature_bench::SheetObj();
-  if (auto st = (*store)->Import(std::move(import)); !st.ok()) return state.SkipWithError(st.status().message().c_str());
-  server::DeformerCache cache(size_t{256} << 20);
-  const server::Limits limits;
-  v1::DeformResponse response;
-  if (auto st = server::Deform(cache, (*store)->Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(0)), &response); !st.ok())
-    return state.SkipWithError(st.message().c_str());
-  int step = 0;
+// Open (factor, answer the rest shape) and close a session.
+void BM_DeformRpc_SessionSetup(benchmark::State& state) {
+  const Drag drag(state);
+  v1::DeformResponse answer;
   for (auto _ : state) {
-    const auto st = server::Deform(cache, (*store)->Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(++step)), &response);
+    auto session = Server().client->OpenDeformSession(drag.start);
+    answer = session->last();
+    session->Close();
+  }
+  Label(state, answer);
+}
+BENCHMARK(BM_DeformRpc_SessionSetup)->Apply(DragCases)->Iterations(2);
+
+// One drag step: the handle positions out, every vertex position back.
+void BM_DeformRpc_Move(benchmark::State& state) {
+  const Drag drag(state);
+  auto session = Server().client->OpenDeformSession(drag.start);
+  int64_t step = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(session->Move(drag.Targets(++step)).positions_size());
+  Label(state, session->last());
+  session->Close();
+}
+BENCHMARK(BM_DeformRpc_Move)->Apply(DragCases);
+
+// The session's handler without gRPC: solve and fill the response.
+void BM_DeformHandler_Move(benchmark::State& state) {
+  const Drag drag(state);
+  armature::server::Limits limits;
+  auto deformer = armature::server::MeshDeformer::Create(*Server().server->store().Snapshot(), limits,
+                                                         drag.start.setup(), drag.constraints.handles);
+  if (!deformer.ok()) return state.SkipWithError(deformer.status().message().c_str());
+  v1::DeformResponse response;
+  int64_t step = 0;
+  for (auto _ : state) {
+    response.Clear();
+    const armature::Status st = deformer->Solve(drag.Targets(++step), "move", &response);
     if (!st.ok()) return state.SkipWithError(st.message().c_str());
   }
-  state.counters["cache_hits"] = static_cast<double>(cache.stats().hits);
-  store->reset();
-  std::filesystem::remove_all(dir);
+  Label(state, response);
 }
-BENCHMARK(BM_Deform_Sheet100k_Laplacian_HitInProcess)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DeformHandler_Move)->Apply(DragCases);
 
-// An answer of the sheet's size, as the hit path carries it.
-v1::DeformResponse SheetSizedAnswer() {
+// A move's answer on the sheet: 3 × 100,489 floats.
+v1::DeformResponse SheetAnswer() {
   v1::DeformResponse r;
-  r.set_mesh("sheet");
-  const auto& rest = armature_bench::Sheet().positions;
-  for (Eigen::Index v = 0; v < rest.rows(); ++v)
-    for (int a = 0; a < 3; ++a) r.add_positions(static_cast<float>(rest(v, a)));
+  r.set_mesh(kSheet);
+  const auto& p = armature_bench::Sheet().positions;
+  r.mutable_positions()->Reserve(static_cast<int>(p.size()));
+  for (Eigen::Index v = 0; v < p.rows(); ++v)
+    for (int k = 0; k < 3; ++k) r.add_positions(static_cast<float>(p(v, k)));
   return r;
 }
 
-// gRPC's share of the payload: one serialization (server) and one parse (client).
-void BM_DeformResponse_Sheet100k_ProtoSerializeParse(benchmark::State& state) {
-  const v1::DeformResponse answer = SheetSizedAnswer();
-  v1::DeformResponse parsed;
+void BM_DeformResponse_Serialize(benchmark::State& state) {
+  const v1::DeformResponse r = SheetAnswer();
   std::string bytes;
   for (auto _ : state) {
-    answer.SerializeToString(&bytes);
-    parsed.ParseFromString(bytes);
-    benchmark::DoNotOptimize(parsed.positions_size());
+    r.SerializeToString(&bytes);
+    benchmark::DoNotOptimize(bytes.data());
   }
-  state.counters["MiB"] = static_cast<double>(bytes.size()) / (1 << 20);
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(bytes.size()));
 }
-BENCHMARK(BM_DeformResponse_Sheet100k_ProtoSerializeParse)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DeformResponse_Serialize)->Unit(benchmark::kMillisecond);
 
-// What the REST gateway adds for a browser: the answer printed as JSON.
-void BM_DeformResponse_Sheet100k_GatewayJson(benchmark::State& state) {
-  const v1::DeformResponse answer = SheetSizedAnswer();
-  size_t size = 0;
+void BM_DeformResponse_Parse(benchmark::State& state) {
+  const std::string bytes = SheetAnswer().SerializeAsString();
+  v1::DeformResponse r;
   for (auto _ : state) {
-    const std::string json = armature::server::gateway::MessageToJson(answer);
-    size = json.size();
-    benchmark::DoNotOptimize(json.data());
+    if (!r.ParseFromString(bytes)) return state.SkipWithError("parse failed");
+    benchmark::DoNotOptimize(r.positions_size());
   }
-  state.counters["MiB"] = static_cast<double>(size) / (1 << 20);
+  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(bytes.size()));
 }
-BENCHMARK(BM_DeformResponse_Sheet100k_GatewayJson)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DeformResponse_Parse)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+

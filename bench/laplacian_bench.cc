@@ -4,19 +4,18 @@
 // same mesh, so figures can be read as ratios to it.
 #include <benchmark/benchmark.h>
 
-#include <cmath>
 #include <memory>
 #include <vector>
 
 #include "armature/engine/arap.h"
 #include "armature/engine/laplacian_editor.h"
-#include "bench_meshes.h"
+#include "sheet_mesh.h"
 
 namespace armature {
 namespace {
 
 using armature_bench::Sheet;
-constexpr int kSide = armature_bench::kSheetSide;
+using armature_bench::SheetConstraints;
 
 std::shared_ptr<const LaplacianModel> SheetModel(LaplacianWeights weights) {
   static std::shared_ptr<const LaplacianModel> models[2];
@@ -27,32 +26,6 @@ std::shared_ptr<const LaplacianModel> SheetModel(LaplacianWeights weights) {
     model = *BuildLaplacianModel(Sheet().positions, Sheet().triangles, options);
   }
   return model;
-}
-
-// Boundary fixed; a side × side patch of handles at the centre; optionally a
-// disc-shaped region of interest of the given radius (in grid steps).
-DeformationConstraints SheetConstraints(int patch_side, int roi_radius = 0) {
-  DeformationConstraints c;
-  const int centre = kSide / 2;
-  for (int j = 0; j < kSide; ++j)
-    for (int i = 0; i < kSide; ++i) {
-      const auto v = static_cast<uint32_t>(j * kSide + i);
-      if (i == 0 || j == 0 || i == kSide - 1 || j == kSide - 1) c.fixed.push_back(v);
-      const int lo = centre - patch_side / 2;
-      if (i >= lo && i < lo + patch_side && j >= lo && j < lo + patch_side) c.handles.push_back(v);
-      if (roi_radius > 0 && (i - centre) * (i - centre) + (j - centre) * (j - centre) <= roi_radius * roi_radius)
-        c.region_of_interest.push_back(v);
-    }
-  return c;
-}
-
-// Handle targets for drag number `step`: the patch lifted and slid a little more each frame.
-std::vector<double> DragTargets(const LaplacianModel& model, const DeformationConstraints& c, int step) {
-  std::vector<double> t;
-  const double s = 0.001 * (step % 100);
-  for (uint32_t v : c.handles)
-    for (int k = 0; k < 3; ++k) t.push_back(model.rest_positions(v, k) + (k == 2 ? 3 * s : s));
-  return t;
 }
 
 // Puts the solver's size in the counters, or fails the benchmark with its
@@ -129,7 +102,7 @@ void BM_LaplacianDrag(benchmark::State& state) {
   int step = 0;
   for (auto _ : state) {
     state.PauseTiming();
-    const std::vector<double> targets = DragTargets(*model, c, ++step);
+    const std::vector<double> targets = armature_bench::SheetDragTargets(c, ++step);
     state.ResumeTiming();
     const Status st = solver->Solve(targets, out);
     benchmark::DoNotOptimize(out.data());
@@ -166,7 +139,7 @@ void BM_ArapRound(benchmark::State& state) {
   ArapOptions options;
   options.max_iterations = 1;
   options.tolerance = 0;
-  const std::vector<double> targets = DragTargets(*model, c, 50);
+  const std::vector<double> targets = armature_bench::SheetDragTargets(c, 50);
   if (!solver->Solve(targets, options, positions).ok()) state.SkipWithError("ARAP failed");
   options.warm_start = true;
   for (auto _ : state) {

@@ -11,10 +11,11 @@ namespace armature::server {
 
 // Estimated bytes of an asset's parsed data: skeletons (names, parents,
 // rest transforms, BVH channels, end sites), clip tracks (key times,
-// values, tangents) and morph-weight tracks, each skeleton counted once,
-// element storage only (no allocator overhead). The uploaded source is not
-// held in memory and is not counted; meshes are not counted yet (struct Mesh
-// is not part of this build).
+// values, tangents), morph-weight tracks and meshes (positions, normals,
+// triangles, skin and influences, morph targets, the skinning layout), each
+// skeleton and mesh counted once, element storage only (no allocator
+// overhead). The uploaded source is not held in memory and is not counted,
+// nor are deformation sessions' factorizations (they belong to sessions).
 size_t EstimateAssetBytes(const AssetContents& contents);
 
 // armature_assets_loaded{kind}, armature_assets_memory_bytes and

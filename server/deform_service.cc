@@ -30,13 +30,15 @@ namespace {
 // (and its factorization) lives exactly as long as the call.
 class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse> {
  public:
-  DeformSessionReactor(AssetStore& store, const Limits& limits, SessionLimiter& sessions, std::string client)
-      : store_(store), limits_(limits), sessions_(sessions), client_(std::move(client)) {
-    if (Status st = sessions_.Acquire(client_); !st.ok()) {
-      Finish(ToGrpcStatus(st));
+  DeformSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
+                       SessionAdmission& sessions)
+      : store_(store), limits_(limits) {
+    auto ticket = sessions.Admit(*context, SessionKind::kDeform);
+    if (!ticket.ok()) {
+      Finish(ToGrpcStatus(ticket.status()));
       return;
     }
-    holds_slot_ = true;
+    ticket_ = std::move(*ticket);
     StartRead(&request_);
   }
 
@@ -62,18 +64,14 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
     StartRead(&request_);
   }
 
-  void OnDone() override {
-    if (holds_slot_) sessions_.Release(client_);  // a call that never reached End (cancelled mid-solve)
-    delete this;
-  }
+  void OnDone() override { delete this; }  // the ticket, if still held (cancelled mid-solve), goes with it
 
  private:
   // Frees the factorization and the session slot before the client sees the
   // end, so a client that closes a session can open the next one at once.
   void End(const Status& status) {
     deformer_.reset();
-    if (holds_slot_) sessions_.Release(client_);
-    holds_slot_ = false;
+    ticket_.Release();
     Finish(ToGrpcStatus(status));
   }
 
@@ -102,9 +100,7 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
 
   AssetStore& store_;
   const Limits& limits_;
-  SessionLimiter& sessions_;
-  std::string client_;
-  bool holds_slot_ = false;
+  SessionAdmission::Ticket ticket_;  // this session's place
   uint64_t moves_ = 0;
   std::optional<MeshDeformer> deformer_;
   v1::DeformSessionRequest request_;
@@ -115,7 +111,7 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
 
 grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* DeformServiceImpl::DeformSession(
     grpc::CallbackServerContext* context) {
-  return new DeformSessionReactor(store_, limits_, sessions_, ClientKeyOf(*context));
+  return new DeformSessionReactor(context, store_, limits_, *sessions_);
 }
 
 }  // namespace armature::server

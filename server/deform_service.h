@@ -7,15 +7,16 @@
 #include "server/asset_store.h"
 #include "server/deformer_cache.h"
 #include "server/limits.h"
-#include "server/session_limiter.h"
+#include "server/session_admission.h"
 
 namespace armature::server {
 
 class DeformServiceImpl final : public v1::DeformService::CallbackService {
  public:
   // `cache` serves the unary Deform (sessions keep their own deformer).
-  DeformServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<DeformerCache> cache)
-      : store_(store), limits_(limits), sessions_(limits), cache_(std::move(cache)) {}
+  DeformServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
+                    std::shared_ptr<DeformerCache> cache)
+      : store_(store), limits_(limits), sessions_(std::move(sessions)), cache_(std::move(cache)) {}
 
   grpc::ServerUnaryReactor* Deform(grpc::CallbackServerContext* context, const v1::DeformRequest* request,
                                    v1::DeformResponse* response) override;
@@ -25,7 +26,7 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
  private:
   AssetStore& store_;
   const Limits& limits_;
-  SessionLimiter sessions_;
+  std::shared_ptr<SessionAdmission> sessions_;  // shared with the other session kinds
   std::shared_ptr<DeformerCache> cache_;
 };
 

@@ -35,7 +35,7 @@ grpc::ServerUnaryReactor* IkServiceImpl::SolveIk(grpc::CallbackServerContext* co
 
 grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>* IkServiceImpl::IkSession(
     grpc::CallbackServerContext* context) {
-  return new IkSessionReactor(context, store_, limits_, sessions_, *gate_);
+  return new IkSessionReactor(context, store_, limits_, *sessions_);
 }
 
 }  // namespace armature::server

@@ -1,7 +1,6 @@
 // IkService: one-shot inverse kinematics solves and interactive sessions.
 #pragma once
 
-#include <atomic>
 #include <memory>
 
 #include "armature/engine/ik_workspace.h"
@@ -9,14 +8,14 @@
 #include "server/asset_store.h"
 #include "server/ik_convert.h"
 #include "server/limits.h"
-#include "server/session_gate.h"
+#include "server/session_admission.h"
 
 namespace armature::server {
 
 class IkServiceImpl final : public v1::IkService::CallbackService {
  public:
-  IkServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionGate> sessions)
-      : store_(store), limits_(limits), gate_(std::move(sessions)) {}
+  IkServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions)
+      : store_(store), limits_(limits), sessions_(std::move(sessions)) {}
 
   grpc::ServerUnaryReactor* SolveIk(grpc::CallbackServerContext* context, const v1::SolveIkRequest* request,
                                     v1::SolveIkResponse* response) override;
@@ -26,8 +25,7 @@ class IkServiceImpl final : public v1::IkService::CallbackService {
  private:
   AssetStore& store_;
   const Limits& limits_;
-  std::shared_ptr<SessionGate> gate_;  // per-client session limit, shared with other session kinds
-  std::atomic<int> sessions_{0};       // open IkSession streams (--max-ik-sessions)
+  std::shared_ptr<SessionAdmission> sessions_;  // shared with the other session kinds
 };
 
 // Solves `call` (its request carrying any deadline and cancel check) and

@@ -18,16 +18,9 @@ Status InContext(const Status& status, uint64_t message) {
 }  // namespace
 
 IkSessionReactor::IkSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                                   std::atomic<int>& sessions, SessionGate& gate)
-    : context_(context), store_(store), limits_(limits), sessions_(sessions) {
-  const int open = sessions_.fetch_add(1, std::memory_order_relaxed) + 1;
-  if (open > limits_.max_ik_sessions) {
-    End(ToGrpcStatus(Status::ResourceExhausted(
-        "IkSession: the limit of " + std::to_string(limits_.max_ik_sessions) +
-        " concurrent IK sessions (--max-ik-sessions) is reached; close one and retry")));
-    return;
-  }
-  auto ticket = gate.Admit(*context);
+                                   SessionAdmission& sessions)
+    : context_(context), store_(store), limits_(limits) {
+  auto ticket = sessions.Admit(*context, SessionKind::kIk);
   if (!ticket.ok()) {
     End(ToGrpcStatus(ticket.status()));
     return;
@@ -53,21 +46,14 @@ void IkSessionReactor::OnWriteDone(bool ok) {
 void IkSessionReactor::OnDone() {
   spdlog::debug("IK session on '{}' done after {} messages",
                 call_.skeleton.part ? call_.skeleton.part->name : std::string("?"), index_);
-  ReleasePlaces();
-  delete this;
+  delete this;  // the ticket, if still held, goes with it
 }
 
 void IkSessionReactor::End(grpc::Status status) {
-  // Free the places before the client hears the session is over, so it can
+  // Free the place before the client hears the session is over, so it can
   // open another at once.
-  ReleasePlaces();
+  ticket_.Release();
   Finish(std::move(status));
-}
-
-void IkSessionReactor::ReleasePlaces() {
-  ticket_ = SessionGate::Ticket();
-  if (counted_) sessions_.fetch_sub(1, std::memory_order_relaxed);
-  counted_ = false;
 }
 
 Status IkSessionReactor::Answer() {

@@ -4,7 +4,6 @@
 // the messages and the state needs no lock. Everything is freed in OnDone.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 
 #include "armature/engine/ik_workspace.h"
@@ -12,17 +11,16 @@
 #include "server/asset_store.h"
 #include "server/ik_convert.h"
 #include "server/limits.h"
-#include "server/session_gate.h"
+#include "server/session_admission.h"
 
 namespace armature::server {
 
 class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse> {
  public:
-  // `sessions` counts open IK sessions; over limits.max_ik_sessions, or
-  // when `gate` refuses the client a place, the stream ends at once with
-  // RESOURCE_EXHAUSTED.
+  // When `sessions` refuses the client a place, the stream ends at once
+  // with its RESOURCE_EXHAUSTED.
   IkSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                   std::atomic<int>& sessions, SessionGate& gate);
+                   SessionAdmission& sessions);
 
   void OnReadDone(bool ok) override;
   void OnWriteDone(bool ok) override;
@@ -30,7 +28,6 @@ class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionReque
 
  private:
   void End(grpc::Status status);  // finishes the call (once)
-  void ReleasePlaces();           // the session limits' places; idempotent
   Status Answer();                // solves request_ into response_
   Status Start();   // the first message
   Status Update();  // a later one
@@ -38,9 +35,7 @@ class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionReque
   grpc::CallbackServerContext* context_;
   AssetStore& store_;
   const Limits& limits_;
-  std::atomic<int>& sessions_;
-  bool counted_ = true;          // holds a place in `sessions_`
-  SessionGate::Ticket ticket_;  // this client's place
+  SessionAdmission::Ticket ticket_;  // this session's place
 
   v1::IkSessionRequest request_;
   v1::SolveIkResponse response_;

@@ -1,5 +1,6 @@
 #include "server/mesh_deformer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -91,7 +92,7 @@ std::vector<double> MeshDeformer::RestHandlePositions() const {
 
 Status MeshDeformer::Solve(std::span<const double> handle_positions, const std::string& field,
                            v1::DeformResponse* response) {
-  positions_.resize(3 * vertex_count());
+  if (arap_) positions_.resize(3 * vertex_count());  // Laplacian answers straight into the response
   ARMATURE_RETURN_IF_ERROR(SolveInto(handle_positions, field, arap_options_.warm_start, positions_, response));
   arap_options_.warm_start = true;
   return Status::Ok();
@@ -99,7 +100,7 @@ Status MeshDeformer::Solve(std::span<const double> handle_positions, const std::
 
 Status MeshDeformer::SolveFresh(std::span<const double> handle_positions, const std::string& field,
                                 v1::DeformResponse* response) const {
-  std::vector<double> positions(3 * vertex_count());
+  std::vector<double> positions(arap_ ? 3 * vertex_count() : 0);  // Laplacian answers straight into the response
   return SolveInto(handle_positions, field, false, positions, response);
 }
 
@@ -111,21 +112,34 @@ Status MeshDeformer::SolveInto(std::span<const double> handle_positions, const s
   for (size_t i = 0; i < handle_positions.size(); ++i)
     if (!std::isfinite(handle_positions[i]))
       return Status::InvalidArgument(field + ": handle " + std::to_string(i / 3) + " has a non-finite coordinate");
+  // The answer is written straight into the response's buffer (no zero
+  // fill, no double copy for Laplacian): a drag's answer is 3 floats per
+  // vertex, the bulk of a move's time on a large mesh besides the solve.
+  auto* out = response->mutable_positions();
+  out->Clear();
+  const size_t n = 3 * vertex_count();
+  out->Reserve(static_cast<int>(n));
+  const std::span<float> floats(out->AddNAlreadyReserved(static_cast<int>(n)), n);
   int iterations = 0;
+  Status solved = Status::Ok();
   if (arap_) {
     ArapOptions options = arap_options_;
     options.warm_start = warm_start;
-    auto report = arap_->Solve(handle_positions, options, positions);
-    if (!report.ok()) return report.status();
-    iterations = report->iterations;
+    auto report = arap_->Solve(handle_positions, options, positions);  // doubles: a session's warm start
+    if (report.ok()) {
+      iterations = report->iterations;
+      std::transform(positions.begin(), positions.end(), floats.begin(), [](double x) { return static_cast<float>(x); });
+    }
+    solved = report.status();
   } else {
-    ARMATURE_RETURN_IF_ERROR(laplacian_->Solve(handle_positions, positions));
+    solved = laplacian_->Solve(handle_positions, floats);
+  }
+  if (!solved.ok()) {
+    out->Clear();
+    return solved;
   }
   response->set_mesh(mesh_.part->name);
   response->set_iterations(iterations);
-  auto* out = response->mutable_positions();
-  out->Resize(static_cast<int>(positions.size()), 0.0f);
-  for (size_t i = 0; i < positions.size(); ++i) (*out)[static_cast<int>(i)] = static_cast<float>(positions[i]);
   return Status::Ok();
 }
 

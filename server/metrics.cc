@@ -112,8 +112,6 @@ std::string Metrics::Render() const {
     out.Sample("armature_streams_in_flight", {}, static_cast<double>(streams_in_flight_));
     collectors = collectors_;
   }
-  out.Family("armature_sessions_active", "gauge", "IK and deformation sessions now open.");
-  out.Sample("armature_sessions_active", {}, static_cast<double>(sessions_.load()));
   for (const auto& collect : collectors) collect(out);
   return out.text();
 }

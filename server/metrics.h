@@ -4,7 +4,6 @@
 #pragma once
 
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -41,9 +40,6 @@ class Metrics {
   // The call ended with `code` (a gRPC code name such as "OK") after `seconds`.
   void RpcFinished(std::string_view method, bool streaming, std::string_view code, double seconds);
 
-  // Sessions (IK, deformation) currently open; their services add and remove.
-  std::atomic<int64_t>& sessions() { return sessions_; }
-
   // Further families computed at scrape time (e.g. the asset store's gauges).
   void AddCollector(std::function<void(PrometheusText&)> collect);
 
@@ -62,7 +58,6 @@ class Metrics {
   mutable std::mutex mu_;
   std::map<std::string, MethodStats, std::less<>> methods_;
   int64_t streams_in_flight_ = 0;
-  std::atomic<int64_t> sessions_{0};
   std::vector<std::function<void(PrometheusText&)>> collectors_;
 };
 

@@ -4,7 +4,6 @@
 #include <map>
 #include <stdexcept>
 
-#include "armature/v1/deform.grpc.pb.h"
 #include "cli_context.h"
 
 namespace armature::cli {
@@ -75,8 +74,7 @@ void AddDeformCommand(CLI::App& app, CliContext& ctx) {
       for (uint32_t v : f->fixed) request.add_fixed(v);
       for (const auto& h : f->handles) *request.add_handles() = ParseHandle(h);
       Client client = ctx.MakeClient();
-      auto stub = v1::DeformService::NewStub(client.channel());
-      const auto response = client.Call(&v1::DeformService::Stub::Deform, *stub, request);
+      const auto response = client.Deform(request);
       if (f->json) {
         PrintJson({{"mesh", response.mesh()},
                    {"positions", std::vector<float>(response.positions().begin(), response.positions().end())}},

@@ -92,7 +92,7 @@ Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
     : options_(std::move(options)), channel_(std::move(channel)),
       assets_(v1::AssetService::NewStub(channel_)), poses_(v1::PoseService::NewStub(channel_)),
       ik_(v1::IkService::NewStub(channel_)),
-      meshes_(v1::MeshService::NewStub(channel_)) {}
+      meshes_(v1::MeshService::NewStub(channel_)), deform_(v1::DeformService::NewStub(channel_)) {}
 
 void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
   const auto timeout = streaming ? options_.stream_timeout : options_.timeout;
@@ -187,22 +187,73 @@ v1::SolveIkResponse Client::SolveIk(const v1::SolveIkRequest& r) {
   return Call(&v1::IkService::Stub::SolveIk, *ik_, r);
 }
 
-std::unique_ptr<IkSession> Client::OpenIkSession(const v1::SolveIkRequest& start) {
-  std::unique_ptr<IkSession> session(new IkSession());
+template <class S, class Open>
+std::unique_ptr<S> Client::OpenSession(std::unique_ptr<S> session, Open open, const typename S::Request& first) {
   session->context_ = std::make_unique<grpc::ClientContext>();
   Prepare(*session->context_, true);
-  session->stream_ = ik_->IkSession(session->context_.get());
-  v1::IkSessionRequest first;
-  *first.mutable_start() = start;
+  session->stream_ = open(session->context_.get());
   session->Send(first);
   return session;
 }
 
-const v1::SolveIkResponse& IkSession::Send(const v1::IkSessionRequest& message) {
-  if (closed_) throw ClientError(grpc::Status(grpc::StatusCode::FAILED_PRECONDITION, "the IK session is closed"));
+std::unique_ptr<IkSession> Client::OpenIkSession(const v1::SolveIkRequest& start) {
+  v1::IkSessionRequest first;
+  *first.mutable_start() = start;
+  return OpenSession(std::unique_ptr<IkSession>(new IkSession()),
+                     [this](grpc::ClientContext* c) { return ik_->IkSession(c); }, first);
+}
+
+v1::DeformResponse Client::Deform(const v1::DeformRequest& r) {
+  return Call(&v1::DeformService::Stub::Deform, *deform_, r);
+}
+
+std::unique_ptr<DeformSession> Client::OpenDeformSession(const v1::DeformSessionStart& start) {
+  v1::DeformSessionRequest first;
+  *first.mutable_start() = start;
+  return OpenSession(std::unique_ptr<DeformSession>(new DeformSession()),
+                     [this](grpc::ClientContext* c) { return deform_->DeformSession(c); }, first);
+}
+
+template <class Request, class Response>
+const Response& Session<Request, Response>::Send(const Request& message) {
+  if (closed_)
+    throw ClientError(grpc::Status(grpc::StatusCode::FAILED_PRECONDITION, std::string("the ") + what_ + " is closed"));
   if (!stream_->Write(message) || !stream_->Read(&last_)) Fail();
   return last_;
 }
+
+template <class Request, class Response>
+void Session<Request, Response>::Fail() {
+  closed_ = true;
+  grpc::Status status = stream_->Finish();
+  if (status.ok())
+    status = grpc::Status(grpc::StatusCode::UNKNOWN, std::string("the server ended the ") + what_ + " without an answer");
+  throw ClientError(status);
+}
+
+template <class Request, class Response>
+void Session<Request, Response>::Close() {
+  if (closed_) return;
+  closed_ = true;
+  stream_->WritesDone();
+  Response extra;
+  while (stream_->Read(&extra)) {
+  }
+  Check(stream_->Finish());
+}
+
+template <class Request, class Response>
+Session<Request, Response>::~Session() {
+  if (closed_ || !stream_) return;
+  context_->TryCancel();
+  Response extra;
+  while (stream_->Read(&extra)) {
+  }
+  (void)stream_->Finish();
+}
+
+template class Session<v1::IkSessionRequest, v1::SolveIkResponse>;
+template class Session<v1::DeformSessionRequest, v1::DeformResponse>;
 
 const v1::SolveIkResponse& IkSession::MoveTarget(int effector, double x, double y, double z) {
   v1::IkSessionRequest message;
@@ -212,30 +263,10 @@ const v1::SolveIkResponse& IkSession::MoveTarget(int effector, double x, double 
   return Send(message);
 }
 
-void IkSession::Fail() {
-  closed_ = true;
-  grpc::Status status = stream_->Finish();
-  if (status.ok()) status = grpc::Status(grpc::StatusCode::UNKNOWN, "the server ended the IK session without an answer");
-  throw ClientError(status);
-}
-
-void IkSession::Close() {
-  if (closed_) return;
-  closed_ = true;
-  stream_->WritesDone();
-  v1::SolveIkResponse extra;
-  while (stream_->Read(&extra)) {
-  }
-  Check(stream_->Finish());
-}
-
-IkSession::~IkSession() {
-  if (closed_ || !stream_) return;
-  context_->TryCancel();
-  v1::SolveIkResponse extra;
-  while (stream_->Read(&extra)) {
-  }
-  (void)stream_->Finish();
+const v1::DeformResponse& DeformSession::Move(std::span<const double> handle_positions) {
+  v1::DeformSessionRequest message;
+  message.mutable_move()->mutable_positions()->Add(handle_positions.begin(), handle_positions.end());
+  return Send(message);
 }
 
 namespace {

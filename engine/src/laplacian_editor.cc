@@ -43,21 +43,22 @@ SparseMatrix RowsTouchingUnknowns(const LaplacianModel& model, const deformation
   return l;
 }
 
-template <class T>
-Status SolveInto(const DeformationSolver::Impl& s, std::span<const T> handle_positions, std::span<T> out) {
+// `In` is the handles' type, `Out` the output's; the arithmetic is in double.
+template <class In, class Out>
+Status SolveInto(const DeformationSolver::Impl& s, std::span<const In> handle_positions, std::span<Out> out) {
   const LaplacianModel& model = *s.model;
   const auto& p = s.partition;
   const size_t n = model.vertex_count(), nh = p.handles.size();
   ARMATURE_RETURN_IF_ERROR(deformation_internal::CheckSolveSpans(handle_positions, nh, out.size(), n));
-  Eigen::Map<Eigen::Matrix<T, Eigen::Dynamic, 3, Eigen::RowMajor>> o(out.data(), static_cast<Eigen::Index>(n), 3);
-  o = model.rest_positions.cast<T>();
+  Eigen::Map<Eigen::Matrix<Out, Eigen::Dynamic, 3, Eigen::RowMajor>> o(out.data(), static_cast<Eigen::Index>(n), 3);
+  o = model.rest_positions.cast<Out>();
   if (nh > 0 && !p.unknowns.empty()) {
     // U − V_h, padded to 4 columns so the update below runs on whole SIMD packets.
     Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> shift =
         Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>::Zero(static_cast<Eigen::Index>(nh), 4);
     for (size_t k = 0; k < nh; ++k)
       shift.row(static_cast<Eigen::Index>(k)).head<3>() =
-          Eigen::Map<const Eigen::Matrix<T, 1, 3>>(&handle_positions[3 * k]).template cast<double>() -
+          Eigen::Map<const Eigen::Matrix<In, 1, 3>>(&handle_positions[3 * k]).template cast<double>() -
           model.rest_positions.row(p.handles[k]);
     if (s.handle_basis.size() > 0) {
       // V′_u = V_u + G·(U − V_h), one row of G at a time: G is read once, in order.
@@ -66,21 +67,21 @@ Status SolveInto(const DeformationSolver::Impl& s, std::span<const T> handle_pos
         Eigen::Vector4d d = Eigen::Vector4d::Zero();
         for (size_t k = 0; k < nh; ++k) d += g[k] * shift.row(static_cast<Eigen::Index>(k)).transpose();
         const uint32_t v = p.unknowns[i];
-        o.row(v) = (model.rest_positions.row(v) + d.head<3>().transpose()).template cast<T>();
+        o.row(v) = (model.rest_positions.row(v) + d.head<3>().transpose()).template cast<Out>();
       }
     } else {
       deformation_internal::RowMatrixX3d displacement = s.handle_rhs * shift.leftCols<3>();
       s.system.SolveInPlace(displacement);
       for (size_t i = 0; i < p.unknowns.size(); ++i) {
         const uint32_t v = p.unknowns[i];
-        o.row(v) = (model.rest_positions.row(v) + displacement.row(static_cast<Eigen::Index>(i))).template cast<T>();
+        o.row(v) = (model.rest_positions.row(v) + displacement.row(static_cast<Eigen::Index>(i))).template cast<Out>();
       }
     }
   }
   // Hard handles are not unknowns: they sit exactly where they were asked to.
   if (!p.soft)
     for (size_t k = 0; k < nh; ++k)
-      o.row(p.handles[k]) = Eigen::Map<const Eigen::Matrix<T, 1, 3>>(&handle_positions[3 * k]);
+      o.row(p.handles[k]) = Eigen::Map<const Eigen::Matrix<In, 1, 3>>(&handle_positions[3 * k]).template cast<Out>();
   return Status::Ok();
 }
 
@@ -134,6 +135,10 @@ Status DeformationSolver::Solve(std::span<const double> handle_positions, std::s
   return SolveInto(*impl_, handle_positions, out);
 }
 Status DeformationSolver::Solve(std::span<const float> handle_positions, std::span<float> out) const {
+  return SolveInto(*impl_, handle_positions, out);
+}
+
+Status DeformationSolver::Solve(std::span<const double> handle_positions, std::span<float> out) const {
   return SolveInto(*impl_, handle_positions, out);
 }
 

@@ -5,7 +5,9 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numbers>
+#include <string>
 #include <vector>
 
 namespace armature::fixtures {
@@ -67,6 +69,23 @@ inline GeneratedMesh Concatenate(const GeneratedMesh& a, const GeneratedMesh& b,
   m.triangles = a.triangles;
   for (uint32_t v : b.triangles) m.triangles.push_back(v + static_cast<uint32_t>(a.positions.rows()));
   return m;
+}
+
+// The mesh as OBJ text (v and f lines, positions to 9 significant digits),
+// for tests and benchmarks that import it into the server.
+inline std::string ToObj(const GeneratedMesh& m) {
+  std::string obj;
+  obj.reserve(static_cast<size_t>(m.positions.rows()) * 40 + m.triangles.size() * 10);
+  char line[96];
+  for (Eigen::Index v = 0; v < m.positions.rows(); ++v) {
+    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", m.positions(v, 0), m.positions(v, 1), m.positions(v, 2));
+    obj += line;
+  }
+  for (size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
+    std::snprintf(line, sizeof line, "f %u %u %u\n", m.triangles[t] + 1, m.triangles[t + 1] + 1, m.triangles[t + 2] + 1);
+    obj += line;
+  }
+  return obj;
 }
 
 }  // namespace armature::fixtures

@@ -274,6 +274,11 @@ TEST(LaplacianEditor, FloatSpansMatchDoubles) {
   std::vector<float> out(3 * mesh.positions.rows());
   ASSERT_TRUE(solver->Solve(std::span<const float>(target_f), std::span<float>(out)).ok());
   for (size_t i = 0; i < out.size(); ++i) EXPECT_NEAR(out[i], d(static_cast<Eigen::Index>(i / 3), i % 3), 1e-5);
+  // Double handles into floats (an API answer): the double result, rounded once.
+  const std::vector<double> target_d = Interleave(targets);
+  ASSERT_TRUE(solver->Solve(std::span<const double>(target_d), std::span<float>(out)).ok());
+  for (size_t i = 0; i < out.size(); ++i)
+    EXPECT_EQ(out[i], static_cast<float>(d(static_cast<Eigen::Index>(i / 3), i % 3))) << i;
 }
 
 TEST(LaplacianEditor, OneShotDeformMatchesSolver) {

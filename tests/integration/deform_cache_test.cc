@@ -50,7 +50,7 @@ struct Served {
   Served(const TempDir& data, std::vector<std::string> args)
       : server(data.path(), std::move(args)), client(OptionsFor(server)), stub(v1::DeformService::NewStub(client.channel())) {}
   v1::DeformResponse Call(const v1::DeformRequest& r) { return client.Call(&v1::DeformService::Stub::Deform, *stub, r); }
-  double Metric(const std::string& name) { return ScrapeMetrics(server).at(name); }
+  double Metric(const std::string& name) { return Scrape(server).at(name); }
 };
 
 class DeformCache : public ::testing::Test {

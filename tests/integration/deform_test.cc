@@ -76,7 +76,7 @@ class Deform : public ::testing::Test {
     stub_ = v1::DeformService::NewStub(client_->channel());
   }
 
-  v1::DeformResponse Call(const v1::DeformRequest& r) { return client_->Call(&v1::DeformService::Stub::Deform, *stub_, r); }
+  v1::DeformResponse Call(const v1::DeformRequest& r) { return client_->Deform(r); }
 
   TempDir data_;
   Grid grid_;
@@ -234,6 +234,50 @@ TEST_F(Deform, SessionBadMoveEndsItNamingTheField) {
   EXPECT_NE(st.error_message().find("move[1].positions"), std::string::npos) << st.error_message();
 }
 
+// The client library's session: the same answers as the raw stream, errors as ClientError.
+TEST_F(Deform, ClientSessionMovesLikeTheStreamAndThrowsOnBadMoves) {
+  const Edit e = BumpEdit(grid_);
+  v1::DeformSessionStart start;
+  start.mutable_setup()->set_mesh(mesh_);
+  start.mutable_setup()->set_method(v1::ARAP);
+  for (uint32_t v : e.fixed) start.mutable_setup()->add_fixed(v);
+  for (uint32_t v : e.handles) start.add_handle_indices(v);
+  auto session = client_->OpenDeformSession(start);
+  ASSERT_EQ(session->last().positions_size(), 3 * grid_.n * grid_.n);
+  for (int i = 0; i < session->last().positions_size(); ++i)
+    ASSERT_NEAR(session->last().positions(i), grid_.positions[i], 1e-6) << i;  // the rest shape
+  grpc::ClientContext context;
+  v1::DeformResponse first;
+  auto stream = OpenSession(*stub_, context, mesh_, e, v1::ARAP, &first);
+  for (int k = 1; k <= 3; ++k) {
+    const std::vector<double> target = {e.targets[0] * k / 3, e.targets[1], e.targets[2] * k / 3};
+    const v1::DeformResponse& mine = session->Move(target);
+    v1::DeformSessionRequest move;
+    move.mutable_move()->mutable_positions()->Add(target.begin(), target.end());
+    v1::DeformResponse theirs;
+    ASSERT_TRUE(stream->Write(move) && stream->Read(&theirs));
+    EXPECT_EQ(mine.index(), static_cast<uint64_t>(k));
+    EXPECT_GT(mine.iterations(), 0);
+    ASSERT_EQ(mine.positions_size(), theirs.positions_size());
+    for (int i = 0; i < mine.positions_size(); ++i) ASSERT_EQ(mine.positions(i), theirs.positions(i)) << k << ": " << i;
+    for (int a = 0; a < 3; ++a)
+      EXPECT_EQ(mine.positions(static_cast<int>(3 * e.handles[0]) + a), static_cast<float>(target[a]));
+  }
+  stream->WritesDone();
+  EXPECT_TRUE(stream->Finish().ok());
+  const std::vector<double> two_values = {1, 2};
+  EXPECT_EQ(CodeOf([&] { session->Move(two_values); }), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(MessageOf([&] { session->Move(two_values); }).find("is closed"), std::string::npos);
+  EXPECT_EQ(CodeOf([&] { session->Move(two_values); }), grpc::StatusCode::FAILED_PRECONDITION);
+  session->Close();  // already ended: nothing to do
+  auto bad = [&] {
+    v1::DeformSessionStart unknown = start;
+    unknown.mutable_setup()->set_mesh("nope");
+    client_->OpenDeformSession(unknown);
+  };
+  EXPECT_EQ(CodeOf(bad), grpc::StatusCode::NOT_FOUND);
+}
+
 TEST_F(Deform, SessionsPerClientAreLimitedAndFreedWhenTheyEnd) {
   const Edit e = BumpEdit(grid_);
   std::vector<std::unique_ptr<grpc::ClientContext>> contexts;
@@ -251,7 +295,7 @@ TEST_F(Deform, SessionsPerClientAreLimitedAndFreedWhenTheyEnd) {
     EXPECT_EQ(first.positions_size(), 0);
     const grpc::Status st = refused->Finish();
     EXPECT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
-    EXPECT_NE(st.error_message().find("max_sessions_per_client"), std::string::npos) << st.error_message();
+    EXPECT_NE(st.error_message().find("--max-sessions-per-client (3)"), std::string::npos) << st.error_message();
   }
   open[0]->WritesDone();
   EXPECT_TRUE(open[0]->Finish().ok());
@@ -283,7 +327,7 @@ TEST_F(Deform, SessionsInAllAreLimited) {
   EXPECT_EQ(first.positions_size(), 0);
   const grpc::Status st = s3->Finish();
   EXPECT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
-  EXPECT_NE(st.error_message().find("max_sessions (2)"), std::string::npos) << st.error_message();
+  EXPECT_NE(st.error_message().find("--max-sessions (2)"), std::string::npos) << st.error_message();
   for (auto* s : {s1.get(), s2.get()}) {
     s->WritesDone();
     EXPECT_TRUE(s->Finish().ok());
@@ -318,11 +362,9 @@ TEST_F(Deform, MeshOverMaxMeshVerticesIsResourceExhausted) {
   server_->Stop(SIGTERM);
   ServerProcess small(data_.path(), {"--no-demo", "--max-mesh-vertices", "100"});
   Client client(OptionsFor(small));
-  auto stub = v1::DeformService::NewStub(client.channel());
   const v1::DeformRequest r = RequestFor(mesh_, BumpEdit(grid_), v1::UNIFORM);
-  const std::string message = MessageOf([&] { client.Call(&v1::DeformService::Stub::Deform, *stub, r); });
-  EXPECT_EQ(CodeOf([&] { client.Call(&v1::DeformService::Stub::Deform, *stub, r); }),
-            grpc::StatusCode::RESOURCE_EXHAUSTED);
+  const std::string message = MessageOf([&] { client.Deform(r); });
+  EXPECT_EQ(CodeOf([&] { client.Deform(r); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
   EXPECT_NE(message.find("max_mesh_vertices"), std::string::npos) << message;
   EXPECT_NE(message.find("289 vertices"), std::string::npos) << message;
 }

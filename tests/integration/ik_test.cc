@@ -23,6 +23,7 @@
 #include "../common/sse_events.h"
 #include "armature/client.h"
 #include "client_helpers.h"
+#include "metrics_scrape.h"
 #include "server_process.h"
 
 namespace armature::testing {
@@ -607,13 +608,9 @@ TEST_F(IkApi, SessionErrorsAndTheSessionLimit) {
   EXPECT_NE(CodeOf([&] { open->MoveTarget(0, 1, 2, 3); }), grpc::StatusCode::OK);
 }
 
-// The armature_sessions_active gauge of /metrics.
+// The armature_sessions_active{kind="ik"} gauge of /metrics.
 double OpenSessionsGauge(const ServerProcess& server) {
-  httplib::Client http("127.0.0.1", server.http_port());
-  const auto r = http.Get("/metrics");
-  if (!r || r->status != 200) return -1;
-  const size_t at = r->body.find("\narmature_sessions_active ");
-  return at == std::string::npos ? -1 : std::stod(r->body.substr(at + 26));
+  return ScrapeSample(server, "armature_sessions_active{kind=\"ik\"}");
 }
 
 TEST_F(IkApi, SessionsPerClientAndTheGauge) {

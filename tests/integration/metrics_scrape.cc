@@ -9,7 +9,7 @@
 
 namespace armature::testing {
 
-std::map<std::string, double> ParseMetricSamples(const std::string& text) {
+std::map<std::string, double> ParseSamples(const std::string& text) {
   std::map<std::string, double> samples;
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) {
@@ -20,10 +20,16 @@ std::map<std::string, double> ParseMetricSamples(const std::string& text) {
   return samples;
 }
 
-std::map<std::string, double> ScrapeMetrics(const ServerProcess& server) {
+std::map<std::string, double> Scrape(const ServerProcess& server) {
   const HttpResponse r = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
   EXPECT_EQ(r.status, 200) << r.error;
-  return ParseMetricSamples(r.body);
+  return r.status == 200 ? ParseSamples(r.body) : std::map<std::string, double>{};
+}
+
+double ScrapeSample(const ServerProcess& server, const std::string& sample) {
+  const auto samples = Scrape(server);
+  const auto it = samples.find(sample);
+  return it == samples.end() ? -1 : it->second;
 }
 
 }  // namespace armature::testing

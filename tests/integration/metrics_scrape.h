@@ -1,4 +1,4 @@
-// Reading the server's /metrics (Prometheus text format) in tests.
+// Reading /metrics (Prometheus text format) in tests.
 #pragma once
 
 #include <map>
@@ -9,9 +9,12 @@
 namespace armature::testing {
 
 // Samples of a scrape: "name{labels}" → value, labels as written by the server.
-std::map<std::string, double> ParseMetricSamples(const std::string& text);
+std::map<std::string, double> ParseSamples(const std::string& text);
 
-// GET /metrics from `server` (a failed GET fails the test), parsed.
-std::map<std::string, double> ScrapeMetrics(const ServerProcess& server);
+// GET /metrics of `server`, parsed (a failed GET fails the test and gives no samples).
+std::map<std::string, double> Scrape(const ServerProcess& server);
+
+// One sample of a fresh scrape, e.g. `armature_sessions_active{kind="ik"}`; -1 when absent.
+double ScrapeSample(const ServerProcess& server, const std::string& sample);
 
 }  // namespace armature::testing

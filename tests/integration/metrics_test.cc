@@ -1,5 +1,6 @@
 // GET /metrics in the Prometheus text format, and the per-call request log.
 #include <atomic>
+#include <cstdio>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../engine/generated_meshes.h"
 #include "armature/client.h"
 #include "client_helpers.h"
 #include "http_get.h"
@@ -38,7 +40,7 @@ TEST(Metrics, HistogramsCountsAndAssetGauges) {
 
   const HttpResponse raw = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
   EXPECT_NE(raw.body.find("# TYPE armature_rpc_duration_seconds histogram"), std::string::npos) << raw.body;
-  const auto m = ParseMetricSamples(raw.body);
+  const auto m = ParseSamples(raw.body);
   // The histogram of EvaluateClip: three calls, cumulative buckets ending in +Inf = count.
   const std::string method = kEvaluate;
   EXPECT_EQ(m.at(Bucket(method, "+Inf")), 3);
@@ -67,7 +69,29 @@ TEST(Metrics, HistogramsCountsAndAssetGauges) {
   EXPECT_LT(small, 1 << 20);
   // A 1000-frame clip adds at least its 2 × 1000 rotation keys.
   client.Import({"long.bvh", ArmBvhWithFrames(1000)});
-  EXPECT_GE(ScrapeMetrics(server).at("armature_assets_memory_bytes") - small, 2 * 1000 * (8 + 32));
+  EXPECT_GE(Scrape(server).at("armature_assets_memory_bytes") - small, 2 * 1000 * (8 + 32));
+}
+
+// A mesh adds at least its raw vertex data: float positions and 32-bit triangle indices.
+TEST(Metrics, ImportedMeshesCountInAssetMemory) {
+  TempDir data;
+  ServerProcess server(data.path(), {"--no-demo"});
+  Client client(OptionsFor(server));
+  const double before = Scrape(server).at("armature_assets_memory_bytes");
+  const fixtures::GeneratedMesh grid = fixtures::MakeGrid(100, 100, 1, 1);
+  const auto imported = client.Import({"grid.obj", fixtures::ToObj(grid)}, "grid");
+  ASSERT_EQ(imported.asset().meshes_size(), 1);
+  const double vertices = 100 * 100, triangles = 99 * 99 * 2;
+  const double raw = vertices * 3 * sizeof(float) + triangles * 3 * sizeof(uint32_t);
+  const auto m = Scrape(server);
+  EXPECT_EQ(m.at("armature_assets_loaded{kind=\"mesh\"}"), 1);
+  const double grown = m.at("armature_assets_memory_bytes") - before;
+  std::printf("a %g-vertex, %g-triangle mesh: +%g bytes (raw vertex data %g)\n", vertices, triangles, grown, raw);
+  EXPECT_GE(grown, raw);
+  // Copies of the vertex data (normals, the skinning layout's positions and order) but nothing per pair of vertices.
+  EXPECT_LT(grown, 4 * raw);
+  client.DeleteAsset("grid");
+  EXPECT_EQ(Scrape(server).at("armature_assets_memory_bytes"), before);
 }
 
 // A call to a method the server does not have, through gRPC's generic stub.
@@ -95,7 +119,7 @@ TEST(Metrics, MadeUpMethodsShareOneLabel) {
     EXPECT_EQ(CallUnknownMethod(client, "/made.Up/Method" + std::to_string(i)), grpc::StatusCode::UNIMPLEMENTED);
   const HttpResponse r = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
   EXPECT_EQ(r.body.find("made.Up"), std::string::npos) << r.body;
-  EXPECT_EQ(ParseMetricSamples(r.body).at("armature_rpc_requests_total{method=\"unknown\",code=\"UNIMPLEMENTED\"}"), 3);
+  EXPECT_EQ(ParseSamples(r.body).at("armature_rpc_requests_total{method=\"unknown\",code=\"UNIMPLEMENTED\"}"), 3);
 }
 
 TEST(Metrics, StreamsInFlightGauge) {
@@ -114,13 +138,13 @@ TEST(Metrics, StreamsInFlightGauge) {
     });
   });
   ASSERT_TRUE(WaitFor([&] { return frames > 2; }, 30));
-  auto m = ScrapeMetrics(server);
+  auto m = Scrape(server);
   EXPECT_EQ(m.at("armature_streams_in_flight"), 1);
   EXPECT_EQ(m.at("armature_rpc_in_flight{method=\"armature.v1.PoseService/StreamClip\"}"), 1);
   stop = true;
   streamer.join();
-  EXPECT_TRUE(WaitFor([&] { return ScrapeMetrics(server).at("armature_streams_in_flight") == 0; }, 30));
-  m = ScrapeMetrics(server);
+  EXPECT_TRUE(WaitFor([&] { return Scrape(server).at("armature_streams_in_flight") == 0; }, 30));
+  m = Scrape(server);
   EXPECT_EQ(m.at("armature_rpc_in_flight{method=\"armature.v1.PoseService/StreamClip\"}"), 0);
   EXPECT_EQ(m.at("armature_rpc_duration_seconds_count{method=\"armature.v1.PoseService/StreamClip\"}"), 1);
 }

@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 
 #include <grpcpp/grpcpp.h>
 
 #include "armature/v1/assets.grpc.pb.h"
+#include "armature/v1/deform.grpc.pb.h"
 #include "armature/v1/ik.grpc.pb.h"
 #include "armature/v1/meshes.grpc.pb.h"
 #include "armature/v1/poses.grpc.pb.h"
@@ -47,34 +49,62 @@ struct UploadFile {
   std::string bytes;
 };
 
-// An open IK session (Client::OpenIkSession): each message sends new
-// targets and waits for the pose that reaches them, solved from the last
-// one. One thread at a time; the Client must outlive it. Throws ClientError
-// when the server ends the session with an error.
-class IkSession {
+// An open bidirectional session (IK or deformation): each message is sent
+// and its answer awaited, in turn. One thread at a time; the Client must
+// outlive it. Throws ClientError when the server ends the session with an
+// error.
+template <class RequestT, class ResponseT>
+class Session {
  public:
-  IkSession(const IkSession&) = delete;
-  IkSession& operator=(const IkSession&) = delete;
-  ~IkSession();  // cancels the session unless Close() ended it
+  using Request = RequestT;
+  using Response = ResponseT;
 
-  // The answer to the last message (after opening: to the start request).
-  const v1::SolveIkResponse& last() const { return last_; }
-  // Sends one message (new targets) and waits for its answer.
-  const v1::SolveIkResponse& Send(const v1::IkSessionRequest& message);
-  // Moves effector `effector`'s target position (its index in the start request).
-  const v1::SolveIkResponse& MoveTarget(int effector, double x, double y, double z);
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+  ~Session();  // cancels the session unless Close() ended it
+
+  // The answer to the last message (after opening: to the start message).
+  const Response& last() const { return last_; }
+  // Sends one message and waits for its answer.
+  const Response& Send(const Request& message);
   // Ends the session; throws ClientError if the server ended it with an error.
   void Close();
 
- private:
+ protected:
   friend class Client;
-  IkSession() = default;
+  explicit Session(const char* what) : what_(what) {}
   [[noreturn]] void Fail();  // the stream broke: finishes it and throws its status
 
+  const char* what_;  // "IK session", for messages
   std::unique_ptr<grpc::ClientContext> context_;
-  std::unique_ptr<grpc::ClientReaderWriter<v1::IkSessionRequest, v1::SolveIkResponse>> stream_;
-  v1::SolveIkResponse last_;
+  std::unique_ptr<grpc::ClientReaderWriter<Request, Response>> stream_;
+  Response last_;
   bool closed_ = false;
+};
+
+// An IK session (Client::OpenIkSession): each message sends new targets and
+// gets the pose that reaches them, solved from the last one.
+class IkSession : public Session<v1::IkSessionRequest, v1::SolveIkResponse> {
+ public:
+  // Moves effector `effector`'s target position (its index in the start request).
+  const v1::SolveIkResponse& MoveTarget(int effector, double x, double y, double z);
+
+ private:
+  friend class Client;
+  IkSession() : Session("IK session") {}
+};
+
+// A deformation (drag) session (Client::OpenDeformSession): the server
+// factors the start's constraints once; each move sends the handle positions
+// and gets every vertex position back.
+class DeformSession : public Session<v1::DeformSessionRequest, v1::DeformResponse> {
+ public:
+  // x, y, z per handle, in the start's handle_indices order.
+  const v1::DeformResponse& Move(std::span<const double> handle_positions);
+
+ private:
+  friend class Client;
+  DeformSession() : Session("deformation session") {}
 };
 
 class Client {
@@ -107,6 +137,13 @@ class Client {
   // Opens an IK session and solves `start`; its answer is last(). The
   // session's deadline is ClientOptions::stream_timeout.
   std::unique_ptr<IkSession> OpenIkSession(const v1::SolveIkRequest& start);
+
+  // Mesh editing (Laplacian / ARAP): one edit, every vertex position back.
+  v1::DeformResponse Deform(const v1::DeformRequest& request);
+  // Opens a drag session: the server factors `start` once and answers with
+  // the rest shape (last()). The session's deadline is ClientOptions::stream_timeout.
+  std::unique_ptr<DeformSession> OpenDeformSession(const v1::DeformSessionStart& start);
+
   v1::ListMeshesResponse ListMeshes();
   v1::MeshInfo GetMesh(const std::string& mesh);
   v1::MeshGeometry GetMeshGeometry(const std::string& mesh);
@@ -139,6 +176,11 @@ class Client {
   std::unique_ptr<v1::PoseService::Stub> poses_;
   std::unique_ptr<v1::IkService::Stub> ik_;
   std::unique_ptr<v1::MeshService::Stub> meshes_;
+  std::unique_ptr<v1::DeformService::Stub> deform_;
+
+  // Opens `stream` on `session` with this client's stream deadline and sends `first`.
+  template <class S, class Open>
+  std::unique_ptr<S> OpenSession(std::unique_ptr<S> session, Open open, const typename S::Request& first);
 };
 
 // Throws ClientError unless `status` is OK.

@@ -56,6 +56,8 @@ class DeformationSolver {
   // unknowns × 3 under back-substitution.
   Status Solve(std::span<const double> handle_positions, std::span<double> out) const;
   Status Solve(std::span<const float> handle_positions, std::span<float> out) const;
+  // Double handles, float output (what an API answer carries), no double copy in between.
+  Status Solve(std::span<const double> handle_positions, std::span<float> out) const;
 
   const LaplacianModel& model() const;
   size_t handle_count() const;
