@@ -50,7 +50,10 @@ Eigen::Vector3d DqsReference(const Mesh& m, const std::vector<Eigen::Affine3d>& 
 }
 
 // A skeleton of `n` joints in a random tree, posed randomly, and a mesh
-// whose vertices have 1 … 12 influences (every kernel, including the generic one).
+// whose vertices have 1 … 12 influences (every kernel, including the generic
+// one), 20 vertices each: interleaved (v % 12, so no two consecutive
+// vertices share a kernel and stores scatter) or, with `grouped`, in runs of
+// 20 (whole batches of consecutive vertices, then a partial batch).
 struct RandomRig {
   std::shared_ptr<Skeleton> skeleton;
   std::vector<Trs> pose;
@@ -58,7 +61,7 @@ struct RandomRig {
   Mesh mesh;
 };
 
-RandomRig MakeRandomRig(bool uniform_scale, unsigned seed) {
+RandomRig MakeRandomRig(bool uniform_scale, unsigned seed, bool grouped = false) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   RandomRig r;
@@ -96,7 +99,7 @@ RandomRig MakeRandomRig(bool uniform_scale, unsigned seed) {
   for (int v = 0; v < 240; ++v) {
     m.positions.emplace_back(Eigen::Vector3f::Random());
     m.normals.emplace_back(Eigen::Vector3f::Random().normalized());
-    const int count = 1 + v % 12;
+    const int count = 1 + (grouped ? v / 20 : v % 12);
     std::vector<int> chosen(joints);
     std::iota(chosen.begin(), chosen.end(), 0);
     std::shuffle(chosen.begin(), chosen.end(), rng);
@@ -111,8 +114,9 @@ RandomRig MakeRandomRig(bool uniform_scale, unsigned seed) {
 }
 
 TEST(Skinning, LinearBlendMatchesTheFormulaForAnyInfluenceCount) {
-  for (bool scaled : {false, true}) {
-    const RandomRig r = MakeRandomRig(scaled, 7);
+  for (auto [scaled, grouped] : {std::pair{false, false}, {true, false}, {false, true}, {true, true}}) {
+    SCOPED_TRACE(std::string(scaled ? "scaled" : "rigid") + (grouped ? ", grouped" : ", interleaved"));
+    const RandomRig r = MakeRandomRig(scaled, 7, grouped);
     const size_t n = r.mesh.vertex_count();
     std::vector<float> positions(3 * n), normals(3 * n);
     SkinningWorkspace ws;
@@ -132,19 +136,22 @@ TEST(Skinning, LinearBlendMatchesTheFormulaForAnyInfluenceCount) {
 }
 
 TEST(Skinning, DualQuaternionMatchesTheFormulaForAnyInfluenceCount) {
-  const RandomRig r = MakeRandomRig(false, 11);
-  const size_t n = r.mesh.vertex_count();
-  std::vector<float> positions(3 * n), normals(3 * n);
-  SkinningWorkspace ws;
-  SkinningOptions options;
-  options.method = SkinningMethod::kDualQuaternion;
-  ASSERT_TRUE(SkinPose(r.mesh, *r.skeleton, r.pose, options, positions, normals, ws).ok());
-  for (size_t v = 0; v < n; ++v) {
-    Eigen::Vector3d normal;
-    const Eigen::Vector3d p = DqsReference(r.mesh, r.world, v, &normal);
-    for (int c = 0; c < 3; ++c) {
-      EXPECT_NEAR(positions[3 * v + c], p[c], 2e-5) << "vertex " << v;
-      EXPECT_NEAR(normals[3 * v + c], normal[c], 2e-5) << "vertex " << v;
+  for (bool grouped : {false, true}) {
+    SCOPED_TRACE(grouped ? "grouped" : "interleaved");
+    const RandomRig r = MakeRandomRig(false, 11, grouped);
+    const size_t n = r.mesh.vertex_count();
+    std::vector<float> positions(3 * n), normals(3 * n);
+    SkinningWorkspace ws;
+    SkinningOptions options;
+    options.method = SkinningMethod::kDualQuaternion;
+    ASSERT_TRUE(SkinPose(r.mesh, *r.skeleton, r.pose, options, positions, normals, ws).ok());
+    for (size_t v = 0; v < n; ++v) {
+      Eigen::Vector3d normal;
+      const Eigen::Vector3d p = DqsReference(r.mesh, r.world, v, &normal);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(positions[3 * v + c], p[c], 2e-5) << "vertex " << v;
+        EXPECT_NEAR(normals[3 * v + c], normal[c], 2e-5) << "vertex " << v;
+      }
     }
   }
 }
