@@ -21,7 +21,11 @@ Status Deform(DeformerCache& cache, const std::shared_ptr<const Catalog>& catalo
 
 grpc::ServerUnaryReactor* DeformServiceImpl::Deform(grpc::CallbackServerContext* context,
                                                     const v1::DeformRequest* request, v1::DeformResponse* response) {
-  return FinishUnary(context, server::Deform(*cache_, store_.Snapshot(), limits_, *request, response));
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  solves_.Enqueue([this, reactor, request, response, catalog = store_.Snapshot()] {
+    reactor->Finish(ToGrpcStatus(server::Deform(*cache_, catalog, limits_, *request, response)));
+  });
+  return reactor;
 }
 
 namespace {
@@ -31,8 +35,8 @@ namespace {
 class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse> {
  public:
   DeformSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                       SessionAdmission& sessions)
-      : store_(store), limits_(limits) {
+                       SessionAdmission& sessions, ElasticThreadPool& setups)
+      : store_(store), limits_(limits), setups_(setups) {
     auto ticket = sessions.Admit(*context, SessionKind::kDeform);
     if (!ticket.ok()) {
       Finish(ToGrpcStatus(ticket.status()));
@@ -47,6 +51,14 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
       End(Status::Ok());
       return;
     }
+    if (!deformer_) {  // the setup factors: off the callback thread
+      setups_.Enqueue([this] { Answer(); });
+      return;
+    }
+    Answer();  // a move is a back-substitution: milliseconds
+  }
+
+  void Answer() {
     response_.Clear();
     const Status st = Handle();
     if (!st.ok()) {
@@ -100,6 +112,7 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
 
   AssetStore& store_;
   const Limits& limits_;
+  ElasticThreadPool& setups_;
   SessionAdmission::Ticket ticket_;  // this session's place
   uint64_t moves_ = 0;
   std::optional<MeshDeformer> deformer_;
@@ -111,7 +124,7 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
 
 grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* DeformServiceImpl::DeformSession(
     grpc::CallbackServerContext* context) {
-  return new DeformSessionReactor(context, store_, limits_, *sessions_);
+  return new DeformSessionReactor(context, store_, limits_, *sessions_, solves_);
 }
 
 }  // namespace armature::server

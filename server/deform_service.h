@@ -3,9 +3,13 @@
 
 #include <memory>
 
+#include <algorithm>
+#include <thread>
+
 #include "armature/v1/deform.grpc.pb.h"
 #include "server/asset_store.h"
 #include "server/deformer_cache.h"
+#include "server/elastic_thread_pool.h"
 #include "server/limits.h"
 #include "server/session_admission.h"
 
@@ -16,7 +20,8 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
   // `cache` serves the unary Deform (sessions keep their own deformer).
   DeformServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
                     std::shared_ptr<DeformerCache> cache)
-      : store_(store), limits_(limits), sessions_(std::move(sessions)), cache_(std::move(cache)) {}
+      : store_(store), limits_(limits), sessions_(std::move(sessions)), cache_(std::move(cache)),
+        solves_(std::max(4u, 2 * std::thread::hardware_concurrency())) {}
 
   grpc::ServerUnaryReactor* Deform(grpc::CallbackServerContext* context, const v1::DeformRequest* request,
                                    v1::DeformResponse* response) override;
@@ -28,6 +33,10 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
   const Limits& limits_;
   std::shared_ptr<SessionAdmission> sessions_;  // shared with the other session kinds
   std::shared_ptr<DeformerCache> cache_;
+  // Factorizations take seconds on large meshes: they run here, not on
+  // gRPC's callback threads, so other calls keep being served. Last member:
+  // destroyed first, after the server drained, running what is queued.
+  ElasticThreadPool solves_;
 };
 
 // The unary handler's work, callable without gRPC.

@@ -2,7 +2,7 @@
 
 namespace armature::server {
 
-void ElasticThreadPool::enqueue(std::function<void()> fn) {
+void ElasticThreadPool::Enqueue(std::function<void()> fn) {
   std::lock_guard lock(mu_);
   jobs_.push_back(std::move(fn));
   // Jobs beyond the idle workers get a new thread, up to the maximum; past
@@ -11,7 +11,7 @@ void ElasticThreadPool::enqueue(std::function<void()> fn) {
   cv_.notify_one();
 }
 
-void ElasticThreadPool::shutdown() {
+void ElasticThreadPool::Shutdown() {
   std::vector<std::thread> threads;
   {
     std::lock_guard lock(mu_);

@@ -1,8 +1,9 @@
-// The HTTP server's task queue: a thread per connection being served, made
-// on demand up to a maximum. cpp-httplib keeps a connection on one worker for
-// its whole keep-alive life and an SSE stream for as long as it plays, so a
-// fixed pool of a few threads would let a handful of streams or slow clients
-// block every other request.
+// A task queue with a thread per job being run, made on demand up to a
+// maximum; jobs beyond it wait. The HTTP server's connections use one
+// (cpp-httplib keeps a connection on one worker for its whole keep-alive life
+// and an SSE stream for as long as it plays, so a fixed pool of a few threads
+// would let a handful of streams or slow clients block every other request),
+// and so do long solves that must not hold gRPC's callback threads.
 #pragma once
 
 #include <condition_variable>
@@ -12,17 +13,16 @@
 #include <thread>
 #include <vector>
 
-#include <httplib.h>
-
 namespace armature::server {
 
-class ElasticThreadPool final : public httplib::TaskQueue {
+class ElasticThreadPool final {
  public:
   explicit ElasticThreadPool(size_t max_threads) : max_threads_(max_threads) {}
-  ~ElasticThreadPool() override { shutdown(); }
+  ~ElasticThreadPool() { Shutdown(); }
 
-  void enqueue(std::function<void()> fn) override;
-  void shutdown() override;
+  void Enqueue(std::function<void()> fn);
+  // Runs every queued job, then joins the threads.
+  void Shutdown();
 
   size_t threads() const;
 

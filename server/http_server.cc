@@ -13,11 +13,22 @@ std::unique_ptr<httplib::Server> MakeHttplibServer(const std::string& cert, cons
   return std::make_unique<httplib::SSLServer>(cert.c_str(), key.c_str());
 }
 
+// cpp-httplib's worker queue, served by an elastic pool.
+class HttpTaskQueue final : public httplib::TaskQueue {
+ public:
+  explicit HttpTaskQueue(size_t max_threads) : pool_(max_threads) {}
+  void enqueue(std::function<void()> fn) override { pool_.Enqueue(std::move(fn)); }
+  void shutdown() override { pool_.Shutdown(); }
+
+ private:
+  ElasticThreadPool pool_;
+};
+
 }  // namespace
 
 HttpServer::HttpServer(size_t max_threads, const std::string& tls_cert_file, const std::string& tls_key_file)
     : http_(MakeHttplibServer(tls_cert_file, tls_key_file)) {
-  http_->new_task_queue = [max_threads] { return new ElasticThreadPool(max_threads); };
+  http_->new_task_queue = [max_threads] { return new HttpTaskQueue(max_threads); };
   // Small writes (SSE frames) go out at once instead of waiting on Nagle and delayed ACKs.
   http_->set_tcp_nodelay(true);
   http_->Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
