@@ -10,11 +10,12 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
 #include "armature/v1/deform.grpc.pb.h"
-#include "sheet_mesh.h"
+#include "sheet_rpc.h"
 #include "rpc_bench_server.h"
 #include "server/deform_service.h"
 #include "server/gateway/json_codec.h"
@@ -27,24 +28,14 @@ namespace v1 = armature::v1;
 constexpr int kSide = armature_bench::kSheetSide;
 constexpr uint32_t kCentre = static_cast<uint32_t>((kSide / 2) * kSide + kSide / 2);
 
-const std::string& SheetName() {
-  static const std::string name = [] {
-    // Its own copy: deform_rpc_bench.cc's sessions use "sheet" on the same server.
-    Server().client->Import({"sheet.obj", armature::fixtures::ToObj(armature_bench::Sheet())}, "sheet_cached");
-    return std::string("sheet_cached");
-  }();
-  return name;
-}
-
 // The boundary fixed, `handle` lifted by `lift`.
 v1::DeformRequest SheetRequest(v1::DeformMethod method, uint32_t handle, double lift) {
   v1::DeformRequest r;
-  r.set_mesh(SheetName());
+  r.set_mesh(armature_bench::ImportedSheet());
   r.set_method(method);
   r.set_weights(method == v1::ARAP ? v1::COTANGENT : v1::UNIFORM);
-  for (int j = 0; j < kSide; ++j)
-    for (int i = 0; i < kSide; ++i)
-      if (i == 0 || j == 0 || i == kSide - 1 || j == kSide - 1) r.add_fixed(static_cast<uint32_t>(j * kSide + i));
+  static const std::vector<uint32_t> boundary = armature_bench::SheetConstraints(1).fixed;
+  r.mutable_fixed()->Add(boundary.begin(), boundary.end());
   auto* h = r.add_handles();
   h->set_index(handle);
   const auto& rest = armature_bench::Sheet().positions;
@@ -80,7 +71,7 @@ double Lift(int step) { return 0.002 * (1 + step % 100); }
 // Each call names a handle no earlier call used: every one factors.
 void Miss(benchmark::State& state, v1::DeformMethod method) {
   static uint32_t next_handle = kCentre + 1;
-  SheetName();
+  armature_bench::ImportedSheet();
   const CacheCounts before;
   int step = 0, iterations = 0;
   for (auto _ : state) iterations += Deform(SheetRequest(method, next_handle++, Lift(step++))).iterations();

@@ -17,24 +17,14 @@
 
 #include "rpc_bench_server.h"
 #include "server/mesh_deformer.h"
-#include "sheet_mesh.h"
+#include "sheet_rpc.h"
 
 namespace {
 
 namespace v1 = armature::v1;
 using armature_bench::Server;
 
-constexpr char kSheet[] = "sheet";
 constexpr int kTargetSets = 100;  // drag steps cycled through
-
-// Imports the sheet once (the OBJ made here: ~4 MB of text).
-void ImportSheet() {
-  static const bool imported = [] {
-    Server().client->Import({"sheet.obj", armature::fixtures::ToObj(armature_bench::Sheet())}, kSheet);
-    return true;
-  }();
-  (void)imported;
-}
 
 // Args: (handle patch side: 1 → 1 handle, 8 → 64; method: 0 Laplacian uniform, 1 ARAP cotangent).
 struct Drag {
@@ -43,10 +33,9 @@ struct Drag {
   std::vector<std::vector<double>> targets;  // kTargetSets drag steps
 
   explicit Drag(const benchmark::State& state) {
-    ImportSheet();
     constraints = armature_bench::SheetConstraints(static_cast<int>(state.range(0)));
     v1::DeformSetup* setup = start.mutable_setup();
-    setup->set_mesh(kSheet);
+    setup->set_mesh(armature_bench::ImportedSheet());
     const bool arap = state.range(1) == 1;
     setup->set_method(arap ? v1::ARAP : v1::LAPLACIAN);
     setup->set_weights(arap ? v1::COTANGENT : v1::UNIFORM);
@@ -116,7 +105,7 @@ BENCHMARK(BM_DeformHandler_Move)->Apply(DragCases);
 // A move's answer on the sheet: 3 × 100,489 floats.
 v1::DeformResponse SheetAnswer() {
   v1::DeformResponse r;
-  r.set_mesh(kSheet);
+  r.set_mesh(armature_bench::ImportedSheet());
   const auto& p = armature_bench::Sheet().positions;
   r.mutable_positions()->Reserve(static_cast<int>(p.size()));
   for (Eigen::Index v = 0; v < p.rows(); ++v)

@@ -1,10 +1,10 @@
 #include "server/mesh_deformer.h"
 
 #include <algorithm>
-#include <cmath>
 #include <string>
 
 #include "armature/engine/mesh.h"
+#include "server/request_validation.h"
 
 namespace armature::server {
 
@@ -44,10 +44,7 @@ StatusOr<MeshDeformer> MeshDeformer::Create(const Catalog& catalog, const Limits
     return Status::ResourceExhausted("mesh '" + setup.mesh() + "' has " + std::to_string(mesh.vertex_count()) +
                                      " vertices, over max_mesh_vertices (" +
                                      std::to_string(limits.max_mesh_vertices) + ")");
-  if (setup.soft() && setup.soft_weight() != 0 && !(std::isfinite(setup.soft_weight()) && setup.soft_weight() > 0))
-    return Status::InvalidArgument("soft_weight: must be finite and > 0");
-  if (setup.arap_iterations() < 0 || setup.arap_iterations() > 1000)
-    return Status::InvalidArgument("arap_iterations: must be in [0, 1000] (0 = default 10)");
+  ARMATURE_RETURN_IF_ERROR(ValidateDeformSetup(setup));
 
   LaplacianModelOptions model_options;
   model_options.weights = setup.weights() == v1::COTANGENT ? LaplacianWeights::kCotangent : LaplacianWeights::kUniform;
@@ -106,12 +103,7 @@ Status MeshDeformer::SolveFresh(std::span<const double> handle_positions, const 
 
 Status MeshDeformer::SolveInto(std::span<const double> handle_positions, const std::string& field, bool warm_start,
                                std::span<double> positions, v1::DeformResponse* response) const {
-  if (handle_positions.size() != 3 * handles_.size())
-    return Status::InvalidArgument(field + ": needs " + std::to_string(3 * handles_.size()) + " values (x, y, z per handle), got " +
-                                   std::to_string(handle_positions.size()));
-  for (size_t i = 0; i < handle_positions.size(); ++i)
-    if (!std::isfinite(handle_positions[i]))
-      return Status::InvalidArgument(field + ": handle " + std::to_string(i / 3) + " has a non-finite coordinate");
+  ARMATURE_RETURN_IF_ERROR(ValidateHandlePositions(handle_positions, handles_.size(), field));
   // The answer is written straight into the response's buffer (no zero
   // fill, no double copy for Laplacian): a drag's answer is 3 floats per
   // vertex, the bulk of a move's time on a large mesh besides the solve.

@@ -10,6 +10,7 @@
 
 #include "armature/engine/skeleton.h"
 #include "armature/engine/status.h"
+#include "armature/v1/deform.pb.h"
 #include "armature/v1/poses.pb.h"
 #include "server/limits.h"
 #include "server/stream_pacing.h"
@@ -39,5 +40,12 @@ Status ValidateWeights(std::span<const float> weights, size_t targets, const std
 
 // Normalizes a stream request in place (defaults for fps and speed) and checks it.
 Status ValidateStreamRequest(v1::StreamClipRequest& request, const Limits& limits);
+
+// A deformation setup's own numbers: soft_weight (soft only; 0 = default)
+// finite and > 0, arap_iterations in [0, 1000].
+Status ValidateDeformSetup(const v1::DeformSetup& setup);
+
+// x, y, z for each of `handles` handles, every value finite; errors name `field`.
+Status ValidateHandlePositions(std::span<const double> positions, size_t handles, const std::string& field);
 
 }  // namespace armature::server
