@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "deformation_system.h"
+#include "worker_pool.h"
 
 namespace armature {
 
@@ -20,6 +21,10 @@ struct DeformationSolver::Impl : deformation_internal::SolverCore {
 };
 
 namespace {
+
+// Below about 1 MiB of basis a drag is a fraction of a millisecond: waking
+// the workers would cost more than it saves.
+constexpr size_t kParallelBasisEntries = size_t{1} << 17;
 
 // The rows of L that touch an unknown: the unknowns and their neighbours.
 // Every other row holds only held vertices, a constant the minimum ignores.
@@ -61,14 +66,24 @@ Status SolveInto(const DeformationSolver::Impl& s, std::span<const In> handle_po
           Eigen::Map<const Eigen::Matrix<In, 1, 3>>(&handle_positions[3 * k]).template cast<double>() -
           model.rest_positions.row(p.handles[k]);
     if (s.handle_basis.size() > 0) {
-      // V′_u = V_u + G·(U − V_h), one row of G at a time: G is read once, in order.
-      for (size_t i = 0; i < p.unknowns.size(); ++i) {
-        const double* g = s.handle_basis.data() + i * nh;
-        Eigen::Vector4d d = Eigen::Vector4d::Zero();
-        for (size_t k = 0; k < nh; ++k) d += g[k] * shift.row(static_cast<Eigen::Index>(k)).transpose();
-        const uint32_t v = p.unknowns[i];
-        o.row(v) = (model.rest_positions.row(v) + d.head<3>().transpose()).template cast<Out>();
-      }
+      // V′_u = V_u + G·(U − V_h), one row of G at a time: G is read once, in
+      // order. Streaming G is bound by memory, so large bases are split
+      // across the cores: one core alone does not saturate the memory bus.
+      const size_t nu = p.unknowns.size();
+      auto rows = [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+          const double* g = s.handle_basis.data() + i * nh;
+          Eigen::Vector4d d = Eigen::Vector4d::Zero();
+          for (size_t k = 0; k < nh; ++k) d += g[k] * shift.row(static_cast<Eigen::Index>(k)).transpose();
+          const uint32_t v = p.unknowns[i];
+          o.row(v) = (model.rest_positions.row(v) + d.head<3>().transpose()).template cast<Out>();
+        }
+      };
+      WorkerPool* pool = nu * nh >= kParallelBasisEntries ? &WorkerPool::Shared() : nullptr;
+      const size_t chunks = pool ? 4 * (pool->workers() + 1) : 1;
+      auto chunk = [&](size_t c) { rows(nu * c / chunks, nu * (c + 1) / chunks); };
+      if (pool) pool->Run(chunks, chunk);
+      else chunk(0);
     } else {
       deformation_internal::RowMatrixX3d displacement = s.handle_rhs * shift.leftCols<3>();
       s.system.SolveInPlace(displacement);

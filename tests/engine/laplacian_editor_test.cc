@@ -28,11 +28,11 @@ constexpr int kSide = 33;  // 33 × 33 = 1089 vertices
 
 uint32_t GridVertex(int i, int j) { return static_cast<uint32_t>(j * kSide + i); }
 
-std::vector<uint32_t> GridBoundary() {
+std::vector<uint32_t> GridBoundary(int side = kSide) {
   std::vector<uint32_t> b;
-  for (int j = 0; j < kSide; ++j)
-    for (int i = 0; i < kSide; ++i)
-      if (i == 0 || j == 0 || i == kSide - 1 || j == kSide - 1) b.push_back(GridVertex(i, j));
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i)
+      if (i == 0 || j == 0 || i == side - 1 || j == side - 1) b.push_back(static_cast<uint32_t>(j * side + i));
   return b;
 }
 
@@ -66,6 +66,18 @@ Eigen::MatrixX3d Moved(const LaplacianModel& model, const std::vector<uint32_t>&
   for (size_t k = 0; k < handles.size(); ++k)
     t.row(static_cast<Eigen::Index>(k)) = model.rest_positions.row(handles[k]) + offset;
   return t;
+}
+
+// The same constraints solved through a handle basis and by back-substitution.
+struct BasisAndBackSubstitution {
+  StatusOr<DeformationSolver> basis, back;
+};
+BasisAndBackSubstitution BothDragUpdates(std::shared_ptr<const LaplacianModel> model,
+                                         const DeformationConstraints& c) {
+  DeformationSolverOptions basis, back;
+  basis.drag_update = DragUpdate::kHandleBasis;
+  back.drag_update = DragUpdate::kBackSubstitution;
+  return {DeformationSolver::Create(model, c, basis), DeformationSolver::Create(model, c, back)};
 }
 
 Eigen::MatrixX3d SolveOrDie(const DeformationSolver& solver, const Eigen::MatrixX3d& targets) {
@@ -241,11 +253,7 @@ TEST(LaplacianEditor, HandleBasisAndBackSubstitutionAgree) {
     c.mode = mode;
     c.handles = {GridVertex(16, 16), GridVertex(5, 25), GridVertex(28, 3)};
     c.fixed = GridBoundary();
-    DeformationSolverOptions basis, back;
-    basis.drag_update = DragUpdate::kHandleBasis;
-    back.drag_update = DragUpdate::kBackSubstitution;
-    auto a = DeformationSolver::Create(model, c, basis);
-    auto b = DeformationSolver::Create(model, c, back);
+    auto [a, b] = BothDragUpdates(model, c);
     ASSERT_TRUE(a.ok() && b.ok());
     EXPECT_TRUE(a->uses_handle_basis());
     EXPECT_FALSE(b->uses_handle_basis());
@@ -259,6 +267,28 @@ TEST(LaplacianEditor, HandleBasisAndBackSubstitutionAgree) {
       if (t == 0.0) EXPECT_LT((ra - mesh.positions).cwiseAbs().maxCoeff(), 1e-12);  // rest in, rest out
     }
   }
+}
+
+// A basis large enough to be split across the worker pool (≥ 2^17 entries):
+// every row must be updated once, whatever the split.
+TEST(LaplacianEditor, LargeHandleBasisSplitAcrossCoresAgreesWithBackSubstitution) {
+  constexpr int side = 121;
+  const GeneratedMesh mesh = MakeGrid(side, side, 2, 2);
+  const auto model = Model(mesh, LaplacianWeights::kUniform);
+  DeformationConstraints c;
+  for (int k = 0; k < 12; ++k) c.handles.push_back(static_cast<uint32_t>((10 + 8 * k) * side + 20 + 7 * k));
+  c.fixed = GridBoundary(side);
+  auto [a, b] = BothDragUpdates(model, c);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_GE(a->unknown_count() * c.handles.size(), size_t{1} << 17);
+  // Each handle moves its own way, so a row updated twice or skipped shows.
+  Eigen::MatrixX3d targets(static_cast<Eigen::Index>(c.handles.size()), 3);
+  for (size_t k = 0; k < c.handles.size(); ++k)
+    targets.row(static_cast<Eigen::Index>(k)) =
+        model->rest_positions.row(c.handles[k]) + Eigen::RowVector3d(0.01 * k, -0.02 * (k % 3), 0.1 + 0.03 * k);
+  const Eigen::MatrixX3d ra = SolveOrDie(*a, targets), rb = SolveOrDie(*b, targets);
+  EXPECT_LT((ra - rb).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_GT((ra - mesh.positions).cwiseAbs().maxCoeff(), 0.1);
 }
 
 TEST(LaplacianEditor, FloatSpansMatchDoubles) {

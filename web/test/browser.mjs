@@ -54,9 +54,23 @@ export async function runViewerTest(script, body) {
     const problems = [];
     page.on('console', (m) => m.type() === 'error' && problems.push(`console: ${m.text()}`));
     page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+    // Leaving a page aborts the old document's requests in flight: while a
+    // test navigates, an aborted request is no error.
+    let navigating = 0;
+    const goto = page.goto.bind(page);
+    page.goto = async (...args) => {
+      navigating += 1;
+      try {
+        return await goto(...args);
+      } finally {
+        navigating -= 1;
+      }
+    };
     page.on('requestfailed', (r) => {
-      // Closing an SSE stream (pause, a new stream) aborts it: that is no error.
-      if (!r.url().includes(':stream')) problems.push(`request failed: ${r.url()} ${r.failure()?.errorText}`);
+      // Closing an SSE stream (pause, a new stream) aborts it: that is no error either.
+      if (r.url().includes(':stream')) return;
+      if (navigating > 0 && r.failure()?.errorText === 'net::ERR_ABORTED') return;
+      problems.push(`request failed: ${r.url()} ${r.failure()?.errorText}`);
     });
     await body({ page, server, screenshot });
     check(problems.length === 0, `no console errors${problems.length ? ':\n  ' + problems.join('\n  ') : ''}`);
