@@ -164,7 +164,7 @@ function fillClips(list, wanted) {
 // skeleton, on the skeleton drawn over it.
 async function loadMeshClip() {
   const mesh = meshes.find((m) => m.name === ui.mesh.value);
-  const clip = ui.clip.value;
+  const clip = ui.clip.value && api.getClip(ui.clip.value);
   await Promise.all([meshPlayer.load(mesh, clip), mesh.skeleton && clip ? player.load(clip) : null]);
   updateControls();
 }

@@ -25,18 +25,21 @@ export class MeshPlayer extends Playback {
     this.method = 'LBS';
   }
 
-  // `mesh`: a MeshInfo; `clipName`: a clip from clipsFor, or '' for the rest shape.
-  async load(mesh, clipName) {
+  // `mesh`: a MeshInfo; `clip`: a clip from clipsFor (see Playback.fetchClip),
+  // or '' for the rest shape.
+  async load(mesh, clip) {
     this.pause();
     const load = ++this.loads;
-    const geometry = mesh.name === this.mesh?.name ? this.geometry : await api.getMeshGeometry(mesh.name);
-    const clip = clipName ? await api.getClip(clipName) : null;
+    const [geometry, clipAnswer] = await Promise.all([
+      mesh.name === this.mesh?.name ? this.geometry : api.getMeshGeometry(mesh.name),
+      clip ? Playback.fetchClip(clip) : null,
+    ]);
     if (load !== this.loads) return;
     this.mesh = mesh;
     this.geometry = geometry;
-    this.clip = clip;
+    this.clip = clipAnswer;
     this.time = 0;
-    this.emit('load', { mesh, geometry, clip });
+    this.emit('load', { mesh, geometry, clip: clipAnswer });
     await this.seek(0);
   }
 

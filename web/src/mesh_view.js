@@ -74,9 +74,7 @@ export class MeshView {
     if (!this.object) return;
     const center = this.centroid();
     if (this.lastCenter) {
-      const delta = center.clone().sub(this.lastCenter).setY(0);
-      this.view.controls.target.add(delta);
-      this.view.camera.position.add(delta);
+      this.view.panAlongGround(center.clone().sub(this.lastCenter));
       // The grid comes along, a whole number of cells at a time: it looks still.
       const { grid, controls } = this.view;
       const cell = grid.userData.cell;

@@ -4,6 +4,7 @@
 // flight, the latest time wins). Subclasses say what a sample and a stream
 // are (a pose, a skinned mesh) and which event shows one; all emit 'load',
 // 'state' and 'error'.
+import * as api from './api.js';
 import { LatestWins } from './latest_wins.js';
 
 export class Playback extends EventTarget {
@@ -25,6 +26,12 @@ export class Playback extends EventTarget {
 
   // Subclasses: sample(time) → Promise<detail>; openStream(options, onFrame,
   // onEnd) → stop function; frameDetail(frame) → detail.
+
+  // `clip`: a clip name, or a promise of its GetClip response when the caller
+  // already asked for it (one fetch serves the mesh and the skeleton).
+  static fetchClip(clip) {
+    return typeof clip === 'string' ? api.getClip(clip) : clip;
+  }
 
   emit(type, detail) {
     this.dispatchEvent(new CustomEvent(type, { detail }));

@@ -10,10 +10,11 @@ export class Player extends Playback {
     this.skeleton = null;
   }
 
-  async load(clipName) {
+  // `clipOrPromise`: see Playback.fetchClip.
+  async load(clipOrPromise) {
     this.pause();
     const load = ++this.loads;
-    const clip = await api.getClip(clipName);
+    const clip = await Playback.fetchClip(clipOrPromise);
     const skeleton = await api.getSkeleton(clip.skeleton);
     if (load !== this.loads) return;
     this.clip = clip;

@@ -142,11 +142,16 @@ export class SkeletonView {
       this.frameBox(new THREE.Box3().setFromObject(this.figure));
       this.framed = true;
     } else if (this.lastRoot) {
-      const delta = root.clone().sub(this.lastRoot).setY(0);
-      this.controls.target.add(delta);
-      this.camera.position.add(delta);
+      this.panAlongGround(root.clone().sub(this.lastRoot));
     }
     this.lastRoot = root;
+  }
+
+  // Moves the camera and its target by `delta`'s shift across the ground.
+  panAlongGround(delta) {
+    delta.setY(0);
+    this.controls.target.add(delta);
+    this.camera.position.add(delta);
   }
 
   // Client (page) coordinates of the world point `point` as drawn now.

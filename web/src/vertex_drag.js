@@ -21,9 +21,6 @@ import { LatestWins } from './latest_wins.js';
 const HANDLE_COLOR = 0x2ec4ff;
 const ACTIVE_COLOR = 0xffe14d;
 
-export const DEFORM_METHODS = ['LAPLACIAN', 'ARAP'];
-export const DEFORM_WEIGHTS = ['UNIFORM', 'COTANGENT'];
-
 export class VertexDrag extends EventTarget {
   // `view`: the SkeletonView (camera, controls, scene); `meshView`: the
   // MeshView drawing the mesh being edited.
@@ -39,7 +36,8 @@ export class VertexDrag extends EventTarget {
     this.drag = null;          // { index, plane, offset }
     this.options = { method: 'LAPLACIAN', weights: 'UNIFORM', radius: 0.25 };
     this.region = { key: '', vertices: [] };
-    this.stats = { deforms: 0, lastMs: null, lastResponse: null };
+    this.edits = 0;  // bumped by start and reset: answers for an older edit are dropped
+    this.stats = { deforms: 0 };
     this.solver = new LatestWins(() => this.solve());
     this.markers = new THREE.Group();
     view.scene.add(this.markers);
@@ -62,6 +60,7 @@ export class VertexDrag extends EventTarget {
   start(meshName, geometry) {
     this.stop();
     this.mesh = meshName;
+    this.region = { key: '', vertices: [] };  // the key names no mesh
     this.rest = Float32Array.from(geometry.positions);
     this.component = connectedPieces(geometry.vertexCount, geometry.triangles ?? []);
     this.meshSize = this.meshView.size() || 1;
@@ -75,6 +74,7 @@ export class VertexDrag extends EventTarget {
 
   // Drops every handle (the caller shows the rest shape again).
   reset() {
+    ++this.edits;
     this.solver.cancel();
     this.onPointerUp();
     this.handles.clear();
@@ -184,7 +184,7 @@ export class VertexDrag extends EventTarget {
   }
 
   async solve() {
-    const mesh = this.mesh;
+    const mesh = this.mesh, edit = this.edits;
     if (!mesh || this.handles.size === 0) return;
     const regionOfInterest = this.regionOfInterest();
     const request = {
@@ -196,14 +196,12 @@ export class VertexDrag extends EventTarget {
     const started = performance.now();
     try {
       const response = await api.deform(mesh, request);
-      if (mesh !== this.mesh || this.handles.size === 0) return;  // stopped or reset meanwhile
+      if (edit !== this.edits) return;  // stopped, reset or restarted meanwhile
       const ms = performance.now() - started;
       this.stats.deforms++;
-      this.stats.lastMs = ms;
-      this.stats.lastResponse = response;
       this.dispatchEvent(new CustomEvent('deform', { detail: { response, ms, regionSize: regionOfInterest.length } }));
     } catch (error) {
-      if (mesh === this.mesh) this.dispatchEvent(new CustomEvent('error', { detail: error.message }));
+      if (edit === this.edits) this.dispatchEvent(new CustomEvent('error', { detail: error.message }));
     }
   }
 }
