@@ -281,6 +281,11 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
   if (!first && stamp == stamp_ && referenced == nullptr) return Status::Ok();
   const auto current = first ? std::make_shared<const Catalog>() : Snapshot();
   std::map<std::string, std::shared_ptr<const StoredAsset>> assets;
+  std::vector<std::pair<std::string, std::string>> unloaded;
+  auto keep_unloaded = [&](const json& entry) {
+    const json* name = entry.is_object() && entry.contains("name") ? &entry["name"] : nullptr;
+    unloaded.emplace_back(name && name->is_string() ? name->get<std::string>() : "", entry.dump());
+  };
   if (stamp.exists) {
     auto text = ReadFile(dir_ / kManifest);
     if (!text.ok()) return text.status();
@@ -291,6 +296,7 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
       auto record = RecordFromJson(entry);
       if (const Status valid = record.ok() ? CheckRecordPaths(*record) : record.status(); !valid.ok()) {
         spdlog::error("manifest: skipping an entry: {}", valid.message());
+        keep_unloaded(entry);
         continue;
       }
       if (referenced != nullptr) {
@@ -306,6 +312,7 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
       if (!contents.ok()) {
         spdlog::error("asset '{}' ({}) could not be loaded and is skipped: {}", record->name, record->file,
                       contents.status().message());
+        keep_unloaded(entry);
         continue;
       }
       assets[record->name] = std::make_shared<const StoredAsset>(StoredAsset{*record, std::move(*contents)});
@@ -321,6 +328,7 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
   auto catalog = BuildCatalog(std::move(assets));
   if (!catalog.ok()) return catalog.status();
   Publish(std::move(*catalog));
+  unloaded_entries_ = std::move(unloaded);
   stamp_ = stamp;
   return Status::Ok();
 }
@@ -350,27 +358,22 @@ void AssetStore::RemoveLeftovers(const std::set<fs::path>& referenced) const {
   }
 }
 
-Status AssetStore::Refresh() {
+void AssetStore::Refresh() {
   std::lock_guard write_lock(write_mu_);
-  if (StampOfManifest() == stamp_) return Status::Ok();
+  if (StampOfManifest() == stamp_) return;
   auto lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kShared);
-  Status st = lock.ok() ? SyncLocked() : lock.status();
-  if (!st.ok()) {
-    // Keep serving what is loaded; say so once per distinct problem.
-    if (st.message() != last_refresh_error_)
-      spdlog::error("cannot reload the manifest, keeping the assets loaded: {}", st.message());
-    last_refresh_error_ = st.message();
-    return st;
-  }
-  last_refresh_error_.clear();
-  return st;
+  const Status st = lock.ok() ? SyncLocked() : lock.status();
+  // Keep serving what is loaded; say so once per distinct problem.
+  if (!st.ok() && st.message() != last_refresh_error_)
+    spdlog::error("cannot reload the manifest, keeping the assets loaded: {}", st.message());
+  last_refresh_error_ = st.ok() ? "" : st.message();
 }
 
 void AssetStore::Watch() {
   std::unique_lock lock(watch_mu_);
   while (!watch_cv_.wait_for(lock, options_.watch_interval, [this] { return stopping_; })) {
     lock.unlock();
-    (void)Refresh();
+    Refresh();
     lock.lock();
   }
 }
@@ -388,8 +391,13 @@ void AssetStore::Publish(std::shared_ptr<const Catalog> catalog) {
 Status AssetStore::WriteManifest(const Catalog& catalog) {
   json entries = json::array();
   for (const auto& [name, asset] : catalog.assets) entries.push_back(RecordToJson(asset->record));
+  // An import under the same name replaces an entry that did not load.
+  const auto replaced = [&](const auto& unloaded) { return catalog.assets.contains(unloaded.first); };
+  for (const auto& entry : unloaded_entries_)
+    if (!replaced(entry)) entries.push_back(json::parse(entry.second));
   const json j = {{"version", 1}, {"assets", entries}};
   ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_ / kManifest, j.dump(2)));
+  std::erase_if(unloaded_entries_, replaced);
   stamp_ = StampOfManifest();  // this server's own write needs no reload
   return Status::Ok();
 }

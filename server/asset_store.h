@@ -26,6 +26,7 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "armature/engine/asset.h"
@@ -105,10 +106,6 @@ class AssetStore {
   // Removes the asset owning `name` from the manifest, then its file.
   StatusOr<std::shared_ptr<const StoredAsset>> Delete(std::string_view name);
 
-  // Reloads the manifest if another server changed it since this one last
-  // read or wrote it. The watcher calls it every watch_interval.
-  Status Refresh();
-
   // True when the data dir had no manifest when opened (a first start).
   bool fresh() const { return fresh_; }
   const std::filesystem::path& data_dir() const { return dir_; }
@@ -133,6 +130,9 @@ class AssetStore {
   ManifestStamp StampOfManifest() const;
   Status WriteManifest(const Catalog& catalog);
   void Publish(std::shared_ptr<const Catalog> catalog);
+  // Reloads the manifest if another server changed it since this one last
+  // read or wrote it. The watcher calls it every watch_interval.
+  void Refresh();
   void Watch();
 
   std::filesystem::path dir_;
@@ -141,6 +141,10 @@ class AssetStore {
   std::mutex write_mu_;   // one writer or reload at a time in this process
   ManifestStamp stamp_;   // of the manifest the catalog reflects; guarded by write_mu_
   std::string last_refresh_error_;  // logged once, not every poll; guarded by write_mu_
+  // Manifest entries (name, JSON text) that could not be loaded: written back
+  // with every new manifest, so an asset that does not load here (a newer
+  // replica's format, a file being repaired) is never dropped; guarded by write_mu_.
+  std::vector<std::pair<std::string, std::string>> unloaded_entries_;
   mutable std::mutex snapshot_mu_;
   std::shared_ptr<const Catalog> catalog_;
 

@@ -269,6 +269,41 @@ TEST_F(Foundation, InterruptedImportLeavesNoHalfAsset) {
   EXPECT_TRUE(fs::exists(data_.path() / "files" / "in_progress.def.bvh"));
 }
 
+// An asset whose stored file stops loading is skipped, not forgotten: a later
+// import rewrites the manifest with its entry, so once the file is repaired
+// the asset is back (and its file, a day old, is no leftover to remove).
+TEST_F(Foundation, AnAssetThatDoesNotLoadSurvivesOtherWritesUntilRepaired) {
+  {
+    ServerProcess server(data_.path(), {"--no-demo"});
+    Client client(OptionsFor(server));
+    client.Import({"arm.bvh", kArmBvh});
+    client.Import({"second.bvh", kArmBvh});
+  }
+  fs::path stored;
+  for (const auto& entry : fs::directory_iterator(data_.path() / "files"))
+    if (entry.path().filename().string().starts_with("arm.")) stored = entry.path();
+  ASSERT_FALSE(stored.empty());
+  std::ofstream(stored, std::ios::trunc) << "not a BVH";
+  const auto a_day_ago = fs::file_time_type::clock::now() - std::chrono::hours(24);
+  fs::last_write_time(stored, a_day_ago);
+  {
+    ServerProcess server(data_.path(), {"--no-demo"});
+    Client client(OptionsFor(server));
+    EXPECT_EQ(client.ListAssets().assets_size(), 1);  // "arm" is skipped
+    client.Import({"third.bvh", kArmBvh});
+    client.DeleteAsset("second");
+  }
+  std::ofstream(stored, std::ios::trunc) << kArmBvh;
+  fs::last_write_time(stored, a_day_ago);
+  ServerProcess server(data_.path(), {"--no-demo"});
+  Client client(OptionsFor(server));
+  const auto listed = client.ListAssets();
+  std::vector<std::string> names;
+  for (const auto& a : listed.assets()) names.push_back(a.name());
+  EXPECT_EQ(names, (std::vector<std::string>{"arm", "third"}));
+  EXPECT_TRUE(fs::exists(stored));
+}
+
 TEST_F(Foundation, CliCommandsAndErrors) {
   ServerProcess server(data_.path(), {"--no-demo"});
   const fs::path arm = WriteTemp(files_, "arm.bvh", kArmBvh);
