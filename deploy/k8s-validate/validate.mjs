@@ -120,6 +120,7 @@ const hpa = find("HorizontalPodAutoscaler");
 check(hpa.spec.scaleTargetRef.kind === "Deployment" && hpa.spec.scaleTargetRef.name === deployment.metadata.name,
       "the HPA scales the Deployment");
 check(hpa.spec.minReplicas >= 2, "the HPA keeps at least two replicas");
+check(deployment.spec.replicas === undefined, "the Deployment leaves the replica count to the HPA");
 const pdb = find("PodDisruptionBudget");
 check(matches(pdb.spec.selector.matchLabels, pod.metadata.labels), "the PDB covers the Deployment's pods");
 check(kustomization.images?.some((i) => i.name === container.image.split(":")[0]), "kustomization.yaml sets the image");
