@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string>
 
-#include "polar.h"
+#include "armature/engine/arap.h"
 #include "skinning_kernels.h"
 #include "worker_pool.h"
 
@@ -97,8 +97,9 @@ Status PrepareDualQuaternion(const Mesh& mesh, std::span<const Eigen::Affine3d> 
     Eigen::Matrix3d stretch = Eigen::Matrix3d::Identity();
     const bool rigid = (l.transpose() * l - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-5 &&
                        l.determinant() > 0;
-    if (!rigid) {
-      PolarDecompose(l, &rotation, &stretch);
+    if (!rigid) {  // polar decomposition L = R·S, a reflection carried by S
+      rotation = NearestRotation(l.transpose());
+      stretch = rotation.transpose() * l;
       *stretched = true;
     }
     const Eigen::Quaterniond real = Eigen::Quaterniond(rotation).normalized();

@@ -11,9 +11,9 @@
 
 #include <tiny_gltf.h>
 
+#include "armature/engine/arap.h"
 #include "armature/engine/mesh.h"
 #include "gltf_accessor.h"
-#include "polar.h"
 
 namespace armature {
 
@@ -148,7 +148,7 @@ StatusOr<Trs> DecomposeMatrix(const std::vector<double>& values, const std::stri
     exact = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-5;
   }
   if (!exact) {
-    PolarDecompose(l, &r, nullptr);
+    r = NearestRotation(l.transpose());  // the rotation of the polar decomposition L = R·S
     warnings.push_back(where + " has shear or zero scale; decomposed into the nearest rotation and scale");
   }
   trs.rotation = Eigen::Quaterniond(r).normalized();
