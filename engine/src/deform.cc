@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string>
 
-#include "polar.h"
+#include "armature/engine/arap.h"
 #include "skinning_kernels.h"
 #include "worker_pool.h"
 
@@ -53,6 +53,11 @@ Status CheckFinite(const Eigen::Affine3d& m, size_t k) {
   return Status::Ok();
 }
 
+// Skin joint k's map from bind space to posed world space.
+Eigen::Affine3d SkinMatrix(const Mesh& mesh, std::span<const Eigen::Affine3d> world, size_t k) {
+  return world[static_cast<size_t>(mesh.joints[k])] * mesh.inverse_bind[k];
+}
+
 // LBS joint data; returns whether normals need their own matrices.
 Status PrepareLinear(const Mesh& mesh, std::span<const Eigen::Affine3d> world, bool normals,
                      SkinningWorkspace& ws, bool* normal_matrices) {
@@ -60,7 +65,7 @@ Status PrepareLinear(const Mesh& mesh, std::span<const Eigen::Affine3d> world, b
   Grow(ws.matrices, n);
   bool similar = true;
   for (size_t k = 0; k < n; ++k) {
-    const Eigen::Affine3d m = world[static_cast<size_t>(mesh.joints[k])] * mesh.inverse_bind[k];
+    const Eigen::Affine3d m = SkinMatrix(mesh, world, k);
     ARMATURE_RETURN_IF_ERROR(CheckFinite(m, k));
     StoreColumns(m.linear(), m.translation(), ws.matrices[k]);
     if (normals && similar) similar = IsSimilarity(m.linear());
@@ -69,7 +74,7 @@ Status PrepareLinear(const Mesh& mesh, std::span<const Eigen::Affine3d> world, b
   if (*normal_matrices) {
     Grow(ws.normal_matrices, n);
     for (size_t k = 0; k < n; ++k) {
-      const Eigen::Affine3d m = world[static_cast<size_t>(mesh.joints[k])] * mesh.inverse_bind[k];
+      const Eigen::Affine3d m = SkinMatrix(mesh, world, k);
       StoreColumns(NormalMatrix(m.linear()), Eigen::Vector3d::Zero(), ws.normal_matrices[k]);
     }
   }
@@ -85,15 +90,16 @@ Status PrepareDualQuaternion(const Mesh& mesh, std::span<const Eigen::Affine3d> 
   Grow(ws.stretch, n);
   *stretched = false;
   for (size_t k = 0; k < n; ++k) {
-    const Eigen::Affine3d m = world[static_cast<size_t>(mesh.joints[k])] * mesh.inverse_bind[k];
+    const Eigen::Affine3d m = SkinMatrix(mesh, world, k);
     ARMATURE_RETURN_IF_ERROR(CheckFinite(m, k));
     const Eigen::Matrix3d l = m.linear();
     Eigen::Matrix3d rotation = l;
     Eigen::Matrix3d stretch = Eigen::Matrix3d::Identity();
     const bool rigid = (l.transpose() * l - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-5 &&
                        l.determinant() > 0;
-    if (!rigid) {
-      PolarDecompose(l, &rotation, &stretch);
+    if (!rigid) {  // polar decomposition L = R·S, a reflection carried by S
+      rotation = NearestRotation(l.transpose());
+      stretch = rotation.transpose() * l;
       *stretched = true;
     }
     const Eigen::Quaterniond real = Eigen::Quaterniond(rotation).normalized();
@@ -222,14 +228,11 @@ Status RunDeform(const Deform& d) {
   }
 
   WorkerPool* pool = d.parallel && n >= kParallelVertices ? &WorkerPool::Shared() : nullptr;
-  const size_t chunks = pool ? 2 * (pool->workers() + 1) : 1;
-  auto run_chunk = [&](size_t c) {
-    const auto begin = static_cast<uint32_t>(n * c / chunks), end = static_cast<uint32_t>(n * (c + 1) / chunks);
+  ParallelRanges(pool, n, 2, [&](size_t first, size_t last) {
+    const auto begin = static_cast<uint32_t>(first), end = static_cast<uint32_t>(last);
     if (morph) MorphRange(l, weights, normals, morphed, begin, end);
     skinning_internal::SkinRange(in, begin, end);
-  };
-  if (pool) pool->Run(chunks, run_chunk);
-  else run_chunk(0);
+  });
   return Status::Ok();
 }
 

@@ -15,6 +15,7 @@
 #include "armature/engine/demo_walk.h"
 #include "armature/engine/fk.h"
 #include "armature/engine/mesh.h"
+#include "armature/engine/rotation.h"
 
 namespace armature {
 namespace {
@@ -364,8 +365,8 @@ void AddAnimation(const Clip& clip, GlbWriter& glb) {
     const QuatTrack& rotation = clip.joints[j].rotation;
     std::vector<float> xyzw;
     Eigen::Quaterniond previous = Eigen::Quaterniond::Identity();
-    for (Eigen::Quaterniond q : rotation.values) {
-      if (q.coeffs().dot(previous.coeffs()) < 0) q.coeffs() = -q.coeffs();  // one hemisphere: no spin on slerp
+    for (const Eigen::Quaterniond& value : rotation.values) {
+      const Eigen::Quaterniond q = SameHemisphere(value, previous);  // one hemisphere: no spin on slerp
       previous = q;
       xyzw.insert(xyzw.end(), {float(q.x()), float(q.y()), float(q.z()), float(q.w())});
     }

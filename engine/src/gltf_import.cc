@@ -6,13 +6,14 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <tiny_gltf.h>
 
+#include "armature/engine/arap.h"
 #include "armature/engine/mesh.h"
 #include "gltf_accessor.h"
-#include "polar.h"
 
 namespace armature {
 
@@ -147,7 +148,7 @@ StatusOr<Trs> DecomposeMatrix(const std::vector<double>& values, const std::stri
     exact = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-5;
   }
   if (!exact) {
-    PolarDecompose(l, &r, nullptr);
+    r = NearestRotation(l.transpose());  // the rotation of the polar decomposition L = R·S
     warnings.push_back(where + " has shear or zero scale; decomposed into the nearest rotation and scale");
   }
   trs.rotation = Eigen::Quaterniond(r).normalized();
@@ -167,8 +168,6 @@ class Importer {
       if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression")
         return Status::InvalidArgument("extensionsRequired: '" + ext + "' (compressed geometry) is not supported");
     if (!model_.nodes.empty()) ARMATURE_RETURN_IF_ERROR(BuildSkeleton());
-    mesh_names_.resize(model_.meshes.size());
-    target_counts_.resize(model_.meshes.size());
     instance_.assign(model_.meshes.size(), -1);
     for (size_t i = 0; i < model_.nodes.size(); ++i) {
       const int m = model_.nodes[i].mesh;
@@ -318,7 +317,6 @@ class Importer {
     const std::string where = "meshes[" + std::to_string(m) + "]";
     auto mesh = std::make_shared<Mesh>();
     mesh->name = Unique(gm.name.empty() ? std::to_string(m) : gm.name, used_mesh_names_);
-    mesh_names_[m] = mesh->name;
     const int node = instance_[m];
     const int skin = node >= 0 ? model_.nodes[static_cast<size_t>(node)].skin : -1;
     if (skin >= 0) {
@@ -337,7 +335,8 @@ class Importer {
     if (gm.primitives.empty()) return Status::InvalidArgument(where + ".primitives is empty");
 
     std::vector<DenseTarget> targets;
-    bool any_normals = false, missing_normals = false;
+    bool any_normals = false;
+    std::vector<std::pair<size_t, size_t>> missing_normals;  // vertex ranges of primitives without NORMAL
     size_t zero_weight_vertices = 0;
     for (size_t p = 0; p < gm.primitives.size(); ++p) {
       ARMATURE_RETURN_IF_ERROR(AppendPrimitive(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
@@ -345,8 +344,15 @@ class Importer {
                                                zero_weight_vertices));
     }
     if (!any_normals) mesh->normals.clear();
-    if (any_normals && missing_normals)
+    if (any_normals && !missing_normals.empty()) {
+      // A primitive's triangles only reference its own vertices, so the whole
+      // mesh's vertex normals are each primitive's own.
+      const auto computed = ComputeVertexNormals(mesh->positions, mesh->triangles);
+      for (const auto& [begin, end] : missing_normals)
+        std::copy(computed.begin() + static_cast<ptrdiff_t>(begin), computed.begin() + static_cast<ptrdiff_t>(end),
+                  mesh->normals.begin() + static_cast<ptrdiff_t>(begin));
       warnings_.push_back(where + ": some primitives have no NORMAL; computed from their triangles");
+    }
     if (zero_weight_vertices > 0)
       warnings_.push_back(where + ": " + std::to_string(zero_weight_vertices) +
                           " vertices have all-zero weights; bound to their first listed joint");
@@ -387,7 +393,6 @@ class Importer {
       if (!std::isfinite(weights[t])) return Status::InvalidArgument(where + ".weights is not finite");
       mesh->default_weights[t] = static_cast<float>(weights[t]);
     }
-    target_counts_[m] = targets.size();
 
     std::vector<std::string> mesh_warnings;
     ARMATURE_RETURN_IF_ERROR(FinalizeMesh(*mesh, &mesh_warnings).WithContext(where + ": "));
@@ -397,7 +402,8 @@ class Importer {
   }
 
   Status AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin, Mesh& mesh,
-                         std::vector<DenseTarget>& targets, bool& any_normals, bool& missing_normals,
+                         std::vector<DenseTarget>& targets, bool& any_normals,
+                         std::vector<std::pair<size_t, size_t>>& missing_normals,
                          size_t& zero_weight_vertices) {
     const size_t base = mesh.positions.size();
     auto attribute = [&](const char* semantic) {
@@ -435,7 +441,6 @@ class Importer {
       indices.resize(count);
       for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
     }
-    const size_t first_triangle = mesh.triangles.size();
     const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
     auto tri = [&](uint32_t a, uint32_t b, uint32_t c) {
       mesh.triangles.insert(mesh.triangles.end(), {uint32_t(base + a), uint32_t(base + b), uint32_t(base + c)});
@@ -464,16 +469,10 @@ class Importer {
       for (size_t v = 0; v < count; ++v) mesh.normals.emplace_back(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
       any_normals = true;
     } else {
-      missing_normals = true;
-      // Placeholder normals from this primitive's triangles, used only if
-      // another primitive has NORMAL.
-      std::vector<Eigen::Vector3f> local(mesh.positions.begin() + static_cast<ptrdiff_t>(base), mesh.positions.end());
-      std::vector<uint32_t> local_triangles;
-      for (size_t i = first_triangle; i < mesh.triangles.size(); ++i)
-        local_triangles.push_back(static_cast<uint32_t>(mesh.triangles[i] - base));
-      mesh.normals.resize(base);
-      const auto computed = ComputeVertexNormals(local, local_triangles);
-      mesh.normals.insert(mesh.normals.end(), computed.begin(), computed.end());
+      // Computed from the triangles once all primitives are in, if another
+      // primitive has NORMAL.
+      missing_normals.emplace_back(base, base + count);
+      mesh.normals.resize(base + count, Eigen::Vector3f::Zero());
     }
 
     // Skin influences: every JOINTS_n/WEIGHTS_n pair.
@@ -572,6 +571,10 @@ class Importer {
 
   // ---- Animations ----
 
+  // glTF mesh `m` as imported: ImportMesh appends one entry per mesh, in
+  // order, or fails the import, and all meshes are imported before animations.
+  const Mesh& ImportedMesh(int m) const { return *contents_.meshes[static_cast<size_t>(m)].mesh; }
+
   Status ImportAnimation(size_t a) {
     const tinygltf::Animation& anim = model_.animations[a];
     const std::string where = "animations[" + std::to_string(a) + "]";
@@ -655,7 +658,7 @@ class Importer {
         warnings_.push_back(swhere + ": weights of a second instance of mesh " + std::to_string(mesh) + "; ignored");
         return Status::Ok();
       }
-      per_key *= target_counts_[static_cast<size_t>(mesh)];
+      per_key *= ImportedMesh(mesh).targets.size();
     }
     std::vector<float> output;
     auto out = reader_.ReadFloats(sampler.output, swhere + ".output", type, normalized, &output);
@@ -665,7 +668,7 @@ class Importer {
                                      std::to_string(out->count) + " elements, expected " +
                                      std::to_string(keys * per_key) + " (" + std::to_string(keys) + " keys" +
                                      (cubic ? " × 3 for CUBICSPLINE" : "") +
-                                     (mesh >= 0 ? " × " + std::to_string(target_counts_[size_t(mesh)]) + " targets"
+                                     (mesh >= 0 ? " × " + std::to_string(ImportedMesh(mesh).targets.size()) + " targets"
                                                 : std::string()) +
                                      ")");
     clip.duration = std::max(clip.duration, times.back());
@@ -673,8 +676,8 @@ class Importer {
 
     if (mesh >= 0) {
       WeightsTrack track;
-      track.mesh = mesh_names_[static_cast<size_t>(mesh)];
-      track.targets = target_counts_[static_cast<size_t>(mesh)];
+      track.mesh = ImportedMesh(mesh).name;
+      track.targets = ImportedMesh(mesh).targets.size();
       track.times = times;
       track.values.assign(output.begin(), output.end());
       track.interpolation = interpolation;
@@ -730,8 +733,6 @@ class Importer {
   std::shared_ptr<const Skeleton> skeleton_;
   std::vector<int> joint_of_;            // node → skeleton joint
   std::vector<int> instance_;            // mesh → first node using it, or -1
-  std::vector<std::string> mesh_names_;  // mesh → local name
-  std::vector<size_t> target_counts_;    // mesh → morph targets
   std::set<std::string> used_mesh_names_, used_clip_names_;
 };
 

@@ -79,11 +79,7 @@ Status SolveInto(const DeformationSolver::Impl& s, std::span<const In> handle_po
           o.row(v) = (model.rest_positions.row(v) + d.head<3>().transpose()).template cast<Out>();
         }
       };
-      WorkerPool* pool = nu * nh >= kParallelBasisEntries ? &WorkerPool::Shared() : nullptr;
-      const size_t chunks = pool ? 4 * (pool->workers() + 1) : 1;
-      auto chunk = [&](size_t c) { rows(nu * c / chunks, nu * (c + 1) / chunks); };
-      if (pool) pool->Run(chunks, chunk);
-      else chunk(0);
+      ParallelRanges(nu * nh >= kParallelBasisEntries ? &WorkerPool::Shared() : nullptr, nu, 4, rows);
     } else {
       deformation_internal::RowMatrixX3d displacement = s.handle_rhs * shift.leftCols<3>();
       s.system.SolveInPlace(displacement);

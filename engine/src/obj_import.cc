@@ -11,9 +11,10 @@ namespace {
 
 bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
-// Splits a line into whitespace-separated tokens without allocating copies.
-std::vector<std::string_view> Tokens(std::string_view line) {
-  std::vector<std::string_view> out;
+// Splits a line into whitespace-separated tokens without allocating copies;
+// `out` is reused across lines.
+void Tokens(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
   size_t i = 0;
   while (i < line.size()) {
     while (i < line.size() && IsSpace(line[i])) ++i;
@@ -21,7 +22,6 @@ std::vector<std::string_view> Tokens(std::string_view line) {
     while (i < line.size() && !IsSpace(line[i])) ++i;
     if (i > start) out.push_back(line.substr(start, i - start));
   }
-  return out;
 }
 
 std::string At(size_t line) { return "line " + std::to_string(line) + ": "; }
@@ -70,9 +70,10 @@ StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vecto
   std::string first_ignored;
   bool any_corner_normal = false;
   std::vector<uint32_t> polygon;
+  std::vector<std::string_view> tokens;
 
   auto process = [&](std::string_view statement, size_t line_number) -> Status {
-    const auto tokens = Tokens(statement);
+    Tokens(statement, tokens);
     if (tokens.empty()) return Status::Ok();
     const std::string_view kind = tokens[0];
     if (kind == "v") {

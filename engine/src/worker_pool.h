@@ -55,4 +55,17 @@ class WorkerPool {
   std::atomic<size_t> next_{0};
 };
 
+// Splits [0, n) into chunks_per_thread·(workers + 1) contiguous ranges and
+// calls fn(begin, end) for each on `pool`; without a pool, fn(0, n) on the
+// calling thread. Several chunks per thread even out uneven ranges.
+template <class Fn>
+void ParallelRanges(WorkerPool* pool, size_t n, size_t chunks_per_thread, Fn&& fn) {
+  if (!pool) {
+    fn(size_t{0}, n);
+    return;
+  }
+  const size_t chunks = chunks_per_thread * (pool->workers() + 1);
+  pool->Run(chunks, [&](size_t c) { fn(n * c / chunks, n * (c + 1) / chunks); });
+}
+
 }  // namespace armature
