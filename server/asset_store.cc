@@ -6,7 +6,6 @@
 
 #include <chrono>
 #include <ctime>
-#include <fstream>
 #include <random>
 #include <set>
 #include <sstream>
@@ -16,6 +15,7 @@
 
 #include "server/asset_limits.h"
 #include "server/data_dir_lock.h"
+#include "server/file_io.h"
 
 namespace armature::server {
 namespace fs = std::filesystem;
@@ -80,14 +80,6 @@ Status WriteFileAtomic(const fs::path& path, std::string_view bytes) {
     ::close(dfd);
   }
   return Status::Ok();
-}
-
-StatusOr<std::string> ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::NotFound("cannot read " + path.string());
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 std::string StemOf(std::string_view filename) {

@@ -16,18 +16,18 @@ using grpc::ByteBuffer;
 using grpc::internal::MethodHandler;
 using grpc::internal::RpcMethod;
 
-grpc::Status Rejection(const BearerTokens& tokens, const grpc::ServerContextBase& context) {
+Status Rejection(const BearerTokens& tokens, const grpc::ServerContextBase& context) {
   const Status st = tokens.Check(AuthorizationOf(context));
   // A call only reaches a rejecting handler when the check failed; keep the
   // code right even if the metadata were to change in between.
-  return st.ok() ? grpc::Status(grpc::StatusCode::UNAUTHENTICATED, "unauthenticated") : ToGrpcStatus(st);
+  return st.ok() ? Status(StatusCode::kUnauthenticated, "unauthenticated") : st;
 }
 
 // Reactors that finish at once, never reading the request.
 template <class Base>
 class Rejected final : public Base {
  public:
-  explicit Rejected(grpc::Status status) { this->Finish(std::move(status)); }
+  explicit Rejected(const Status& status) { this->Finish(ToGrpcStatus(status)); }
   void OnDone() override { delete this; }
 };
 
@@ -40,9 +40,7 @@ std::unique_ptr<MethodHandler> MakeRejectingHandler(RpcMethod::RpcType type,
     case RpcMethod::NORMAL_RPC:
       return std::make_unique<gi::CallbackUnaryHandler<ByteBuffer, ByteBuffer>>(
           [tokens](grpc::CallbackServerContext* context, const ByteBuffer*, ByteBuffer*) {
-            grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-            reactor->Finish(Rejection(*tokens, *context));
-            return reactor;
+            return FinishUnary(context, Rejection(*tokens, *context));
           });
     case RpcMethod::CLIENT_STREAMING:
       return std::make_unique<gi::CallbackClientStreamingHandler<ByteBuffer, ByteBuffer>>(

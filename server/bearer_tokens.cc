@@ -3,8 +3,9 @@
 #include <openssl/crypto.h>
 #include <openssl/sha.h>
 
-#include <fstream>
 #include <sstream>
+
+#include "server/file_io.h"
 
 namespace armature::server {
 namespace {
@@ -29,11 +30,9 @@ Status Unauthenticated(std::string message) { return {StatusCode::kUnauthenticat
 }  // namespace
 
 StatusOr<std::shared_ptr<const BearerTokens>> BearerTokens::FromFile(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return Status::FailedPrecondition("cannot read the auth token file " + file.string());
-  std::ostringstream text;
-  text << in.rdbuf();
-  return FromText(text.str(), file.string());
+  auto text = ReadFile(file);
+  if (!text.ok()) return Status::FailedPrecondition("cannot read the auth token file " + file.string());
+  return FromText(*text, file.string());
 }
 
 StatusOr<std::shared_ptr<const BearerTokens>> BearerTokens::FromText(std::string_view text,

@@ -24,11 +24,8 @@ v1::DeformSetup SetupOf(const v1::DeformRequest& request) {
 Status SplitHandles(const v1::DeformRequest& request, std::vector<uint32_t>* indices, std::vector<double>* positions) {
   indices->clear();
   positions->clear();
-  for (int k = 0; k < request.handles_size(); ++k) {
-    const v1::DeformHandle& h = request.handles(k);
-    if (h.position_size() != 3)
-      return Status::InvalidArgument("handles[" + std::to_string(k) + "].position: needs 3 values (x, y, z), got " +
-                                     std::to_string(h.position_size()));
+  ARMATURE_RETURN_IF_ERROR(ValidateDeformHandles(request.handles()));
+  for (const v1::DeformHandle& h : request.handles()) {
     indices->push_back(h.index());
     positions->insert(positions->end(), h.position().begin(), h.position().end());
   }

@@ -38,7 +38,6 @@ class MeshDeformer {
   Status SolveFresh(std::span<const double> handle_positions, const std::string& field,
                     v1::DeformResponse* response) const;
 
-  size_t handle_count() const { return handles_.size(); }
   // x,y,z per handle at its rest position (a session's first answer: the rest shape).
   std::vector<double> RestHandlePositions() const;
   size_t vertex_count() const;

@@ -82,6 +82,7 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
   options.method = *method;
   options.morph_weights = AsSpan(request.morph_weights());
 
+  ARMATURE_RETURN_IF_ERROR(ValidateSkinSource(request));
   thread_local MeshWorkspace ws;
   if (!request.clip().empty()) {
     auto clip = ClipFor(catalog, named, request.clip());
@@ -94,8 +95,6 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
     ARMATURE_RETURN_IF_ERROR(
         SkinClip(mesh, *clip->part->clip, request.time(), sample, options, positions, normals, ws.skin));
   } else {
-    if (request.pose().rotations().empty())
-      return Status::InvalidArgument("clip or pose.rotations: one is required (pose: 4 rotation values per joint)");
     if (named.skeleton.empty())
       return Status::InvalidArgument("pose: mesh '" + named.name + "' has no skeleton to pose; give a clip");
     auto skeleton_ref = catalog.FindSkeleton(named.skeleton);
@@ -145,11 +144,8 @@ Status BindMesh(const Catalog& catalog, const v1::BindMeshRequest& request, v1::
     case v1::DISTANCE: options.method = WeightMethod::kDistance; break;
     default: return Status::InvalidArgument("method: unknown weight method " + std::to_string(request.method()));
   }
-  if (request.max_influences() != 0) {
-    if (request.max_influences() < 1 || request.max_influences() > 8)
-      return Status::InvalidArgument("max_influences: must be between 1 and 8");
-    options.max_influences = request.max_influences();
-  }
+  ARMATURE_RETURN_IF_ERROR(ValidateMaxInfluences(request.max_influences()));
+  if (request.max_influences() != 0) options.max_influences = request.max_influences();
   auto bound = armature::BindMesh(*ref->part->mesh, *skeleton_ref->part->skeleton, options);
   if (!bound.ok()) return bound.status();
   const Mesh& mesh = bound->mesh;
@@ -209,12 +205,12 @@ grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMe
   auto catalog = store_.Snapshot();
   auto mesh = catalog->FindMesh(request->mesh());
   if (!mesh.ok()) return new Failed(mesh.status().WithContext("mesh: "));
-  if (request->clip().empty()) return new Failed(Status::InvalidArgument("clip: required"));
+  if (Status st = ValidateRequired(request->clip(), "clip"); !st.ok()) return new Failed(st);
   auto clip = ClipFor(*catalog, *mesh->part, request->clip());
   if (!clip.ok()) return new Failed(clip.status());
   auto method = FromProto(request->method());
   if (!method.ok()) return new Failed(method.status());
-  StreamPacing pacing{request->fps(), request->speed(), request->loop(), request->start_time(), request->duration()};
+  StreamPacing pacing = PacingOf(*request);
   if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new Failed(st);
   return new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*clip), *method,
                                       request->interpolation());

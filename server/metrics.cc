@@ -52,11 +52,15 @@ void PrometheusText::Sample(std::string_view name, const Labels& labels, double 
   out_ += '\n';
 }
 
-void Metrics::RpcStarted(std::string_view method, bool streaming) {
-  std::lock_guard lock(mu_);
+Metrics::MethodStats& Metrics::StatsOf(std::string_view method) {
   auto it = methods_.find(method);
   if (it == methods_.end()) it = methods_.emplace(std::string(method), MethodStats{}).first;
-  ++it->second.in_flight;
+  return it->second;
+}
+
+void Metrics::RpcStarted(std::string_view method, bool streaming) {
+  std::lock_guard lock(mu_);
+  ++StatsOf(method).in_flight;
   if (streaming) ++streams_in_flight_;
 }
 
@@ -64,9 +68,7 @@ void Metrics::RpcFinished(std::string_view method, bool streaming, std::string_v
   size_t bucket = 0;
   while (bucket < kBuckets.size() && seconds > kBuckets[bucket]) ++bucket;
   std::lock_guard lock(mu_);
-  auto it = methods_.find(method);
-  if (it == methods_.end()) it = methods_.emplace(std::string(method), MethodStats{}).first;
-  MethodStats& m = it->second;
+  MethodStats& m = StatsOf(method);
   --m.in_flight;
   if (streaming) --streams_in_flight_;
   ++m.buckets[bucket];

@@ -54,6 +54,8 @@ class Metrics {
     int64_t in_flight = 0;
     std::map<std::string, uint64_t, std::less<>> codes;
   };
+  // The method's stats, made on its first call; mu_ must be held.
+  MethodStats& StatsOf(std::string_view method);
 
   mutable std::mutex mu_;
   std::map<std::string, MethodStats, std::less<>> methods_;

@@ -70,13 +70,13 @@ grpc::ServerUnaryReactor* PoseServiceImpl::ComputeFk(grpc::CallbackServerContext
 
 grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext*,
                                                                      const v1::StreamClipRequest* request) {
-  v1::StreamClipRequest r = *request;
-  auto ref = store_.Snapshot()->FindClip(r.clip());
+  auto ref = store_.Snapshot()->FindClip(request->clip());
   if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
-  if (Status st = ValidateStreamRequest(r, limits_); !st.ok()) return new FailedStream<v1::PoseFrame>(st);
-  auto joints = ResolveJoints(*ref->part->clip->skeleton, r.joints(), "joints");
+  StreamPacing pacing = PacingOf(*request);
+  if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new FailedStream<v1::PoseFrame>(st);
+  auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
   if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
-  return new StreamClipReactor(scheduler_, std::move(*ref), std::move(r), std::move(*joints));
+  return new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
 }
 
 }  // namespace armature::server

@@ -57,14 +57,6 @@ Status ValidatePacing(StreamPacing& p, const Limits& limits) {
   return Status::Ok();
 }
 
-Status ValidateStreamRequest(v1::StreamClipRequest& r, const Limits& limits) {
-  StreamPacing p{r.fps(), r.speed(), r.loop(), r.start_time(), r.duration()};
-  ARMATURE_RETURN_IF_ERROR(ValidatePacing(p, limits));
-  r.set_fps(p.fps);
-  r.set_speed(p.speed);
-  return Status::Ok();
-}
-
 Status ValidateClipTime(double time, const std::string& field) {
   ARMATURE_RETURN_IF_ERROR(ValidateFinite(time, field));
   if (time < 0) return Status::InvalidArgument(field + ": must not be negative");
@@ -97,6 +89,30 @@ Status ValidateHandlePositions(std::span<const double> positions, size_t handles
   for (size_t i = 0; i < positions.size(); ++i)
     if (!std::isfinite(positions[i]))
       return Status::InvalidArgument(field + ": handle " + std::to_string(i / 3) + " has a non-finite coordinate");
+  return Status::Ok();
+}
+
+Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::DeformHandle>& handles) {
+  for (int k = 0; k < handles.size(); ++k)
+    if (handles[k].position_size() != 3)
+      return Status::InvalidArgument("handles[" + std::to_string(k) + "].position: needs 3 values (x, y, z), got " +
+                                     std::to_string(handles[k].position_size()));
+  return Status::Ok();
+}
+
+Status ValidateSkinSource(const v1::SkinMeshRequest& request) {
+  if (request.clip().empty() && request.pose().rotations().empty())
+    return Status::InvalidArgument("clip or pose.rotations: one is required (pose: 4 rotation values per joint)");
+  return Status::Ok();
+}
+
+Status ValidateMaxInfluences(int max_influences) {
+  if (max_influences < 0 || max_influences > 8) return Status::InvalidArgument("max_influences: must be between 1 and 8");
+  return Status::Ok();
+}
+
+Status ValidateRequired(const std::string& value, const std::string& field) {
+  if (value.empty()) return Status::InvalidArgument(field + ": required");
   return Status::Ok();
 }
 

@@ -11,7 +11,7 @@
 #include "armature/engine/skeleton.h"
 #include "armature/engine/status.h"
 #include "armature/v1/deform.pb.h"
-#include "armature/v1/poses.pb.h"
+#include "armature/v1/meshes.pb.h"
 #include "server/limits.h"
 #include "server/stream_pacing.h"
 
@@ -38,14 +38,23 @@ Status ValidateClipTime(double time, const std::string& field);
 // Morph weights: empty, or one finite value per target.
 Status ValidateWeights(std::span<const float> weights, size_t targets, const std::string& field);
 
-// Normalizes a stream request in place (defaults for fps and speed) and checks it.
-Status ValidateStreamRequest(v1::StreamClipRequest& request, const Limits& limits);
-
 // A deformation setup's own numbers: soft_weight (soft only; 0 = default)
 // finite and > 0, arap_iterations in [0, 1000].
 Status ValidateDeformSetup(const v1::DeformSetup& setup);
 
 // x, y, z for each of `handles` handles, every value finite; errors name `field`.
 Status ValidateHandlePositions(std::span<const double> positions, size_t handles, const std::string& field);
+
+// A unary Deform's handles: each position has 3 values (x, y, z).
+Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::DeformHandle>& handles);
+
+// A skin request's pose source: a clip, or else pose rotations.
+Status ValidateSkinSource(const v1::SkinMeshRequest& request);
+
+// BindMeshRequest.max_influences: 0 (the default) or 1 to 8.
+Status ValidateMaxInfluences(int max_influences);
+
+// A required string field (a name) is given.
+Status ValidateRequired(const std::string& value, const std::string& field);
 
 }  // namespace armature::server

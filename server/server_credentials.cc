@@ -4,18 +4,15 @@
 #include <openssl/pem.h>
 #include <openssl/x509.h>
 
-#include <fstream>
-#include <sstream>
+#include "server/file_io.h"
 
 namespace armature::server {
 namespace {
 
 StatusOr<std::string> ReadPem(const std::string& path, const char* what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::FailedPrecondition(std::string("cannot read the TLS ") + what + " " + path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  auto text = ReadFile(path);
+  if (!text.ok()) return Status::FailedPrecondition(std::string("cannot read the TLS ") + what + " " + path);
+  return text;
 }
 
 // Parses both PEMs with OpenSSL first, so a bad file is reported by name

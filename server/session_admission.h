@@ -41,7 +41,6 @@ class SessionAdmission {
     Ticket& operator=(Ticket&& other) noexcept;
     ~Ticket() { Release(); }
     void Release();  // idempotent
-    bool held() const { return admission_ != nullptr; }
 
    private:
     friend class SessionAdmission;

@@ -4,13 +4,9 @@
 
 namespace armature::server {
 
-StreamPacing PacingOf(const v1::StreamClipRequest& r) {
-  return {r.fps(), r.speed(), r.loop(), r.start_time(), r.duration()};
-}
-
-StreamClipReactor::StreamClipReactor(FrameScheduler& scheduler, PartRef<NamedClip> clip,
+StreamClipReactor::StreamClipReactor(FrameScheduler& scheduler, StreamPacing pacing, PartRef<NamedClip> clip,
                                      v1::StreamClipRequest request, std::vector<int> joints)
-    : PacedStreamReactor(scheduler, PacingOf(request), clip.part->clip->duration), clip_(std::move(clip)),
+    : PacedStreamReactor(scheduler, pacing, clip.part->clip->duration), clip_(std::move(clip)),
       request_(std::move(request)), joints_(std::move(joints)) {
   ws_.Resize(clip_.part->clip->skeleton->size());
   Start();

@@ -12,9 +12,10 @@ namespace armature::server {
 
 class StreamClipReactor final : public PacedStreamReactor<v1::PoseFrame> {
  public:
-  // `request` must already be validated; `clip` is held for the stream's life.
-  StreamClipReactor(FrameScheduler& scheduler, PartRef<NamedClip> clip, v1::StreamClipRequest request,
-                    std::vector<int> joints);
+  // `pacing` must already be validated (ValidatePacing); `request` gives the
+  // space and interpolation; `clip` is held for the stream's life.
+  StreamClipReactor(FrameScheduler& scheduler, StreamPacing pacing, PartRef<NamedClip> clip,
+                    v1::StreamClipRequest request, std::vector<int> joints);
 
  private:
   Status Fill(uint64_t index, double time, WrapMode wrap, v1::PoseFrame& frame) override;
@@ -25,8 +26,5 @@ class StreamClipReactor final : public PacedStreamReactor<v1::PoseFrame> {
   std::vector<int> joints_;
   PoseWorkspace ws_;
 };
-
-// The pacing fields of a validated StreamClipRequest.
-StreamPacing PacingOf(const v1::StreamClipRequest& request);
 
 }  // namespace armature::server

@@ -12,4 +12,11 @@ struct StreamPacing {
   double duration = 0;  // wall-clock seconds; 0 = at the clip's end (or never when looping)
 };
 
+// The pacing fields of a stream request (StreamClipRequest,
+// StreamSkinnedMeshRequest), not yet validated.
+template <class Request>
+StreamPacing PacingOf(const Request& r) {
+  return {r.fps(), r.speed(), r.loop(), r.start_time(), r.duration()};
+}
+
 }  // namespace armature::server
