@@ -183,7 +183,6 @@ class StreamSkinnedMeshReactor final : public PacedStreamReactor<v1::SkinnedMesh
     ARMATURE_RETURN_IF_ERROR(SkinClip(mesh, *clip_.part->clip, t, sample, options_, positions, normals, ws_));
     frame.set_index(index);
     frame.set_time(t);
-    frame.set_wall_time(wall_time());
     return Status::Ok();
   }
   void OnStreamDone(uint64_t frames) override {

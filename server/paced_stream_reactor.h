@@ -1,7 +1,9 @@
 // A server stream that plays a clip in real time: frame k is due at
 // start + k/fps and shows clip time start_time + speed·k/fps. The
 // FrameScheduler paces it, so no thread sleeps waiting for a frame. What a
-// frame carries (a pose, a skinned mesh) is the subclass's Fill.
+// frame carries (a pose, a skinned mesh) is the subclass's Fill; it runs on
+// the gRPC thread that saw the last write done, so the scheduler's one
+// thread only starts writes and a large mesh never delays other streams.
 #pragma once
 
 #include <atomic>
@@ -30,11 +32,13 @@ class PacedStreamReactor : public grpc::ServerWriteReactor<Frame> {
     // Frame k is due at start + k/fps; a late frame goes at once.
     const auto due = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                   std::chrono::duration<double>(static_cast<double>(index_) / pacing_.fps));
+    if (!FillNext()) return;
     refs_.fetch_add(1, std::memory_order_relaxed);
     scheduler_.Schedule(due, [this] {
       {
         std::lock_guard lock(mu_);
-        if (!finished_) SendNext();
+        if (cancelled_) FinishOnce(grpc::Status::CANCELLED);
+        if (!finished_) Write();
       }
       Unref();
     });
@@ -43,7 +47,8 @@ class PacedStreamReactor : public grpc::ServerWriteReactor<Frame> {
   void OnCancel() override {
     std::lock_guard lock(mu_);
     cancelled_ = true;
-    // Waiting for a scheduled frame: finish now rather than at its due time.
+    // Waiting for a scheduled frame (filled, not yet written): finish now
+    // rather than at its due time.
     if (!write_pending_) FinishOnce(grpc::Status::CANCELLED);
   }
 
@@ -62,17 +67,14 @@ class PacedStreamReactor : public grpc::ServerWriteReactor<Frame> {
   // Sends the first frame; the subclass calls it last in its constructor.
   void Start() {
     std::lock_guard lock(mu_);
-    SendNext();
+    if (FillNext()) Write();
   }
 
   // Fills `frame` (cleared) for frame `index` at clip time `time` (already
-  // wrapped or clamped to the clip). An error ends the stream as INTERNAL.
+  // wrapped or clamped to the clip); the base sets its wall_time when it is
+  // written. An error ends the stream as INTERNAL.
   virtual Status Fill(uint64_t index, double time, WrapMode wrap, Frame& frame) = 0;
   virtual void OnStreamDone(uint64_t /*frames*/) {}
-
-  double wall_time() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
 
  private:
   // Deleted when gRPC is done with it (OnDone) and no scheduled frame is
@@ -81,20 +83,27 @@ class PacedStreamReactor : public grpc::ServerWriteReactor<Frame> {
     if (refs_.fetch_sub(1, std::memory_order_acq_rel) == 1) delete this;
   }
 
-  void SendNext() {  // called with mu_ held
-    if (cancelled_) return FinishOnce(grpc::Status::CANCELLED);
+  // Fills frame_ with the next frame; false when the stream has ended
+  // instead (cancelled, played out, or a failed Fill). Called with mu_ held.
+  bool FillNext() {
+    if (cancelled_) return FinishOnce(grpc::Status::CANCELLED), false;
     const double wall = static_cast<double>(index_) / pacing_.fps;
-    if (pacing_.duration > 0 && wall >= pacing_.duration - 1e-9) return FinishOnce(grpc::Status::OK);
+    if (pacing_.duration > 0 && wall >= pacing_.duration - 1e-9) return FinishOnce(grpc::Status::OK), false;
     double t = pacing_.start_time + pacing_.speed * wall;
     // Past an end: the last frame was the end itself, so stop.
     if (!pacing_.loop && (t > clip_duration_ + 1e-9 || t < -1e-9) && index_ > 0)
-      return FinishOnce(grpc::Status::OK);
+      return FinishOnce(grpc::Status::OK), false;
     const WrapMode wrap = pacing_.loop ? WrapMode::kLoop : WrapMode::kClamp;
     t = WrapTime(t, clip_duration_, wrap);
     frame_.Clear();
     if (Status st = Fill(index_, t, wrap, frame_); !st.ok())
-      return FinishOnce(grpc::Status(grpc::StatusCode::INTERNAL, st.message()));
+      return FinishOnce(grpc::Status(grpc::StatusCode::INTERNAL, st.message())), false;
     ++index_;
+    return true;
+  }
+
+  void Write() {  // called with mu_ held, frame_ filled
+    frame_.set_wall_time(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
     write_pending_ = true;
     this->StartWrite(&frame_);
   }

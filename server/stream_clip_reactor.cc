@@ -20,7 +20,6 @@ Status StreamClipReactor::Fill(uint64_t index, double t, WrapMode wrap, v1::Pose
   ARMATURE_RETURN_IF_ERROR(SampleClip(clip, t, options, ws_.local));
   frame.set_index(index);
   frame.set_time(t);
-  frame.set_wall_time(wall_time());
   if (index == 0) {
     for (int j : joints_) frame.add_joints(j);
     frame.set_skeleton(clip_.part->skeleton);
