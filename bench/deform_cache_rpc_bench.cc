@@ -6,8 +6,6 @@
 // same run) as the baseline. The answer is 300k floats; the in-process
 // protobuf and JSON encodings of such an answer are measured too, to show how
 // much of a hit's round trip is the payload.
-#include <chrono>
-#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,8 +13,8 @@
 #include <benchmark/benchmark.h>
 
 #include "armature/v1/deform.grpc.pb.h"
-#include "sheet_rpc.h"
 #include "rpc_bench_server.h"
+#include "sheet_rpc.h"
 #include "server/deform_service.h"
 #include "server/gateway/json_codec.h"
 
@@ -102,50 +100,30 @@ void BM_Deform_Sheet100k_Arap_Hit(benchmark::State& state) { Hit(state, v1::ARAP
 BENCHMARK(BM_Deform_Sheet100k_Arap_Hit)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 // The server's work for a hit without gRPC: the cache lookup, the solve and
-// filling the response (a store and cache of its own, in this process).
+// filling the response (the bench server's store, a cache of its own).
 void BM_Deform_Sheet100k_Laplacian_HitInProcess(benchmark::State& state) {
   namespace server = armature::server;
-  const auto dir = Server().dir.parent_path() / (Server().dir.filename().string() + "-inprocess");
-  armature::server::StoreOptions options;
-  options.watch_interval = std::chrono::milliseconds(0);
-  auto store = server::AssetStore::Open(dir, options);
-  if (!store.ok()) return state.SkipWithError(store.status().message().c_str());
-  server::ImportRequest import;
-  import.name = "sheet";
-  import.filename = "sheet.obj";
-  import.bytes = armature::fixtures::ToObj(armature_bench::Sheet());
-  if (auto st = (*store)->Import(std::move(import)); !st.ok()) return state.SkipWithError(st.status().message().c_str());
+  armature_bench::ImportedSheet();
+  const server::AssetStore& store = Server().server->store();
   server::DeformerCache cache(size_t{256} << 20);
   const server::Limits limits;
   v1::DeformResponse response;
-  if (auto st = server::Deform(cache, (*store)->Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(0)), &response); !st.ok())
+  if (auto st = server::Deform(cache, store.Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(0)), &response); !st.ok())
     return state.SkipWithError(st.message().c_str());
   int step = 0;
   for (auto _ : state) {
-    const auto st = server::Deform(cache, (*store)->Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(++step)), &response);
+    const auto st = server::Deform(cache, store.Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(++step)), &response);
     if (!st.ok()) return state.SkipWithError(st.message().c_str());
   }
   state.counters["cache_hits"] = static_cast<double>(cache.stats().hits);
-  store->reset();
-  std::filesystem::remove_all(dir);
 }
 BENCHMARK(BM_Deform_Sheet100k_Laplacian_HitInProcess)->UseRealTime()->Unit(benchmark::kMillisecond);
-
-// An answer of the sheet's size, as the hit path carries it.
-v1::DeformResponse SheetSizedAnswer() {
-  v1::DeformResponse r;
-  r.set_mesh("sheet");
-  const auto& rest = armature_bench::Sheet().positions;
-  for (Eigen::Index v = 0; v < rest.rows(); ++v)
-    for (int a = 0; a < 3; ++a) r.add_positions(static_cast<float>(rest(v, a)));
-  return r;
-}
 
 // gRPC's share of the payload: BM_DeformResponse_Serialize/_Parse in deform_rpc_bench.cc.
 
 // What the REST gateway adds for a browser: the answer printed as JSON.
 void BM_DeformResponse_Sheet100k_GatewayJson(benchmark::State& state) {
-  const v1::DeformResponse answer = SheetSizedAnswer();
+  const v1::DeformResponse answer = armature_bench::SheetAnswer();
   size_t size = 0;
   for (auto _ : state) {
     const std::string json = armature::server::gateway::MessageToJson(answer);

@@ -23,6 +23,7 @@ namespace {
 
 namespace v1 = armature::v1;
 using armature_bench::Server;
+using armature_bench::SheetAnswer;
 
 constexpr int kTargetSets = 100;  // drag steps cycled through
 
@@ -101,17 +102,6 @@ void BM_DeformHandler_Move(benchmark::State& state) {
   Label(state, response);
 }
 BENCHMARK(BM_DeformHandler_Move)->Apply(DragCases);
-
-// A move's answer on the sheet: 3 × 100,489 floats.
-v1::DeformResponse SheetAnswer() {
-  v1::DeformResponse r;
-  r.set_mesh(armature_bench::ImportedSheet());
-  const auto& p = armature_bench::Sheet().positions;
-  r.mutable_positions()->Reserve(static_cast<int>(p.size()));
-  for (Eigen::Index v = 0; v < p.rows(); ++v)
-    for (int k = 0; k < 3; ++k) r.add_positions(static_cast<float>(p(v, k)));
-  return r;
-}
 
 void BM_DeformResponse_Serialize(benchmark::State& state) {
   const v1::DeformResponse r = SheetAnswer();

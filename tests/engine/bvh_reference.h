@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <numbers>
 #include <optional>
@@ -39,14 +38,6 @@ struct RefBvh {
   double frame_time = 1.0 / 30.0;
   std::vector<std::vector<double>> frames;  // one value per channel, joints in order
 };
-
-inline std::optional<std::string> ReadTextFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // Trusting reader for well-formed files (the test's own and the CMU file).
 inline RefBvh ReadRefBvh(const std::string& text) {
@@ -309,7 +300,5 @@ inline RefBvh MakeTestBvh(const std::string& order, int frames = 12) {
   }
   return b;
 }
-
-inline std::string SharedDataPath(const std::string& relative) { return std::string(ARMATURE_SHARED_DATA) + "/" + relative; }
 
 }  // namespace armature::testing

@@ -8,6 +8,7 @@
 
 #include "armature/engine/bvh.h"
 #include "bvh_reference.h"
+#include "test_files.h"
 
 namespace armature {
 namespace {
@@ -242,8 +243,8 @@ TEST(BvhErrors, AcceptsBlankLinesAndSignedNumbers) {
 class CmuBvh : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto text = testing::ReadTextFile(testing::SharedDataPath("bvh/cmu_01_01.bvh"));
-    if (!text) GTEST_SKIP() << "shared data " << testing::SharedDataPath("bvh/cmu_01_01.bvh") << " is absent";
+    const auto text = test_util::ReadFileBytes(test_util::SharedData("bvh/cmu_01_01.bvh"));
+    if (!text) GTEST_SKIP() << "shared data " << test_util::SharedData("bvh/cmu_01_01.bvh").string() << " is absent";
     text_ = *text;
     ref_ = testing::ReadRefBvh(text_);
     StatusOr<BvhData> d = ParseBvh(text_);

@@ -20,16 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test_util::LoadGltfFile;
+using test_util::RunCommand;
 using test_util::SharedData;
-
-std::optional<std::string> RunCommand(const std::string& command) {
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return std::nullopt;
-  std::string out;
-  char buffer[65536];
-  for (size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
-  return pclose(pipe) == 0 ? std::optional(out) : std::nullopt;
-}
 
 // Why three.js cannot run here, or empty when it can.
 std::string ThreeJsUnavailable() {

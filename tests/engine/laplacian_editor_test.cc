@@ -5,9 +5,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -15,6 +13,7 @@
 
 #include "deformation_test_util.h"
 #include "generated_meshes.h"
+#include "scipy_reference.h"
 
 namespace armature {
 namespace {
@@ -23,6 +22,7 @@ using fixtures::AsRows;
 using fixtures::GeneratedMesh;
 using fixtures::Interleave;
 using fixtures::MakeGrid;
+using fixtures::ScipyAvailable;
 
 constexpr int kSide = 33;  // 33 × 33 = 1089 vertices
 
@@ -89,48 +89,16 @@ Eigen::MatrixX3d SolveOrDie(const DeformationSolver& solver, const Eigen::Matrix
 
 // --- SciPy reference ------------------------------------------------------
 
-bool ScipyAvailable() { return std::system("/usr/bin/python3 -c 'import scipy.sparse' >/dev/null 2>&1") == 0; }
-
-void WriteRows(const std::filesystem::path& path, const Eigen::MatrixXd& rows) {
-  std::ofstream f(path);
-  f.precision(17);
-  for (Eigen::Index r = 0; r < rows.rows(); ++r) {
-    for (Eigen::Index c = 0; c < rows.cols(); ++c) f << (c ? " " : "") << rows(r, c);
-    f << "\n";
-  }
-}
-
-void WriteIndices(const std::filesystem::path& path, const std::vector<uint32_t>& v, size_t per_line = 1) {
-  std::ofstream f(path);
-  for (size_t i = 0; i < v.size(); ++i) f << v[i] << ((i + 1) % per_line ? " " : "\n");
-}
-
-// Solves the same problem with tests/reference/laplacian_reference.py (a KKT
-// system through SciPy's SuperLU). nullopt when it could not run.
+// Solves the same problem with tests/reference/laplacian_reference.py in a
+// scratch directory removed afterwards. nullopt when it could not run.
 std::optional<Eigen::MatrixX3d> ScipyReference(const GeneratedMesh& mesh, LaplacianWeights weights,
                                                const DeformationConstraints& c, const Eigen::MatrixX3d& targets) {
   const auto dir =
       std::filesystem::temp_directory_path() /
       ("armature_laplacian_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
        std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  WriteRows(dir / "positions.txt", mesh.positions);
-  WriteIndices(dir / "triangles.txt", mesh.triangles, 3);
-  Eigen::MatrixXd handles(targets.rows(), 4);
-  for (Eigen::Index k = 0; k < targets.rows(); ++k) handles.row(k) << c.handles[static_cast<size_t>(k)], targets.row(k);
-  WriteRows(dir / "handles.txt", handles);
-  WriteIndices(dir / "fixed.txt", c.fixed);
-  WriteIndices(dir / "roi.txt", c.region_of_interest);
-  std::ofstream(dir / "weights.txt") << LaplacianWeightsName(weights) << "\n";
-  const std::string command = "/usr/bin/python3 " ARMATURE_TEST_DIR "/reference/laplacian_reference.py " + dir.string();
-  const int rc = std::system(command.c_str());
-  std::optional<Eigen::MatrixX3d> result;
-  std::ifstream in(dir / "result.txt");
-  if (rc == 0 && in) {
-    Eigen::MatrixX3d r(mesh.positions.rows(), 3);
-    for (Eigen::Index v = 0; v < r.rows(); ++v) in >> r(v, 0) >> r(v, 1) >> r(v, 2);
-    if (in) result = r;
-  }
+  auto result = fixtures::LaplacianScipyReference(mesh, std::string(LaplacianWeightsName(weights)), c.fixed,
+                                                  c.region_of_interest, c.handles, targets, dir);
   std::filesystem::remove_all(dir);
   return result;
 }

@@ -1,15 +1,13 @@
 // Helpers shared by the mesh, skinning and glTF tests (and the skinning
-// benchmark): reading shared data files and building procedural meshes.
+// benchmark): loading glTF files and building procedural meshes.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <numbers>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,22 +18,9 @@
 #include "armature/engine/gltf.h"
 #include "armature/engine/mesh.h"
 #include "armature/engine/skeleton.h"
+#include "test_files.h"
 
 namespace armature::test_util {
-
-inline std::optional<std::string> ReadFileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-#ifdef ARMATURE_SHARED_DATA
-inline std::filesystem::path SharedData(const std::string& relative) {
-  return std::filesystem::path(ARMATURE_SHARED_DATA) / relative;
-}
-#endif
 
 // Reads a .gltf and the external files its buffers name (as a server would
 // receive them), then imports it.

@@ -14,6 +14,7 @@
 
 #include "armature/engine/demo_walk.h"
 #include "bvh_reference.h"
+#include "test_files.h"
 
 namespace armature {
 namespace {
@@ -21,15 +22,7 @@ namespace {
 const std::string kPython = "/usr/bin/python3";
 const std::string kScripts = std::string(ARMATURE_TEST_DIR) + "/reference/";
 
-// Runs a shell command; its stdout, or nothing when it fails.
-std::optional<std::string> RunCommand(const std::string& command) {
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return std::nullopt;
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  return pclose(pipe) == 0 ? std::optional<std::string>(out) : std::nullopt;
-}
+using test_util::RunCommand;
 
 class ReferenceScripts : public ::testing::Test {
  protected:
@@ -72,7 +65,7 @@ class ReferenceScripts : public ::testing::Test {
   // Engine and bvh_fk.py agree on `file` at `times` (std::to_string keeps
   // six decimals, so the engine samples the very times the script got).
   void ExpectFkAgrees(const std::string& file, const std::vector<double>& times, double tolerance) {
-    const auto text = testing::ReadTextFile(file);
+    const auto text = test_util::ReadFileBytes(file);
     ASSERT_TRUE(text);
     const BvhData d = testing::ParseExpectOk(*text);
     ASSERT_TRUE(d.clip);
@@ -89,8 +82,8 @@ class ReferenceScripts : public ::testing::Test {
     const std::string out = (dir_ / ("reordered_" + order + ".bvh")).string();
     ASSERT_TRUE(RunCommand(kPython + " " + kScripts + "bvh_reorder.py " + in + " " + out + " --order " + order +
                     " --root-offset=" + root_offset));
-    const BvhData a = testing::ParseExpectOk(*testing::ReadTextFile(in));
-    const BvhData b = testing::ParseExpectOk(*testing::ReadTextFile(out));
+    const BvhData a = testing::ParseExpectOk(*test_util::ReadFileBytes(in));
+    const BvhData b = testing::ParseExpectOk(*test_util::ReadFileBytes(out));
     ASSERT_TRUE(a.clip && b.clip);
     EXPECT_EQ(b.skeleton->names, a.skeleton->names);
     EXPECT_NE(b.skeleton->rest[0].translation, a.skeleton->rest[0].translation);
@@ -120,7 +113,7 @@ TEST_F(ReferenceScripts, FkAgreesWithEngineOnGeneratedFiles) {
 }
 
 TEST_F(ReferenceScripts, FkAgreesWithEngineOnCmu) {
-  const std::string file = testing::SharedDataPath("bvh/cmu_01_01.bvh");
+  const std::string file = test_util::SharedData("bvh/cmu_01_01.bvh").string();
   if (!std::filesystem::exists(file)) GTEST_SKIP() << "shared data " << file << " is absent";
   ExpectFkAgrees(file, {0.0, 0.5004, 11.1, 17.777777, 22.925}, 1e-6);
 }
@@ -132,7 +125,7 @@ TEST_F(ReferenceScripts, ReorderKeepsTheMotionOfGeneratedFiles) {
 }
 
 TEST_F(ReferenceScripts, ReorderKeepsTheMotionOfCmu) {
-  const std::string file = testing::SharedDataPath("bvh/cmu_01_01.bvh");
+  const std::string file = test_util::SharedData("bvh/cmu_01_01.bvh").string();
   if (!std::filesystem::exists(file)) GTEST_SKIP() << "shared data " << file << " is absent";
   ExpectReorderKeepsMotion(file, "XZY", "4,-3,7");
   ExpectReorderKeepsMotion(file, "YXZ", "-10,2.5,0");

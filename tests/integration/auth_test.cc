@@ -37,10 +37,12 @@ class Auth : public ::testing::Test {
 
 TEST_F(Auth, CallsWithoutTheTokenAreUnauthenticated) {
   Client none = ClientWith(""), wrong = ClientWith("s3cret-token-on"), good = ClientWith(kToken);
-  EXPECT_EQ(CodeOf([&] { none.ListClips(); }), grpc::StatusCode::UNAUTHENTICATED);
-  EXPECT_NE(MessageOf([&] { none.ListClips(); }).find("Bearer"), std::string::npos);
-  EXPECT_EQ(CodeOf([&] { wrong.ListClips(); }), grpc::StatusCode::UNAUTHENTICATED);
-  EXPECT_EQ(MessageOf([&] { wrong.ListClips(); }), "invalid bearer token");
+  const grpc::Status without = StatusOf([&] { none.ListClips(); });
+  EXPECT_EQ(without.error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_NE(without.error_message().find("Bearer"), std::string::npos);
+  const grpc::Status with_wrong = StatusOf([&] { wrong.ListClips(); });
+  EXPECT_EQ(with_wrong.error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(with_wrong.error_message(), "invalid bearer token");
   EXPECT_EQ(good.ListClips().clips_size(), 2);  // the seeded demo_walk and demo_character.walk
   // Every token in the file works (rotation), whitespace around it ignored.
   EXPECT_EQ(ClientWith(kRotatedToken).ListClips().clips_size(), 2);

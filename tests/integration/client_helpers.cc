@@ -26,23 +26,18 @@ std::filesystem::path WriteTemp(const TempDir& dir, const std::string& name, con
   return p;
 }
 
-grpc::StatusCode CodeOf(const std::function<void()>& call) {
+grpc::Status StatusOf(const std::function<void()>& call) {
   try {
     call();
   } catch (const ClientError& e) {
-    return e.code();
+    return grpc::Status(e.code(), e.what());
   }
-  return grpc::StatusCode::OK;
+  return grpc::Status::OK;
 }
 
-std::string MessageOf(const std::function<void()>& call) {
-  try {
-    call();
-  } catch (const ClientError& e) {
-    return e.what();
-  }
-  return "";
-}
+grpc::StatusCode CodeOf(const std::function<void()>& call) { return StatusOf(call).error_code(); }
+
+std::string MessageOf(const std::function<void()>& call) { return StatusOf(call).error_message(); }
 
 bool WaitFor(const std::function<bool()>& condition, double seconds) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
@@ -51,6 +46,13 @@ bool WaitFor(const std::function<bool()>& condition, double seconds) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return true;
+}
+
+std::set<std::string> AssetNames(Client& client) {
+  std::set<std::string> names;
+  const auto listed = client.ListAssets();
+  for (const auto& a : listed.assets()) names.insert(a.name());
+  return names;
 }
 
 }  // namespace armature::testing

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <set>
 #include <string>
 
 #include "armature/client.h"
@@ -43,11 +44,20 @@ std::string ArmBvhWithFrames(int frames);
 ClientOptions OptionsFor(const ServerProcess& server);
 std::filesystem::path WriteTemp(const TempDir& dir, const std::string& name, const std::string& content);
 
-// The status code a call throws (OK if none), and its message ("" if none).
+// The status a call throws (OK if none), its code and its message ("" if none).
+grpc::Status StatusOf(const std::function<void()>& call);
 grpc::StatusCode CodeOf(const std::function<void()>& call);
 std::string MessageOf(const std::function<void()>& call);
 
 // Polls `condition` every 20 ms until it holds or `seconds` pass; returns whether it held.
 bool WaitFor(const std::function<bool()>& condition, double seconds);
+
+// How long replicas sharing a data dir are given to see each other's changes.
+// They poll the manifest every 500 ms; the bound is generous so that a loaded
+// machine cannot fail a test that asserts that changes propagate, not how fast.
+inline constexpr double kPropagationTimeoutSeconds = 30.0;
+
+// The names of the assets `client`'s server lists.
+std::set<std::string> AssetNames(Client& client);
 
 }  // namespace armature::testing

@@ -1,31 +1,21 @@
 #include "deform_grid.h"
 
 #include <cmath>
-#include <cstdio>
-#include <sstream>
 
 namespace armature::testing {
 
 Grid MakeGrid(int n, float bump) {
   Grid g;
   g.n = n;
-  std::ostringstream obj;
-  char line[128];
+  g.mesh = fixtures::MakeGrid(n, n, 1.0, 1.0);  // for its triangles; the positions are the floats below
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const float x = static_cast<float>(i) / static_cast<float>(n - 1), y = static_cast<float>(j) / static_cast<float>(n - 1);
       const float z = bump * std::exp(-((x - 0.5f) * (x - 0.5f) + (y - 0.5f) * (y - 0.5f)) / 0.02f);
       g.positions.insert(g.positions.end(), {x, y, z});
-      std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", x, y, z);
-      obj << line;
+      g.mesh.positions.row(g.at(i, j)) << x, y, z;
     }
-  for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) {
-      const uint32_t a = g.at(i, j), b = g.at(i + 1, j), c = g.at(i + 1, j + 1), d = g.at(i, j + 1);
-      g.triangles.insert(g.triangles.end(), {a, b, c, a, c, d});
-      obj << "f " << a + 1 << ' ' << b + 1 << ' ' << c + 1 << "\nf " << a + 1 << ' ' << c + 1 << ' ' << d + 1 << "\n";
-    }
-  g.obj = obj.str();
+  g.obj = fixtures::ToObj(g.mesh);
   return g;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "../engine/generated_meshes.h"
 #include "armature/v1/deform.pb.h"
 
 namespace armature::testing {
@@ -15,8 +16,8 @@ namespace armature::testing {
 // Positions are floats (what the server stores), printed so they read back exactly.
 struct Grid {
   int n = 0;
-  std::vector<float> positions;     // x,y,z per vertex
-  std::vector<uint32_t> triangles;  // 0-based
+  std::vector<float> positions;  // x,y,z per vertex
+  fixtures::GeneratedMesh mesh;  // the same positions as doubles, and the triangles
   std::string obj;
   uint32_t at(int i, int j) const { return static_cast<uint32_t>(j * n + i); }
 };

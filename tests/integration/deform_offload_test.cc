@@ -3,10 +3,8 @@
 // answered before the first of them finishes (they run on the deform
 // service's own pool).
 #include <atomic>
-#include <chrono>
 #include <future>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -14,6 +12,7 @@
 #include "armature/client.h"
 #include "client_helpers.h"
 #include "deform_grid.h"
+#include "metrics_scrape.h"
 #include "server_process.h"
 
 namespace armature::testing {
@@ -39,9 +38,11 @@ TEST(DeformOffload, HealthIsAnsweredWhileFactorizationsRun) {
       finished.fetch_add(1);
       return n;
     }));
-  // Give the calls time to reach the server (a factorization of this mesh
-  // takes far longer), then ask for health.
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // Once every call has reached the server (a factorization of this mesh
+  // takes far longer than the calls take to arrive), ask for health.
+  const std::string in_flight = "armature_rpc_in_flight{method=\"armature.v1.DeformService/Deform\"}";
+  EXPECT_TRUE(WaitFor([&] { return ScrapeSample(server, in_flight) == kCalls; }, 60))
+      << in_flight << " = " << ScrapeSample(server, in_flight) << ", " << finished.load() << " finished";
   EXPECT_TRUE(Client(OptionsFor(server)).Healthy());
   const int done_at_health = finished.load();
   for (auto& d : deforms) EXPECT_EQ(d.get(), 3 * grid.n * grid.n);

@@ -12,18 +12,12 @@
 #include <gtest/gtest.h>
 
 #include "armature/client.h"
+#include "armature/engine/demo_walk.h"
 #include "client_helpers.h"
 #include "server_process.h"
 
 namespace armature::testing {
 namespace {
-
-std::set<std::string> AssetNames(Client& client) {
-  std::set<std::string> names;
-  const auto listed = client.ListAssets();
-  for (const auto& a : listed.assets()) names.insert(a.name());
-  return names;
-}
 
 // Mean of every third float from `first`: the mean x, y or z of packed positions.
 double Mean(const google::protobuf::RepeatedField<float>& xyz, int first) {
@@ -94,7 +88,8 @@ TEST(DemoAssets, AFreshServerServesAWalkingCharacter) {
   EXPECT_LT(largest_difference, 5.0) << "cm";
   // One stride later (the cycle is 1 s) the pose repeats 110 cm further along +Z.
   const auto later = skin(1.5, v1::LBS);
-  EXPECT_NEAR(Mean(later.positions(), 2) - Mean(lbs.positions(), 2), 110.0, 0.05) << "cm";
+  EXPECT_NEAR(Mean(later.positions(), 2) - Mean(lbs.positions(), 2), kDemoWalkSpeed * kDemoWalkCycleSeconds, 0.05)
+      << "cm";
   EXPECT_NEAR(Mean(later.positions(), 0), Mean(lbs.positions(), 0), 0.05) << "cm";
   EXPECT_NEAR(Mean(later.positions(), 1), Mean(lbs.positions(), 1), 0.05) << "cm";
 }
@@ -112,7 +107,8 @@ TEST(DemoAssets, ReplicasSeedingOneNewDataDirKeepOneCopyOfEach) {
   const std::set<std::string> both = {"demo_character", "demo_walk"};
   for (ServerProcess* server : {&*a, &*b}) {
     Client client(OptionsFor(*server));
-    EXPECT_TRUE(WaitFor([&] { return AssetNames(client) == both; }, 2.0)) << ReadFile(server->log_file());
+    EXPECT_TRUE(WaitFor([&] { return AssetNames(client) == both; }, kPropagationTimeoutSeconds))
+        << ReadFile(server->log_file());
     EXPECT_EQ(client.GetMesh("demo_character.body").skeleton(), "demo_character");
     EXPECT_EQ(ReadFile(server->log_file()).find("could not seed"), std::string::npos) << ReadFile(server->log_file());
   }

@@ -168,8 +168,9 @@ TEST_F(Foundation, BadInputGetsClearErrorsAndChangesNothing) {
   // Over the upload limit (1 MiB here).
   std::string big = kArmBvh;
   while (big.size() < (3u << 20) / 2) big += "0 0 0 0 0 0 0 0 0\n";
-  message = MessageOf([&] { client.Import({"big.bvh", big}); });
-  EXPECT_EQ(CodeOf([&] { client.Import({"big.bvh", big}); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  const grpc::Status too_big = StatusOf([&] { client.Import({"big.bvh", big}); });
+  message = too_big.error_message();
+  EXPECT_EQ(too_big.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
   EXPECT_NE(message.find("limit"), std::string::npos) << message;
 
   // Evaluate: NaN, negative and missing times, unknown clip and joint.

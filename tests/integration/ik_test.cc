@@ -566,8 +566,9 @@ TEST_F(IkApi, SessionErrorsAndTheSessionLimit) {
   {
     auto session = client.OpenIkSession(start);
     // A second concurrent session is over the limit of 1.
-    std::string message = MessageOf([&] { client.OpenIkSession(start); });
-    EXPECT_EQ(CodeOf([&] { client.OpenIkSession(start); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    const grpc::Status second = StatusOf([&] { client.OpenIkSession(start); });
+    std::string message = second.error_message();
+    EXPECT_EQ(second.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     EXPECT_NE(message.find("--max-ik-sessions"), std::string::npos) << message;
     // A bad update ends the session with the field named.
     v1::IkSessionRequest update;
@@ -624,9 +625,10 @@ TEST_F(IkApi, SessionsPerClientAndTheGauge) {
   auto b = client.OpenIkSession(start);
   EXPECT_EQ(OpenSessionsGauge(server), 2);
   // A third from the same client (address) is over its limit.
-  const std::string message = MessageOf([&] { client.OpenIkSession(start); });
+  const grpc::Status third = StatusOf([&] { client.OpenIkSession(start); });
+  const std::string& message = third.error_message();
   EXPECT_NE(message.find("--max-sessions-per-client"), std::string::npos) << message;
-  EXPECT_EQ(CodeOf([&] { client.OpenIkSession(start); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_EQ(third.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
   a->Close();
   a.reset();
   auto c = client.OpenIkSession(start);  // the closed one's place is free again
@@ -748,8 +750,9 @@ Frame Time: 0.1
   for (const Case& c : cases) {
     v1::SolveIkRequest r = good;
     c.edit(r);
-    const std::string message = MessageOf([&] { client.SolveIk(r); });
-    EXPECT_EQ(CodeOf([&] { client.SolveIk(r); }), c.code) << c.what << ": " << message;
+    const grpc::Status status = StatusOf([&] { client.SolveIk(r); });
+    const std::string& message = status.error_message();
+    EXPECT_EQ(status.error_code(), c.code) << c.what << ": " << message;
     EXPECT_NE(message.find(c.field), std::string::npos) << c.what << ": " << message;
     std::printf("  %-32s %s\n", c.what.c_str(), message.c_str());
   }

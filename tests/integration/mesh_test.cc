@@ -13,6 +13,7 @@
 #include "armature/engine/asset.h"
 #include "armature/engine/mesh.h"
 #include "armature/engine/skinning.h"
+#include "../engine/mesh_test_util.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -25,17 +26,18 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// Expects `call` to fail with `code` and a message naming `field`.
+void ExpectStatus(const std::function<void()>& call, grpc::StatusCode code, const std::string& field) {
+  const grpc::Status status = StatusOf(call);
+  EXPECT_EQ(status.error_code(), code) << field;
+  EXPECT_NE(status.error_message().find(field), std::string::npos) << status.error_message();
+}
+
 // A glTF file and its buffers, parsed in this process as the server parses it.
 struct Reference {
   AssetContents contents;
   static Reference Parse(const fs::path& gltf, const std::string& name) {
-    ResourceMap resources;
-    const json doc = json::parse(ReadFile(gltf));
-    for (const auto& b : doc.value("buffers", json::array())) {
-      const std::string uri = b.value("uri", "");
-      if (!uri.empty() && uri.rfind("data:", 0) != 0) resources[uri] = ReadFile(gltf.parent_path() / uri);
-    }
-    auto parsed = ParseAsset(AssetFormat::kGltf, ReadFile(gltf), name, resources);
+    auto parsed = test_util::LoadGltfFile(gltf, name);
     EXPECT_TRUE(parsed.ok()) << parsed.status().message();
     return {std::move(*parsed)};
   }
@@ -162,31 +164,25 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
   auto call = [&](v1::SkinMeshRequest r) { return [&client, r] { client.SkinMesh(r); }; };
   v1::SkinMeshRequest bad = request;
   bad.set_mesh("nope");
-  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::NOT_FOUND);
-  EXPECT_NE(MessageOf(call(bad)).find("mesh"), std::string::npos) << MessageOf(call(bad));
+  ExpectStatus(call(bad), grpc::StatusCode::NOT_FOUND, "mesh");
   bad = request;
   bad.set_clip("nope");
-  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::NOT_FOUND);
-  EXPECT_NE(MessageOf(call(bad)).find("clip"), std::string::npos) << MessageOf(call(bad));
+  ExpectStatus(call(bad), grpc::StatusCode::NOT_FOUND, "clip");
   bad = request;
   bad.set_time(std::numeric_limits<double>::quiet_NaN());
-  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_NE(MessageOf(call(bad)).find("time"), std::string::npos) << MessageOf(call(bad));
+  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "time");
   bad = request;
   bad.set_time(-1);
   EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
   bad = by_pose;
   bad.mutable_pose()->mutable_rotations()->RemoveLast();
-  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_NE(MessageOf(call(bad)).find("pose"), std::string::npos) << MessageOf(call(bad));
+  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "pose");
   bad = request;
   bad.add_morph_weights(1);
-  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_NE(MessageOf(call(bad)).find("morph_weights"), std::string::npos) << MessageOf(call(bad));
+  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "morph_weights");
   bad = request;
   bad.set_method(static_cast<v1::SkinningMethod>(7));
-  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_NE(MessageOf(call(bad)).find("method"), std::string::npos) << MessageOf(call(bad));
+  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "method");
   bad = request;
   bad.clear_clip();
   EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
@@ -283,8 +279,9 @@ TEST_F(Meshes, MeshVertexLimitRefusesTheImport) {
   ServerProcess server(data.path(), {"--no-demo", "--max-mesh-vertices", "100"});
   Client client(OptionsFor(server));
   auto import = [&] { client.ImportFile(file, "rigged_simple"); };
-  EXPECT_EQ(CodeOf(import), grpc::StatusCode::RESOURCE_EXHAUSTED);
-  const std::string message = MessageOf(import);
+  const grpc::Status status = StatusOf(import);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  const std::string& message = status.error_message();
   EXPECT_NE(message.find("--max-mesh-vertices"), std::string::npos) << message;
   EXPECT_NE(message.find("160 vertices"), std::string::npos) << message;
   EXPECT_EQ(client.ListMeshes().meshes_size(), 0);

@@ -1,6 +1,6 @@
 // Two real servers on one data dir (as replicas on a ReadWriteMany volume)
-// serve the same assets: what one imports or deletes, the other serves
-// within 2 s, and concurrent imports on both keep every entry.
+// serve the same assets: what one imports or deletes, the other serves too
+// (it polls the manifest), and concurrent imports on both keep every entry.
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -17,16 +17,6 @@ namespace armature::testing {
 namespace {
 namespace fs = std::filesystem;
 
-// The manifest is polled every 500 ms; 2 s is the documented bound.
-constexpr double kPropagationSeconds = 2.0;
-
-std::set<std::string> AssetNames(Client& client) {
-  std::set<std::string> names;
-  const auto listed = client.ListAssets();
-  for (const auto& a : listed.assets()) names.insert(a.name());
-  return names;
-}
-
 class Replicas : public ::testing::Test {
  protected:
   TempDir data_;
@@ -39,7 +29,8 @@ TEST_F(Replicas, ImportOnOneIsServedByTheOther) {
   ASSERT_EQ(CodeOf([&] { cb.GetClip("arm"); }), grpc::StatusCode::NOT_FOUND);
 
   ca.Import({"arm.bvh", kArmBvh});
-  EXPECT_TRUE(WaitFor([&] { return CodeOf([&] { cb.GetClip("arm"); }) == grpc::StatusCode::OK; }, kPropagationSeconds))
+  EXPECT_TRUE(WaitFor([&] { return CodeOf([&] { cb.GetClip("arm"); }) == grpc::StatusCode::OK; },
+                      kPropagationTimeoutSeconds))
       << ReadFile(b.log_file());
   // B evaluates it like A: the tip at t = 0.25 (the root turned 45° about Z).
   v1::EvaluateClipRequest r;
@@ -63,7 +54,7 @@ TEST_F(Replicas, DeleteOnOneDisappearsFromTheOther) {
 
   cb.DeleteAsset("arm");
   EXPECT_TRUE(WaitFor([&] { return CodeOf([&] { ca.GetClip("arm"); }) == grpc::StatusCode::NOT_FOUND; },
-                      kPropagationSeconds))
+                      kPropagationTimeoutSeconds))
       << ReadFile(a.log_file());
   EXPECT_EQ(AssetNames(ca), (std::set<std::string>{"keep"}));
   // The untouched asset is still served by A from memory, without a reparse.
@@ -96,7 +87,8 @@ TEST_F(Replicas, ConcurrentImportsOnBothKeepEveryEntry) {
   EXPECT_EQ(listed, expected);
   // Both servers serve all of them.
   Client ca(OptionsFor(a)), cb(OptionsFor(b));
-  EXPECT_TRUE(WaitFor([&] { return AssetNames(ca) == expected && AssetNames(cb) == expected; }, kPropagationSeconds));
+  EXPECT_TRUE(WaitFor([&] { return AssetNames(ca) == expected && AssetNames(cb) == expected; },
+                      kPropagationTimeoutSeconds));
   EXPECT_EQ(AssetNames(ca), expected);
   EXPECT_EQ(AssetNames(cb), expected);
   // A name taken on one is taken on the other, even before B has reloaded.

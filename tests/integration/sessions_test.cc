@@ -54,8 +54,9 @@ TEST_F(Sessions, OneClientLimitCoversIkAndDeformation) {
     auto ik = client_->OpenIkSession(ik_start_);
     EXPECT_EQ(Gauge("ik"), 1);
     // The open IK session holds this client's one place: a drag session is refused, naming the flag.
-    const std::string message = MessageOf([&] { client_->OpenDeformSession(deform_start_); });
-    EXPECT_EQ(CodeOf([&] { client_->OpenDeformSession(deform_start_); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
+    const grpc::Status status = StatusOf([&] { client_->OpenDeformSession(deform_start_); });
+    const std::string& message = status.error_message();
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
     EXPECT_NE(message.find("DeformSession"), std::string::npos) << message;
     EXPECT_NE(message.find("--max-sessions-per-client (1)"), std::string::npos) << message;
     EXPECT_EQ(Gauge("deform"), 0) << "a refused session holds no place";
@@ -83,17 +84,17 @@ TEST_F(Sessions, TotalLimitCoversBothKindsAndTheIkLimitOnlyIk) {
   Start({"--max-sessions", "2", "--max-ik-sessions", "1"});
   auto ik = client_->OpenIkSession(ik_start_);
   // A second IK session is over --max-ik-sessions, though --max-sessions has room.
-  std::string message = MessageOf([&] { client_->OpenIkSession(ik_start_); });
-  EXPECT_EQ(CodeOf([&] { client_->OpenIkSession(ik_start_); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
-  EXPECT_NE(message.find("--max-ik-sessions (1)"), std::string::npos) << message;
+  const grpc::Status second_ik = StatusOf([&] { client_->OpenIkSession(ik_start_); });
+  EXPECT_EQ(second_ik.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(second_ik.error_message().find("--max-ik-sessions (1)"), std::string::npos) << second_ik.error_message();
   // A drag session is not an IK session: it takes the second place in all.
   auto drag = client_->OpenDeformSession(deform_start_);
   EXPECT_EQ(Gauge("ik"), 1);
   EXPECT_EQ(Gauge("deform"), 1);
   // The server is full: a third session of either kind names --max-sessions.
-  message = MessageOf([&] { client_->OpenDeformSession(deform_start_); });
-  EXPECT_EQ(CodeOf([&] { client_->OpenDeformSession(deform_start_); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
-  EXPECT_NE(message.find("--max-sessions (2)"), std::string::npos) << message;
+  const grpc::Status third = StatusOf([&] { client_->OpenDeformSession(deform_start_); });
+  EXPECT_EQ(third.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(third.error_message().find("--max-sessions (2)"), std::string::npos) << third.error_message();
   ik.reset();  // cancelled: its place comes back once the server has seen the cancellation
   EXPECT_TRUE(WaitFor([&] { return Gauge("ik") == 0; }, 10)) << Gauge("ik");
   auto second_drag = client_->OpenDeformSession(deform_start_);
