@@ -8,6 +8,7 @@
 #include "armature/engine/bvh.h"
 #include "armature/engine/gltf.h"
 #include "armature/engine/obj.h"
+#include "armature/engine/utf8.h"
 
 namespace armature {
 
@@ -52,7 +53,7 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
                                    std::string_view bytes) {
   if (!explicit_format.empty()) {
     if (auto f = FromName(explicit_format)) return *f;
-    return Status::InvalidArgument("format: unknown format '" + std::string(explicit_format) +
+    return Status::InvalidArgument("format: unknown format '" + EscapeForMessage(explicit_format) +
                                    "' (expected bvh, gltf, glb or obj)");
   }
   if (auto dot = filename.rfind('.'); dot != std::string_view::npos)
@@ -67,32 +68,55 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
     return AssetFormat::kGltf;
   if (rest.substr(0, 2) == "v " || rest.substr(0, 1) == "#" || rest.substr(0, 2) == "o ")
     return AssetFormat::kObj;
-  return Status::InvalidArgument("cannot tell the file's format from its name '" + std::string(filename) +
+  return Status::InvalidArgument("cannot tell the file's format from its name '" + EscapeForMessage(filename) +
                                  "' or content; pass format (bvh, gltf, glb or obj)");
 }
 
-StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
-                                   const ResourceMap& resources) {
+std::string OverImportLimit(const std::string& what, uint64_t value, const char* field, uint64_t limit) {
+  return what + " " + std::to_string(value) + " is over the import limit " + field + " = " + std::to_string(limit);
+}
+
+namespace {
+
+StatusOr<AssetContents> ParseFormat(AssetFormat format, std::string_view bytes, std::string_view name,
+                                    const ResourceMap& resources, const ImportLimits& limits) {
   switch (format) {
     case AssetFormat::kBvh: {
-      auto bvh = ParseBvh(bytes);
+      auto bvh = ParseBvh(bytes, limits);
       if (!bvh.ok()) return bvh.status();
       AssetContents c;
       c.skeletons.push_back({std::string(name), bvh->skeleton});
       c.clips.push_back({std::string(name), std::string(name), bvh->clip});
+      c.warnings = std::move(bvh->warnings);
       return c;
     }
     case AssetFormat::kGltf:
-    case AssetFormat::kGlb: return ParseGltf(bytes, format == AssetFormat::kGlb, name, resources);
+    case AssetFormat::kGlb: return ParseGltf(bytes, format == AssetFormat::kGlb, name, resources, limits);
     case AssetFormat::kObj: {
       AssetContents c;
-      auto mesh = ParseObj(bytes, name, &c.warnings);
+      auto mesh = ParseObj(bytes, name, &c.warnings, limits);
       if (!mesh.ok()) return mesh.status();
       c.meshes.push_back({std::string(name), "", std::make_shared<const Mesh>(std::move(*mesh))});
       return c;
     }
   }
-  return Status::InvalidArgument("unknown asset format");
+  return Status::InvalidArgument("unknown asset format " + std::to_string(static_cast<int>(format)));
+}
+
+}  // namespace
+
+StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
+                                   const ResourceMap& resources, const ImportLimits& limits) {
+  // The parsers return a Status for any bytes; this boundary only keeps a
+  // failed allocation or a bug in a third-party parser from escaping into the
+  // caller's thread.
+  try {
+    return ParseFormat(format, bytes, name, resources, limits);
+  } catch (const std::bad_alloc&) {
+    return Status::ResourceExhausted("out of memory while importing the file");
+  } catch (const std::exception& e) {
+    return Status::Internal("import failed: " + EscapeForMessage(e.what(), 200));
+  }
 }
 
 }  // namespace armature

@@ -13,6 +13,7 @@
 
 #include "armature/engine/bvh.h"
 #include "armature/engine/rotation.h"
+#include "armature/engine/utf8.h"
 
 namespace armature {
 namespace {
@@ -41,13 +42,10 @@ std::string_view Trim(std::string_view s) {
   return s;
 }
 
+// Input quoted for a message: cut short, bytes that are not UTF-8 escaped.
 std::string Quoted(std::string_view token) {
   if (token.empty()) return "end of file";
-  constexpr size_t kMax = 40;
-  std::string quoted = "'";
-  quoted.append(token.substr(0, kMax));
-  quoted.append(token.size() > kMax ? "...'" : "'");
-  return quoted;
+  return "'" + EscapeForMessage(token, 40) + "'";
 }
 
 std::optional<Channel> ParseChannel(std::string_view s) {
@@ -148,7 +146,7 @@ struct JointDef {
 
 class BvhParser {
  public:
-  explicit BvhParser(std::string_view text) : scan_(text) {}
+  BvhParser(std::string_view text, const ImportLimits& limits) : scan_(text), limits_(limits) {}
 
   StatusOr<BvhData> Parse() {
     ARMATURE_RETURN_IF_ERROR(Expect("HIERARCHY"));
@@ -165,7 +163,7 @@ class BvhParser {
     if (Status st = skeleton_->Validate(); !st.ok()) return st;
     clip_->skeleton = skeleton_;
     if (Status st = clip_->Validate(); !st.ok()) return st;
-    return BvhData{skeleton_, clip_};
+    return BvhData{skeleton_, clip_, std::move(warnings_)};
   }
 
  private:
@@ -205,9 +203,11 @@ class BvhParser {
     bool brace = false;
     const std::string_view name = scan_.LineTail(&brace);
     if (name.empty()) return Error("joint has no name");
+    // Names travel in protobuf strings, which must be UTF-8.
+    if (!IsValidUtf8(name)) return Error("joint name " + Quoted(name) + " is not valid UTF-8");
     std::string name_str(name);
     if (auto [it, inserted] = name_lines_.emplace(name_str, name_line); !inserted)
-      return Error("duplicate joint name '" + name_str + "' (first on line " + std::to_string(it->second) + ")");
+      return Error("duplicate joint name " + Quoted(name_str) + " (first on line " + std::to_string(it->second) + ")");
     ARMATURE_RETURN_IF_ERROR(ExpectOpenBrace(brace));
 
     JointDef def;
@@ -281,7 +281,7 @@ class BvhParser {
       if (EqualsIgnoreCase(tok, "End")) {
         bool brace = false;
         const std::string_view site = scan_.LineTail(&brace);
-        if (!StartsWithIgnoreCase(site, "Site")) return Error("expected 'End Site', found 'End " + std::string(site) + "'");
+        if (!StartsWithIgnoreCase(site, "Site")) return Error("expected 'End Site', found " + Quoted("End " + std::string(site)));
         ARMATURE_RETURN_IF_ERROR(ExpectOpenBrace(brace));
         Eigen::Vector3d offset;
         ARMATURE_RETURN_IF_ERROR(ReadOffset(&offset));
@@ -322,13 +322,28 @@ class BvhParser {
     long long frames = 0;
     if (!ParseCount(value, &frames) || frames < 0) return Error("frame count " + Quoted(value) + " is not a whole number >= 0");
     const int frames_line = scan_.token_line();
+    const auto frame_count = static_cast<uint64_t>(frames);
+    if (frame_count > limits_.max_clip_frames)
+      return Status::ResourceExhausted("line " + std::to_string(frames_line) + ": " +
+                                       OverImportLimit("Frames:", frame_count, "max_clip_frames", limits_.max_clip_frames));
     ARMATURE_RETURN_IF_ERROR(ReadLabeledLine({"Frame", "Time"}, &value));
     double dt = 0;
     if (!ParseDouble(value, &dt) || !std::isfinite(dt) || !(dt > 0))
       return Error("frame time " + Quoted(value) + " is not a positive number of seconds");
 
+    // Tracks only for joints with channels: a joint without any stays at its
+    // rest pose, and no key is stored that no bytes of the file pay for.
     const size_t n_joints = joints_.size();
     const size_t columns = static_cast<size_t>(total_channels_);
+    size_t tracks = 0;
+    for (const JointDef& def : joints_) tracks += (def.rotation_axes.empty() ? 0 : 1) + (def.has_position ? 1 : 0);
+    uint64_t keys = 0;
+    if (__builtin_mul_overflow(frame_count, tracks, &keys)) keys = UINT64_MAX;
+    if (keys > limits_.max_clip_keys)
+      return Status::ResourceExhausted(
+          "line " + std::to_string(frames_line) + ": " +
+          OverImportLimit(std::to_string(frame_count) + " frames × " + std::to_string(tracks) + " tracks =", keys,
+                          "max_clip_keys", limits_.max_clip_keys));
     clip_ = std::make_shared<Clip>();
     clip_->joints.resize(n_joints);
     clip_->frame_time = dt;
@@ -344,7 +359,7 @@ class BvhParser {
     std::vector<double> times;
     times.reserve(capacity);
     for (size_t j = 0; j < n_joints; ++j) {
-      clip_->joints[j].rotation.values.reserve(capacity);
+      if (!joints_[j].rotation_axes.empty()) clip_->joints[j].rotation.values.reserve(capacity);
       if (joints_[j].has_position) clip_->joints[j].translation.values.reserve(capacity);
     }
 
@@ -361,9 +376,11 @@ class BvhParser {
         const JointDef& def = joints_[j];
         JointTrack& track = clip_->joints[j];
         const size_t n_rot = def.rotation_axes.size();
-        for (size_t r = 0; r < n_rot; ++r) angles[r] = row[static_cast<size_t>(def.rotation_columns[r])] * kDegree;
-        track.rotation.values.push_back(
-            EulerToQuaternion(def.rotation_axes, std::span<const double>(angles.data(), n_rot)));
+        if (n_rot > 0) {
+          for (size_t r = 0; r < n_rot; ++r) angles[r] = row[static_cast<size_t>(def.rotation_columns[r])] * kDegree;
+          track.rotation.values.push_back(
+              EulerToQuaternion(def.rotation_axes, std::span<const double>(angles.data(), n_rot)));
+        }
         if (def.has_position) {
           Eigen::Vector3d t = def.offset;
           for (int k = 0; k < 3; ++k)
@@ -372,14 +389,22 @@ class BvhParser {
         }
       }
     }
-    if (const std::string_view extra = scan_.NextLine(); !extra.empty())
-      return Error("more frame lines than the " + std::to_string(frames) + " that 'Frames:' on line " +
-                   std::to_string(frames_line) + " declares");
+    // Lines beyond the declared count are ignored, as three.js, assimp and
+    // Blender do (real exporters write one too many).
+    if (std::string_view extra = scan_.NextLine(); !extra.empty()) {
+      const int first_extra = scan_.token_line();
+      size_t count = 0;
+      for (; !extra.empty(); extra = scan_.NextLine()) ++count;
+      warnings_.push_back("line " + std::to_string(first_extra) + ": " + std::to_string(count) + " frame line" +
+                          (count == 1 ? "" : "s") + " beyond Frames: " + std::to_string(frames) + " ignored");
+    }
 
     for (size_t j = 0; j < n_joints; ++j) {
       JointTrack& track = clip_->joints[j];
-      track.rotation.times = times;
-      track.rotation.interpolation = Interpolation::kLinear;
+      if (!joints_[j].rotation_axes.empty()) {
+        track.rotation.times = times;
+        track.rotation.interpolation = Interpolation::kLinear;
+      }
       if (joints_[j].has_position) {
         track.translation.times = times;
         track.translation.interpolation = Interpolation::kLinear;
@@ -419,10 +444,14 @@ class BvhParser {
   std::vector<JointDef> joints_;
   std::unordered_map<std::string, int> name_lines_;
   int total_channels_ = 0;
+  const ImportLimits& limits_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace
 
-StatusOr<BvhData> ParseBvh(std::string_view text) { return BvhParser(text).Parse(); }
+StatusOr<BvhData> ParseBvh(std::string_view text, const ImportLimits& limits) {
+  return BvhParser(text, limits).Parse();
+}
 
 }  // namespace armature

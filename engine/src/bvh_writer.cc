@@ -68,7 +68,10 @@ std::vector<size_t> DepthFirstOrder(const Skeleton& sk) {
   return order;
 }
 
-void Indent(std::string* out, size_t depth) { out->append(depth, '\t'); }
+// Indentation stops growing past kMaxIndent so that the hierarchy of a deep
+// chain costs linear, not quadratic, bytes (readers ignore whitespace).
+constexpr size_t kMaxIndent = 32;
+void Indent(std::string* out, size_t depth) { out->append(std::min(depth, kMaxIndent), '\t'); }
 
 void WriteHierarchy(const Skeleton& sk, const std::vector<size_t>& order,
                     const std::vector<std::vector<Channel>>& channels, std::string* out) {
@@ -120,23 +123,50 @@ void WriteHierarchy(const Skeleton& sk, const std::vector<size_t>& order,
   while (!open.empty()) close();
 }
 
+double ExportFrameTime(const Clip& clip) { return clip.frame_time > 0 ? clip.frame_time : 1.0 / 30.0; }
+
+size_t ColumnCount(const std::vector<std::vector<Channel>>& channels) {
+  size_t columns = 0;
+  for (const auto& c : channels) columns += c.size();
+  return columns;
+}
+
 }  // namespace
 
-std::string WriteBvh(const Clip& clip) {
-  if (!clip.skeleton || clip.joints.size() != clip.skeleton->size()) return {};
+uint64_t BvhExportFrameCount(const Clip& clip) {
+  if (clip.frame_time > 0 && clip.frame_count > 0) return clip.frame_count;
+  const double frames = std::floor(clip.duration / ExportFrameTime(clip) + 1e-9) + 1;
+  if (!(frames < 0x1p63)) return UINT64_MAX;  // also NaN
+  return frames < 1 ? 1 : static_cast<uint64_t>(frames);
+}
+
+uint64_t BvhExportByteEstimate(const Clip& clip) {
+  if (!clip.skeleton) return 0;
+  const Skeleton& sk = *clip.skeleton;
+  uint64_t hierarchy = 64;
+  for (const std::string& name : sk.names) hierarchy += name.size() + kMaxIndent * 4 + 160;
+  const uint64_t values = ColumnCount(ChannelLists(sk));
+  uint64_t motion = 0;
+  if (__builtin_mul_overflow(BvhExportFrameCount(clip), values * 11 + 1, &motion)) return UINT64_MAX;
+  return hierarchy + motion;
+}
+
+StatusOr<std::string> ExportBvh(const Clip& clip, uint64_t max_frames) {
+  if (!clip.skeleton || clip.joints.size() != clip.skeleton->size())
+    return Status::InvalidArgument("clip has no skeleton or a track count that differs from its skeleton");
+  const uint64_t frame_count = BvhExportFrameCount(clip);
+  if (frame_count > max_frames)
+    return Status::ResourceExhausted("BVH export would write " + std::to_string(frame_count) +
+                                     " frames, over the limit of " + std::to_string(max_frames));
   const Skeleton& sk = *clip.skeleton;
   const std::vector<std::vector<Channel>> channels = ChannelLists(sk);
   const std::vector<size_t> order = DepthFirstOrder(sk);
 
-  const double dt = clip.frame_time > 0 ? clip.frame_time : 1.0 / 30.0;
-  const size_t frames = clip.frame_time > 0 && clip.frame_count > 0
-                            ? clip.frame_count
-                            : static_cast<size_t>(std::floor(clip.duration / dt + 1e-9)) + 1;
+  const double dt = ExportFrameTime(clip);
+  const auto frames = static_cast<size_t>(frame_count);
 
   std::string out;
-  size_t columns = 0;
-  for (const auto& c : channels) columns += c.size();
-  out.reserve(2048 + frames * columns * 11);
+  out.reserve(2048 + frames * ColumnCount(channels) * 11);
   WriteHierarchy(sk, order, channels, &out);
   out.append("MOTION\nFrames: ");
   out.append(std::to_string(frames));
@@ -157,7 +187,7 @@ std::string WriteBvh(const Clip& clip) {
 
   std::vector<Trs> pose(sk.size());
   for (size_t f = 0; f < frames; ++f) {
-    if (!SampleClip(clip, static_cast<double>(f) * dt, SampleOptions{}, pose).ok()) return {};
+    ARMATURE_RETURN_IF_ERROR(SampleClip(clip, static_cast<double>(f) * dt, SampleOptions{}, pose));
     bool first_value = true;
     for (size_t j : order) {
       QuaternionToEuler(pose[j].rotation, axes[j], angles[j], previous[j]);
@@ -179,6 +209,11 @@ std::string WriteBvh(const Clip& clip) {
     out.push_back('\n');
   }
   return out;
+}
+
+std::string WriteBvh(const Clip& clip) {
+  auto text = ExportBvh(clip);
+  return text.ok() ? std::move(*text) : std::string();
 }
 
 }  // namespace armature

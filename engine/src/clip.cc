@@ -109,12 +109,21 @@ Status ValidateTimes(const std::vector<double>& times, const std::string& where)
   return Status::Ok();
 }
 
+// Enums can arrive as integers from outside (files, requests): an unknown
+// value is an error, never a silent default.
+Status CheckInterpolation(Interpolation i, const std::string& where) {
+  if (i == Interpolation::kStep || i == Interpolation::kLinear || i == Interpolation::kCubic) return Status::Ok();
+  return Status::InvalidArgument(where + ": interpolation " + std::to_string(static_cast<int>(i)) +
+                                 " is not STEP, LINEAR or CUBIC");
+}
+
 bool Finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 bool Finite(const Eigen::Quaterniond& q) { return q.coeffs().allFinite(); }
 
 template <class V, class Check>
 Status ValidateTrack(const Track<V>& track, const std::string& where, const Check& check_value) {
   ARMATURE_RETURN_IF_ERROR(ValidateTimes(track.times, where));
+  ARMATURE_RETURN_IF_ERROR(CheckInterpolation(track.interpolation, where));
   const size_t n = track.times.size();
   if (track.values.size() != n)
     return Status::InvalidArgument(where + ": " + std::to_string(track.values.size()) + " values for " +
@@ -161,6 +170,7 @@ Status Clip::Validate() const {
   for (const WeightsTrack& w : weights) {
     const std::string where = "weights track of mesh '" + w.mesh + "'";
     ARMATURE_RETURN_IF_ERROR(ValidateTimes(w.times, where));
+    ARMATURE_RETURN_IF_ERROR(CheckInterpolation(w.interpolation, where));
     const size_t plain = w.times.size() * w.targets;
     const bool ok_size = w.values.size() == plain ||
                          (w.interpolation == Interpolation::kCubic && w.values.size() == 3 * plain);
@@ -192,6 +202,10 @@ Status SampleClip(const Clip& clip, double time, const SampleOptions& options, s
     return Status::InvalidArgument("clip has " + std::to_string(clip.joints.size()) + " joint tracks, the skeleton has " +
                                    std::to_string(sk.size()) + " joints");
   if (!std::isfinite(time)) return Status::InvalidArgument("time is not finite");
+  if (options.interpolation) ARMATURE_RETURN_IF_ERROR(CheckInterpolation(*options.interpolation, "sample options"));
+  if (options.wrap != WrapMode::kClamp && options.wrap != WrapMode::kLoop)
+    return Status::InvalidArgument("sample options: wrap mode " + std::to_string(static_cast<int>(options.wrap)) +
+                                   " is not CLAMP or LOOP");
   const double t = WrapTime(time, clip.duration, options.wrap);
   for (size_t i = 0; i < sk.size(); ++i) {
     const JointTrack& jt = clip.joints[i];

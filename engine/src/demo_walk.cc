@@ -186,7 +186,7 @@ BvhData MakeDemoWalk() {
       }
     }
   }
-  return BvhData{skeleton, clip};
+  return BvhData{skeleton, clip, {}};
 }
 
 }  // namespace armature

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
+#include <type_traits>
 
 #include <tiny_gltf.h>
 
@@ -10,9 +12,12 @@ namespace armature::gltf_internal {
 
 namespace {
 
-// Refuse accessors that would need more than this many values without data
-// backing them (no bufferView: zeros, possibly sparse).
-constexpr uint64_t kMaxValues = uint64_t{1} << 28;
+// a·b + c, or nullopt when it does not fit 64 bits.
+std::optional<uint64_t> MulAdd(uint64_t a, uint64_t b, uint64_t c) {
+  uint64_t r;
+  if (__builtin_mul_overflow(a, b, &r) || __builtin_add_overflow(r, c, &r)) return std::nullopt;
+  return r;
+}
 
 size_t ComponentBytes(int component_type) {
   switch (component_type) {
@@ -86,9 +91,11 @@ double Component(const unsigned char* p, int component_type, bool normalize) {
 }
 
 // The bytes of bufferView `view_index` starting at `offset`, checked to hold
-// `count` elements of `element` bytes every `stride` bytes.
+// `count` elements of `element` bytes every `stride` bytes. `who` names the
+// accessor and `offset_field` its offset's field, for the message.
 StatusOr<const unsigned char*> ViewBytes(const tinygltf::Model& model, int view_index, uint64_t offset,
-                                         uint64_t count, uint64_t element, uint64_t stride, const std::string& who) {
+                                         uint64_t count, uint64_t element, uint64_t stride, const std::string& who,
+                                         const char* offset_field) {
   if (view_index < 0 || static_cast<size_t>(view_index) >= model.bufferViews.size())
     return Status::InvalidArgument(who + " refers to bufferView " + std::to_string(view_index) + " (file has " +
                                    std::to_string(model.bufferViews.size()) + ")");
@@ -99,17 +106,27 @@ StatusOr<const unsigned char*> ViewBytes(const tinygltf::Model& model, int view_
                                    std::to_string(model.buffers.size()) + ")");
   const tinygltf::Buffer& buffer = model.buffers[static_cast<size_t>(view.buffer)];
   if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset)
-    return Status::InvalidArgument(vwho + " (offset " + std::to_string(view.byteOffset) + ", length " +
+    return Status::InvalidArgument(vwho + " (byteOffset " + std::to_string(view.byteOffset) + ", byteLength " +
                                    std::to_string(view.byteLength) + ") does not fit buffer " +
                                    std::to_string(view.buffer) + " of " + std::to_string(buffer.data.size()) +
                                    " bytes");
   if (stride < element)
     return Status::InvalidArgument(vwho + ": byteStride " + std::to_string(stride) + " is smaller than the " +
                                    std::to_string(element) + "-byte elements of " + who);
-  const uint64_t needed = offset + (count - 1) * stride + element;
-  if (count > 0 && needed > view.byteLength)
-    return Status::InvalidArgument(who + " needs " + std::to_string(needed) + " bytes of bufferView " +
-                                   std::to_string(view_index) + " but it has " + std::to_string(view.byteLength));
+  if (offset > view.byteLength)
+    return Status::InvalidArgument(who + " " + offset_field + " " + std::to_string(offset) +
+                                   " is beyond the end of bufferView " + std::to_string(view_index) + " (" +
+                                   std::to_string(view.byteLength) + " bytes)");
+  if (count > 0) {
+    // offset + (count − 1)·stride + element, each step checked for wrapping.
+    const std::optional<uint64_t> needed = MulAdd(count - 1, stride, offset + element);
+    if (!needed || *needed > view.byteLength)
+      return Status::InvalidArgument(
+          who + " needs " + (needed ? std::to_string(*needed) : std::string("more than 2^64")) +
+          " bytes of bufferView " + std::to_string(view_index) + " but it has " + std::to_string(view.byteLength) +
+          " (" + offset_field + " " + std::to_string(offset) + ", count " + std::to_string(count) + ", stride " +
+          std::to_string(stride) + ")");
+  }
   return buffer.data.data() + view.byteOffset + offset;
 }
 
@@ -128,9 +145,17 @@ std::string AccessorTypeName(int type) {
   }
 }
 
+StatusOr<size_t> AccessorReader::Count(int index, const std::string& where) const {
+  if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
+    return Status::InvalidArgument(where + ": accessor " + std::to_string(index) + " does not exist (file has " +
+                                   std::to_string(model_.accessors.size()) + ")");
+  return model_.accessors[static_cast<size_t>(index)].count;
+}
+
+template <class T>
 StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where, AccessorType type,
                                             std::initializer_list<int> component_types, bool float_allowed,
-                                            bool normalize, std::vector<double>* out) const {
+                                            bool normalize, std::vector<T>* out) const {
   if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
     return Status::InvalidArgument(where + ": accessor " + std::to_string(index) + " does not exist (file has " +
                                    std::to_string(model_.accessors.size()) + ")");
@@ -154,26 +179,46 @@ StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where,
   if (a.count == 0) return Status::InvalidArgument(who + " has no elements");
   const size_t components = Components(a.type);
   const size_t bytes = ComponentBytes(a.componentType);
-  const uint64_t values = static_cast<uint64_t>(a.count) * components;
-  if (values > kMaxValues) return Status::InvalidArgument(who + " is too large (" + std::to_string(a.count) + " elements)");
+  const uint64_t element = components * bytes;
+  const std::optional<uint64_t> values = MulAdd(a.count, components, 0);
+  if (a.bufferView < 0) {
+    // No bufferView: zeros, unless sparse says otherwise. No bytes of the file
+    // pay for these, so they have a cap of their own.
+    const std::optional<uint64_t> unbacked = MulAdd(a.count, element, 0);
+    if (!unbacked || *unbacked > limits_.max_unbacked_accessor_bytes)
+      return Status::ResourceExhausted(who + " has no bufferView: " +
+                                       OverImportLimit("count " + std::to_string(a.count) + " × " +
+                                                           std::to_string(element) + " bytes =",
+                                                       unbacked.value_or(UINT64_MAX), "max_unbacked_accessor_bytes",
+                                                       limits_.max_unbacked_accessor_bytes));
+  }
+  const std::optional<uint64_t> total = values ? MulAdd(1, *values, values_read_) : std::nullopt;
+  if (!total || *total > limits_.max_accessor_values)
+    return Status::ResourceExhausted(who + ": " +
+                                     OverImportLimit("count " + std::to_string(a.count) + " × " +
+                                                         std::to_string(components) + " components, with the " +
+                                                         std::to_string(values_read_) + " values read before,",
+                                                     total.value_or(UINT64_MAX), "max_accessor_values",
+                                                     limits_.max_accessor_values));
   const bool convert = normalize && !is_float;
 
-  std::vector<double> result;
+  std::vector<T> result;
   if (a.bufferView >= 0) {
-    const tinygltf::BufferView& view = model_.bufferViews.size() > static_cast<size_t>(a.bufferView)
-                                           ? model_.bufferViews[static_cast<size_t>(a.bufferView)]
-                                           : tinygltf::BufferView();
-    const uint64_t element = components * bytes;
-    const uint64_t stride = view.byteStride ? view.byteStride : element;
-    auto data = ViewBytes(model_, a.bufferView, a.byteOffset, a.count, element, stride, who);
+    const uint64_t stride = static_cast<size_t>(a.bufferView) < model_.bufferViews.size() &&
+                                    model_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride
+                                ? model_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride
+                                : element;
+    auto data = ViewBytes(model_, a.bufferView, a.byteOffset, a.count, element, stride, who, "byteOffset");
     if (!data.ok()) return data.status();
-    result.resize(values);
+    result.resize(*values);
     for (size_t i = 0; i < a.count; ++i)
       for (size_t c = 0; c < components; ++c)
-        result[i * components + c] = Component(*data + i * stride + c * bytes, a.componentType, convert);
+        result[i * components + c] =
+            static_cast<T>(Component(*data + i * stride + c * bytes, a.componentType, convert));
   } else {
-    result.assign(values, 0.0);  // no bufferView: zeros, unless sparse says otherwise
+    result.assign(*values, T{});
   }
+  values_read_ = *total;
 
   if (a.sparse.isSparse) {
     const std::string swho = who + " sparse";
@@ -190,27 +235,29 @@ StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where,
       return Status::InvalidArgument(swho + " has a negative byteOffset");
     const uint64_t ib = ComponentBytes(it);
     auto indices = ViewBytes(model_, s.indices.bufferView, static_cast<uint64_t>(s.indices.byteOffset),
-                             static_cast<uint64_t>(s.count), ib, ib, swho + " indices");
+                             static_cast<uint64_t>(s.count), ib, ib, swho + " indices", "byteOffset");
     if (!indices.ok()) return indices.status();
-    const uint64_t element = components * bytes;
     auto vals = ViewBytes(model_, s.values.bufferView, static_cast<uint64_t>(s.values.byteOffset),
-                          static_cast<uint64_t>(s.count), element, element, swho + " values");
+                          static_cast<uint64_t>(s.count), element, element, swho + " values", "byteOffset");
     if (!vals.ok()) return vals.status();
     double previous = -1;
     for (int k = 0; k < s.count; ++k) {
-      const double target = Component(*indices + k * ib, it, false);
+      const double target = Component(*indices + static_cast<size_t>(k) * ib, it, false);
       if (target >= static_cast<double>(a.count) || target <= previous)
         return Status::InvalidArgument(swho + " index " + std::to_string(static_cast<uint64_t>(target)) +
                                        " at " + std::to_string(k) + " is out of range or not increasing");
       previous = target;
       const size_t i = static_cast<size_t>(target);
       for (size_t c = 0; c < components; ++c)
-        result[i * components + c] = Component(*vals + k * element + c * bytes, a.componentType, convert);
+        result[i * components + c] = static_cast<T>(
+            Component(*vals + static_cast<size_t>(k) * element + c * bytes, a.componentType, convert));
     }
   }
-  for (size_t i = 0; i < result.size(); ++i)
-    if (!std::isfinite(result[i]))
-      return Status::InvalidArgument(who + " element " + std::to_string(i / components) + " is not finite");
+  if constexpr (std::is_floating_point_v<T>) {
+    for (size_t i = 0; i < result.size(); ++i)
+      if (!std::isfinite(result[i]))
+        return Status::InvalidArgument(who + " element " + std::to_string(i / components) + " is not finite");
+  }
   *out = std::move(result);
   return AccessorData{a.count, components};
 }
@@ -218,26 +265,13 @@ StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where,
 StatusOr<AccessorData> AccessorReader::ReadFloats(int index, const std::string& where, AccessorType type,
                                                   std::initializer_list<int> normalized_types,
                                                   std::vector<float>* out) const {
-  std::vector<double> values;
-  auto data = Read(index, where, type, normalized_types, true, true, &values);
-  if (!data.ok()) return data.status();
-  out->assign(values.begin(), values.end());
-  for (size_t i = 0; i < out->size(); ++i)
-    if (!std::isfinite((*out)[i]))  // finite doubles can overflow float
-      return Status::InvalidArgument(where + ": accessor " + std::to_string(index) + " element " +
-                                     std::to_string(i / data->components) + " is out of float range");
-  return data;
+  return Read(index, where, type, normalized_types, true, true, out);
 }
 
 StatusOr<AccessorData> AccessorReader::ReadUints(int index, const std::string& where, AccessorType type,
                                                  std::initializer_list<int> component_types,
                                                  std::vector<uint32_t>* out) const {
-  std::vector<double> values;
-  auto data = Read(index, where, type, component_types, false, false, &values);
-  if (!data.ok()) return data.status();
-  out->resize(values.size());
-  for (size_t i = 0; i < values.size(); ++i) (*out)[i] = static_cast<uint32_t>(values[i]);
-  return data;
+  return Read(index, where, type, component_types, false, false, out);
 }
 
 }  // namespace armature::gltf_internal

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "armature/engine/import_limits.h"
 #include "armature/engine/status.h"
 
 namespace tinygltf {
@@ -24,9 +25,15 @@ struct AccessorData {
   size_t components = 0;  // per element
 };
 
+// Keeps count of the values it decodes: past limits.max_accessor_values in
+// all, further reads are RESOURCE_EXHAUSTED.
 class AccessorReader {
  public:
-  explicit AccessorReader(const tinygltf::Model& model) : model_(model) {}
+  AccessorReader(const tinygltf::Model& model, const ImportLimits& limits) : model_(model), limits_(limits) {}
+
+  // The element count of accessor `index` (checked to exist), without reading
+  // it: lets callers bound what they will build before decoding.
+  StatusOr<size_t> Count(int index, const std::string& where) const;
 
   // Floats: FLOAT components as they are; integer components only when the
   // accessor is normalized (and their type is in `normalized_types`),
@@ -40,13 +47,16 @@ class AccessorReader {
                                    std::initializer_list<int> component_types, std::vector<uint32_t>* out) const;
 
  private:
-  // Validates the accessor and returns its elements as raw doubles (integers
-  // exact), normalized when `normalize` is set.
+  // Validates the accessor (every bound in overflow-checked arithmetic) and
+  // returns its elements (integers exact), normalized when `normalize` is set.
+  template <class T>
   StatusOr<AccessorData> Read(int index, const std::string& where, AccessorType type,
                               std::initializer_list<int> component_types, bool float_allowed, bool normalize,
-                              std::vector<double>* out) const;
+                              std::vector<T>* out) const;
 
   const tinygltf::Model& model_;
+  const ImportLimits& limits_;
+  mutable uint64_t values_read_ = 0;
 };
 
 std::string AccessorTypeName(int type);

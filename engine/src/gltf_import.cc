@@ -13,6 +13,7 @@
 
 #include "armature/engine/arap.h"
 #include "armature/engine/mesh.h"
+#include "armature/engine/utf8.h"
 #include "gltf_accessor.h"
 
 namespace armature {
@@ -91,9 +92,62 @@ std::string Trim(std::string s) {
   return s;
 }
 
+uint32_t LittleEndian32(std::string_view bytes, size_t at) {
+  uint32_t v = 0;
+  for (size_t k = 0; k < 4; ++k) v |= static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + k])) << (8 * k);
+  return v;
+}
+
+// The GLB container (glTF 2.0, "Binary glTF Layout"): a 12-byte header
+// (magic, version, length) and chunks of an 8-byte header (length, type) and
+// that many bytes, JSON first, then an optional BIN. tinygltf 2.7.0 trusts
+// the BIN chunk's length 8 bytes too far, so every length is checked here
+// before it sees the bytes. Returns the `length` bytes the header declares.
+StatusOr<std::string_view> CheckGlbContainer(std::string_view bytes) {
+  constexpr uint32_t kJson = 0x4E4F534A, kBin = 0x004E4942;
+  if (bytes.size() < 20)
+    return Status::InvalidArgument("glb: " + std::to_string(bytes.size()) +
+                                   " bytes are too few for a header and a JSON chunk (20 bytes at least)");
+  if (bytes.substr(0, 4) != "glTF")
+    return Status::InvalidArgument("glb: the file does not start with the magic 'glTF' (found '" +
+                                   EscapeForMessage(bytes.substr(0, 4)) + "')");
+  if (const uint32_t version = LittleEndian32(bytes, 4); version != 2)
+    return Status::InvalidArgument("glb: header version " + std::to_string(version) + " is not 2");
+  const uint64_t length = LittleEndian32(bytes, 8);
+  if (length > bytes.size() || length < 20)
+    return Status::InvalidArgument("glb: header length " + std::to_string(length) + " does not fit the file's " +
+                                   std::to_string(bytes.size()) + " bytes");
+  const uint64_t json_length = LittleEndian32(bytes, 12);
+  if (LittleEndian32(bytes, 16) != kJson)
+    return Status::InvalidArgument("glb: the first chunk (at byte 12) is not of type JSON");
+  const uint64_t json_end = 20 + json_length;
+  if (json_length == 0 || json_end > length)
+    return Status::InvalidArgument("glb: JSON chunk length " + std::to_string(json_length) + " at byte 12 runs past " +
+                                   "the header's length of " + std::to_string(length) + " bytes");
+  if (json_end < length) {
+    if (json_end + 8 > length)
+      return Status::InvalidArgument("glb: " + std::to_string(length - json_end) + " bytes after the JSON chunk (at byte " +
+                                     std::to_string(json_end) + ") are too few for a chunk header");
+    const uint64_t bin_length = LittleEndian32(bytes, json_end);
+    if (LittleEndian32(bytes, json_end + 4) != kBin)
+      return Status::InvalidArgument("glb: the second chunk (at byte " + std::to_string(json_end) +
+                                     ") is not of type BIN");
+    if (json_end + 8 + bin_length > length)
+      return Status::InvalidArgument("glb: BIN chunk length " + std::to_string(bin_length) + " at byte " +
+                                     std::to_string(json_end) + " runs past the header's length of " +
+                                     std::to_string(length) + " bytes");
+  }
+  return bytes.substr(0, length);
+}
+
 StatusOr<tinygltf::Model> Load(std::string_view bytes, bool binary, const ResourceMap& resources) {
   if (bytes.size() > std::numeric_limits<unsigned int>::max())
     return Status::InvalidArgument("glTF: file is larger than 4 GiB");
+  if (binary) {
+    auto container = CheckGlbContainer(bytes);
+    if (!container.ok()) return container.status();
+    bytes = *container;
+  }
   ResourceFiles files{&resources, {}};
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&FileExists, &ExpandFilePath, &ReadWholeFile, &WriteWholeFile, &files});
@@ -107,12 +161,18 @@ StatusOr<tinygltf::Model> Load(std::string_view bytes, bool binary, const Resour
   if (ok) return model;
   for (const std::string& name : files.missing)
     if (err.find("File not found : " + name) != std::string::npos)
-      return Status::InvalidArgument("buffer uri '" + name +
+      return Status::InvalidArgument("buffer uri '" + EscapeForMessage(name, 200) +
                                      "' was not provided: pass the file's bytes as a resource keyed by its uri");
-  return Status::InvalidArgument("glTF: " + Trim(err.empty() ? warn : err));
+  return Status::InvalidArgument("glTF: " + EscapeForMessage(Trim(err.empty() ? warn : err), 400));
 }
 
 // ---- Helpers ----
+
+// Names travel in protobuf strings, which must be UTF-8.
+Status CheckName(const std::string& name, const std::string& where) {
+  if (IsValidUtf8(name)) return Status::Ok();
+  return Status::InvalidArgument(where + " '" + EscapeForMessage(name) + "' is not valid UTF-8");
+}
 
 std::string Unique(std::string base, std::set<std::string>& used) {
   std::string name = base;
@@ -160,7 +220,8 @@ StatusOr<Trs> DecomposeMatrix(const std::vector<double>& values, const std::stri
 
 class Importer {
  public:
-  Importer(const tinygltf::Model& model, std::string_view name) : model_(model), reader_(model), name_(name) {}
+  Importer(const tinygltf::Model& model, std::string_view name, const ImportLimits& limits)
+      : model_(model), limits_(limits), reader_(model, limits), name_(name) {}
 
   StatusOr<AssetContents> Run() {
     // Compressed geometry would read as empty accessors: refuse it plainly.
@@ -224,6 +285,7 @@ class Importer {
     for (size_t j = 0; j < n; ++j) {
       const size_t i = order[j];
       const tinygltf::Node& node = model_.nodes[i];
+      ARMATURE_RETURN_IF_ERROR(CheckName(node.name, "nodes[" + std::to_string(i) + "].name"));
       skeleton->names.push_back(Unique(node.name.empty() ? "node" + std::to_string(i) : node.name, used));
       skeleton->parents.push_back(parent[i] < 0 ? -1 : joint_of_[static_cast<size_t>(parent[i])]);
       auto rest = NodeTrs(node, "nodes[" + std::to_string(i) + "]");
@@ -306,8 +368,10 @@ class Importer {
     return b;
   }
 
-  // Dense per-mesh morph data while primitives are appended.
-  struct DenseTarget {
+  // Per-mesh morph data while primitives are appended: only the vertices a
+  // target moves, so memory follows the deltas the file holds.
+  struct SparseTarget {
+    std::vector<uint32_t> vertices;
     std::vector<Eigen::Vector3f> positions, normals;
     bool has_normals = false;
   };
@@ -315,6 +379,7 @@ class Importer {
   Status ImportMesh(size_t m) {
     const tinygltf::Mesh& gm = model_.meshes[m];
     const std::string where = "meshes[" + std::to_string(m) + "]";
+    ARMATURE_RETURN_IF_ERROR(CheckName(gm.name, where + ".name"));
     auto mesh = std::make_shared<Mesh>();
     mesh->name = Unique(gm.name.empty() ? std::to_string(m) : gm.name, used_mesh_names_);
     const int node = instance_[m];
@@ -334,7 +399,7 @@ class Importer {
     }
     if (gm.primitives.empty()) return Status::InvalidArgument(where + ".primitives is empty");
 
-    std::vector<DenseTarget> targets;
+    std::vector<SparseTarget> targets;
     bool any_normals = false;
     std::vector<std::pair<size_t, size_t>> missing_normals;  // vertex ranges of primitives without NORMAL
     size_t zero_weight_vertices = 0;
@@ -367,19 +432,17 @@ class Importer {
                             " names; targets are named by index");
       else
         for (size_t t = 0; t < targets.size(); ++t)
-          if (list.Get(static_cast<int>(t)).IsString()) names[t] = list.Get(static_cast<int>(t)).Get<std::string>();
+          if (list.Get(static_cast<int>(t)).IsString()) {
+            names[t] = list.Get(static_cast<int>(t)).Get<std::string>();
+            ARMATURE_RETURN_IF_ERROR(CheckName(names[t], where + ".extras.targetNames[" + std::to_string(t) + "]"));
+          }
     }
     for (size_t t = 0; t < targets.size(); ++t) {
       MorphTarget target;
       target.name = names[t];
-      for (size_t v = 0; v < mesh->positions.size(); ++v) {
-        const bool moves = !targets[t].positions[v].isZero(0) ||
-                           (targets[t].has_normals && !targets[t].normals[v].isZero(0));
-        if (!moves) continue;
-        target.vertices.push_back(static_cast<uint32_t>(v));
-        target.position_deltas.push_back(targets[t].positions[v]);
-        if (targets[t].has_normals && any_normals) target.normal_deltas.push_back(targets[t].normals[v]);
-      }
+      target.vertices = std::move(targets[t].vertices);
+      target.position_deltas = std::move(targets[t].positions);
+      if (targets[t].has_normals && any_normals) target.normal_deltas = std::move(targets[t].normals);
       mesh->targets.push_back(std::move(target));
     }
     std::vector<double> weights = gm.weights;
@@ -402,7 +465,7 @@ class Importer {
   }
 
   Status AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin, Mesh& mesh,
-                         std::vector<DenseTarget>& targets, bool& any_normals,
+                         std::vector<SparseTarget>& targets, bool& any_normals,
                          std::vector<std::pair<size_t, size_t>>& missing_normals,
                          size_t& zero_weight_vertices) {
     const size_t base = mesh.positions.size();
@@ -413,6 +476,22 @@ class Importer {
     const std::string attrs = where + ".attributes.";
     const int position_accessor = attribute("POSITION");
     if (position_accessor < 0) return Status::InvalidArgument(where + ".attributes has no POSITION");
+    // Sizes before decoding: the mesh's vertices, and morph targets × vertices.
+    auto declared = reader_.Count(position_accessor, attrs + "POSITION");
+    if (!declared.ok()) return declared.status();
+    const uint64_t vertices = static_cast<uint64_t>(base) + std::min<uint64_t>(*declared, UINT64_MAX / 2);
+    if (vertices > limits_.max_mesh_vertices)
+      return Status::ResourceExhausted(attrs + "POSITION: " + OverImportLimit("mesh vertex count", vertices,
+                                                                              "max_mesh_vertices",
+                                                                              limits_.max_mesh_vertices));
+    uint64_t morph = 0;
+    if (__builtin_mul_overflow(vertices, prim.targets.size(), &morph)) morph = UINT64_MAX;
+    if (morph > limits_.max_morph_target_vertices)
+      return Status::ResourceExhausted(where + ".targets: " +
+                                       OverImportLimit(std::to_string(prim.targets.size()) + " morph targets × " +
+                                                           std::to_string(vertices) + " vertices =",
+                                                       morph, "max_morph_target_vertices",
+                                                       limits_.max_morph_target_vertices));
     std::vector<float> positions;
     auto pos = reader_.ReadFloats(position_accessor, attrs + "POSITION", AccessorType::kVec3, {}, &positions);
     if (!pos.ok()) return pos.status();
@@ -549,21 +628,28 @@ class Importer {
       return Status::InvalidArgument(where + ".targets: " + std::to_string(prim.targets.size()) +
                                      " targets, the first primitive has " + std::to_string(targets.size()));
     for (size_t t = 0; t < targets.size(); ++t) {
-      DenseTarget& dense = targets[t];
-      dense.positions.resize(base + count, Eigen::Vector3f::Zero());
-      dense.normals.resize(base + count, Eigen::Vector3f::Zero());
+      SparseTarget& sparse = targets[t];
       const std::string twhere = where + ".targets[" + std::to_string(t) + "].";
-      for (const char* semantic : {"POSITION", "NORMAL"}) {
+      std::vector<float> deltas[2];  // POSITION, NORMAL; empty when the target has none
+      for (int k = 0; k < 2; ++k) {
+        const char* semantic = k == 0 ? "POSITION" : "NORMAL";
         auto it = prim.targets[t].find(semantic);
         if (it == prim.targets[t].end()) continue;
-        std::vector<float> deltas;
-        auto d = reader_.ReadFloats(it->second, twhere + semantic, AccessorType::kVec3, {}, &deltas);
+        auto d = reader_.ReadFloats(it->second, twhere + semantic, AccessorType::kVec3, {}, &deltas[k]);
         if (!d.ok()) return d.status();
         ARMATURE_RETURN_IF_ERROR(check_count(*d, twhere + semantic, it->second));
-        const bool is_normal = semantic[0] == 'N';
-        if (is_normal) dense.has_normals = true;
-        auto& out = is_normal ? dense.normals : dense.positions;
-        for (size_t v = 0; v < count; ++v) out[base + v] = {deltas[3 * v], deltas[3 * v + 1], deltas[3 * v + 2]};
+        if (k == 1) sparse.has_normals = true;
+      }
+      auto delta = [&](int k, size_t v) {
+        return deltas[k].empty() ? Eigen::Vector3f::Zero().eval()
+                                 : Eigen::Vector3f(deltas[k][3 * v], deltas[k][3 * v + 1], deltas[k][3 * v + 2]);
+      };
+      for (size_t v = 0; v < count; ++v) {
+        const Eigen::Vector3f p = delta(0, v), n = delta(1, v);
+        if (p.isZero(0) && n.isZero(0)) continue;
+        sparse.vertices.push_back(static_cast<uint32_t>(base + v));
+        sparse.positions.push_back(p);
+        sparse.normals.push_back(n);
       }
     }
     return Status::Ok();
@@ -580,6 +666,7 @@ class Importer {
     const std::string where = "animations[" + std::to_string(a) + "]";
     if (!skeleton_) return Status::InvalidArgument(where + ": the file has no nodes to animate");
     auto clip = std::make_shared<Clip>();
+    clip_keys_ = 0;
     clip->skeleton = skeleton_;
     clip->joints.resize(skeleton_->size());
     clip->default_interpolation = Interpolation::kLinear;
@@ -609,6 +696,7 @@ class Importer {
                                              *clip));
     }
     ARMATURE_RETURN_IF_ERROR(clip->Validate().WithContext(where + ": "));
+    ARMATURE_RETURN_IF_ERROR(CheckName(anim.name, where + ".name"));
     const std::string local = Unique(anim.name.empty() ? std::to_string(a) : anim.name, used_clip_names_);
     contents_.clips.push_back({name_ + "." + local, name_, clip});
     return Status::Ok();
@@ -626,6 +714,17 @@ class Importer {
                                      "' is not LINEAR, STEP or CUBICSPLINE");
     const bool cubic = interpolation == Interpolation::kCubic;
 
+    // Keys before decoding: per sampler, and summed over the clip's tracks.
+    auto declared = reader_.Count(sampler.input, swhere + ".input");
+    if (!declared.ok()) return declared.status();
+    if (*declared > limits_.max_clip_frames)
+      return Status::ResourceExhausted(swhere + ".input: accessor " + std::to_string(sampler.input) + ": " +
+                                       OverImportLimit("key count", *declared, "max_clip_frames",
+                                                       limits_.max_clip_frames));
+    if (__builtin_add_overflow(clip_keys_, *declared, &clip_keys_)) clip_keys_ = UINT64_MAX;
+    if (clip_keys_ > limits_.max_clip_keys)
+      return Status::ResourceExhausted(swhere + ".input: " + OverImportLimit("keys of the clip's tracks", clip_keys_,
+                                                                             "max_clip_keys", limits_.max_clip_keys));
     std::vector<float> input;
     auto in = reader_.ReadFloats(sampler.input, swhere + ".input", AccessorType::kScalar, {}, &input);
     if (!in.ok()) return in.status();
@@ -726,6 +825,7 @@ class Importer {
   }
 
   const tinygltf::Model& model_;
+  const ImportLimits& limits_;
   AccessorReader reader_;
   std::string name_;
   AssetContents contents_;
@@ -734,15 +834,16 @@ class Importer {
   std::vector<int> joint_of_;            // node → skeleton joint
   std::vector<int> instance_;            // mesh → first node using it, or -1
   std::set<std::string> used_mesh_names_, used_clip_names_;
+  uint64_t clip_keys_ = 0;  // keys of the clip being imported, all tracks
 };
 
 }  // namespace
 
 StatusOr<AssetContents> ParseGltf(std::string_view bytes, bool binary, std::string_view name,
-                                  const ResourceMap& resources) {
+                                  const ResourceMap& resources, const ImportLimits& limits) {
   auto model = Load(bytes, binary, resources);
   if (!model.ok()) return model.status();
-  return Importer(*model, name).Run();
+  return Importer(*model, name, limits).Run();
 }
 
 }  // namespace armature

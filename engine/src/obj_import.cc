@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "armature/engine/utf8.h"
+
 namespace armature {
 
 namespace {
@@ -28,16 +30,16 @@ std::string At(size_t line) { return "line " + std::to_string(line) + ": "; }
 
 StatusOr<Eigen::Vector3f> ParseVector(const std::vector<std::string_view>& tokens, size_t line) {
   if (tokens.size() < 4)
-    return Status::InvalidArgument(At(line) + "expected 3 numbers after '" + std::string(tokens[0]) + "'");
+    return Status::InvalidArgument(At(line) + "expected 3 numbers after '" + EscapeForMessage(tokens[0]) + "'");
   Eigen::Vector3d v;
   for (int c = 0; c < 3; ++c) {
     const std::string_view t = tokens[static_cast<size_t>(c) + 1];
     double x = 0;
     const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
     if (ec != std::errc() || end != t.data() + t.size())
-      return Status::InvalidArgument(At(line) + "'" + std::string(t) + "' is not a number");
+      return Status::InvalidArgument(At(line) + "'" + EscapeForMessage(t) + "' is not a number");
     if (!std::isfinite(x) || std::abs(x) > 3e38)
-      return Status::InvalidArgument(At(line) + "'" + std::string(t) + "' is not a finite float");
+      return Status::InvalidArgument(At(line) + "'" + EscapeForMessage(t) + "' is not a finite float");
     v[c] = x;
   }
   return Eigen::Vector3f(v.cast<float>());
@@ -49,7 +51,7 @@ StatusOr<uint32_t> ResolveIndex(std::string_view t, size_t defined, const char* 
   long long i = 0;
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), i);
   if (ec != std::errc() || end != t.data() + t.size())
-    return Status::InvalidArgument(At(line) + "'" + std::string(t) + "' is not a " + what + " index");
+    return Status::InvalidArgument(At(line) + "'" + EscapeForMessage(t) + "' is not a " + what + " index");
   const long long resolved = i > 0 ? i - 1 : static_cast<long long>(defined) + i;
   if (i == 0 || resolved < 0 || resolved >= static_cast<long long>(defined))
     return Status::InvalidArgument(At(line) + what + " index " + std::to_string(i) + " is out of range (" +
@@ -59,7 +61,8 @@ StatusOr<uint32_t> ResolveIndex(std::string_view t, size_t defined, const char* 
 
 }  // namespace
 
-StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vector<std::string>* warnings) {
+StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vector<std::string>* warnings,
+                        const ImportLimits& limits) {
   Mesh mesh;
   mesh.name = std::string(name);
   std::vector<Eigen::Vector3f> file_normals;
@@ -77,6 +80,10 @@ StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vecto
     if (tokens.empty()) return Status::Ok();
     const std::string_view kind = tokens[0];
     if (kind == "v") {
+      if (mesh.positions.size() >= limits.max_mesh_vertices)
+        return Status::ResourceExhausted(At(line_number) + OverImportLimit("vertex count", mesh.positions.size() + 1,
+                                                                           "max_mesh_vertices",
+                                                                           limits.max_mesh_vertices));
       auto v = ParseVector(tokens, line_number);
       if (!v.ok()) return v.status();
       mesh.positions.push_back(*v);
@@ -124,7 +131,7 @@ StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vecto
                kind == "p" || kind == "vp") {
       // Grouping, smoothing, materials, lines and points do not change the rest mesh.
     } else if (ignored++ == 0) {
-      first_ignored = At(line_number) + "'" + std::string(kind) + "'";
+      first_ignored = At(line_number) + "'" + EscapeForMessage(kind) + "'";
     }
     return Status::Ok();
   };

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "armature/engine/clip.h"
+#include "armature/engine/import_limits.h"
 #include "armature/engine/skeleton.h"
 #include "armature/engine/status.h"
 
@@ -61,7 +62,9 @@ using ResourceMap = std::map<std::string, std::string, std::less<>>;
 // ("<name>.<animation name or index>") and a mesh per glTF mesh
 // ("<name>.<mesh name or index>"); see gltf.h. OBJ: one unbound mesh `name`.
 // A resource the asset needs but `resources` lacks is INVALID_ARGUMENT naming its uri.
+// Total: any bytes give contents or a Status promptly, never an exception;
+// sizes are checked against `limits` and the input before allocating.
 StatusOr<AssetContents> ParseAsset(AssetFormat format, std::string_view bytes, std::string_view name,
-                                   const ResourceMap& resources = {});
+                                   const ResourceMap& resources = {}, const ImportLimits& limits = {});
 
 }  // namespace armature

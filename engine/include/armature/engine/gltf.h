@@ -22,7 +22,11 @@ namespace armature {
 // `resources` keyed by their uri. Errors are INVALID_ARGUMENT naming the
 // field and accessor, e.g. "meshes[0].primitives[0].attributes.JOINTS_0:
 // accessor 7 has type VEC3, expected VEC4".
+// The GLB header and chunk lengths are checked before tinygltf reads them;
+// accessor bounds use overflow-checked arithmetic; sizes are checked against
+// `limits` before decoding (RESOURCE_EXHAUSTED naming the limit). Node, mesh,
+// animation and morph target names must be UTF-8.
 StatusOr<AssetContents> ParseGltf(std::string_view bytes, bool binary, std::string_view name,
-                                  const ResourceMap& resources = {});
+                                  const ResourceMap& resources = {}, const ImportLimits& limits = {});
 
 }  // namespace armature

@@ -5,6 +5,7 @@
 #include <string_view>
 #include <vector>
 
+#include "armature/engine/import_limits.h"
 #include "armature/engine/mesh.h"
 #include "armature/engine/status.h"
 
@@ -17,7 +18,9 @@ namespace armature {
 // when the file has none. Other statements (o, g, s, usemtl, mtllib, l, p)
 // are ignored. The mesh is unbound (no joints) and finalized. Errors are
 // INVALID_ARGUMENT naming the line, e.g. "line 12: vertex index 40 is out of
-// range (30 vertices so far)". Repairs are appended to `warnings`.
-StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vector<std::string>* warnings = nullptr);
+// range (30 vertices so far)". Repairs are appended to `warnings`. More
+// vertices than limits.max_mesh_vertices is RESOURCE_EXHAUSTED.
+StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vector<std::string>* warnings = nullptr,
+                        const ImportLimits& limits = {});
 
 }  // namespace armature

@@ -1,0 +1,33 @@
+// Caps on what one import may build. Importers check them (and what the
+// input's bytes can actually hold) before allocating, so a small hostile file
+// cannot make the engine reserve gigabytes. Going over a cap is
+// RESOURCE_EXHAUSTED naming the cap's field, e.g. "... over the import limit
+// max_clip_frames = 1000000"; the server sets them from its flags.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace armature {
+
+struct ImportLimits {
+  // Frames of one clip: BVH "Frames:", keys of one glTF sampler.
+  uint64_t max_clip_frames = 1000000;
+  // Keys summed over all tracks of one clip (≈ frames × animated joints).
+  uint64_t max_clip_keys = uint64_t{1} << 25;
+  // Vertices of one mesh.
+  uint64_t max_mesh_vertices = 5000000;
+  // Morph targets × vertices of one mesh.
+  uint64_t max_morph_target_vertices = uint64_t{1} << 27;
+  // Numbers decoded from all glTF accessors of one import (an accessor read
+  // twice counts twice).
+  uint64_t max_accessor_values = uint64_t{1} << 27;
+  // count × element bytes of one glTF accessor without a bufferView (zeros
+  // that no bytes of the file pay for).
+  uint64_t max_unbacked_accessor_bytes = uint64_t{64} << 20;
+};
+
+// "<what> <value> is over the import limit <field> = <limit>" as RESOURCE_EXHAUSTED text.
+std::string OverImportLimit(const std::string& what, uint64_t value, const char* field, uint64_t limit);
+
+}  // namespace armature
