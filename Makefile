@@ -5,7 +5,12 @@ CMAKE_FLAGS ?=
 DATA_DIR ?= armature-data
 ARGS ?=
 
-.PHONY: all deps test-deps configure build run test bench image-test clean
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 300
+FUZZ_SMOKE_SECONDS ?= 20
+CLANG ?= /usr/bin/clang++-14
+
+.PHONY: all deps test-deps configure build run test bench image-test clean fuzz fuzz-build fuzz-smoke
 
 all: build
 
@@ -27,6 +32,24 @@ run: build
 test: test-deps configure
 	cmake --build $(BUILD) -j $(JOBS)
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 600
+	$(MAKE) fuzz-smoke
+
+# libFuzzer targets (tests/fuzz) in their own clang build with ASan+UBSan.
+fuzz-build:
+	CC=$(subst clang++,clang,$(CLANG)) CXX=$(CLANG) cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DARMATURE_FUZZ=ON -DARMATURE_FUZZ_SECONDS=$(FUZZ_SMOKE_SECONDS)
+	cmake --build $(FUZZ_BUILD) -j $(JOBS)
+
+# Part of `make test` when clang-14 is installed: every target replays its
+# regressions and seeds, then fuzzes FUZZ_SMOKE_SECONDS, one at a time.
+fuzz-smoke:
+	@if [ -x $(CLANG) ]; then $(MAKE) fuzz-build && cd $(FUZZ_BUILD) && ctest --output-on-failure -R '^fuzz\.'; \
+	else echo "fuzz-smoke: $(CLANG) not found; fuzz targets skipped"; fi
+
+# Each target for FUZZ_SECONDS (default 300), corpus kept in $(FUZZ_BUILD)/fuzz-work.
+fuzz: fuzz-build
+	@set -e; for t in $(FUZZ_BUILD)/bin/*_fuzz; do \
+	  tests/fuzz/run_fuzz.sh $$t $(FUZZ_SECONDS) $(FUZZ_BUILD)/fuzz-work; done
 
 # Builds deploy/Dockerfile with podman, runs the image and checks it from the
 # host, then validates deploy/k8s offline (deploy/image-test.sh).

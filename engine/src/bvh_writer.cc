@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "armature/engine/bvh.h"
@@ -73,8 +74,33 @@ std::vector<size_t> DepthFirstOrder(const Skeleton& sk) {
 constexpr size_t kMaxIndent = 32;
 void Indent(std::string* out, size_t depth) { out->append(std::min(depth, kMaxIndent), '\t'); }
 
+// Joint names as a BVH reader reads them back: the rest of the line after
+// ROOT/JOINT, trimmed, with a trailing '{' taken for the block's brace. Names
+// from other formats can hold anything: control characters become '_', blanks
+// at the ends and a trailing '{' are avoided, and a name that then collides
+// with another gets a "_<joint>" suffix.
+std::vector<std::string> BvhNames(const Skeleton& sk) {
+  std::vector<std::string> names(sk.size());
+  std::unordered_set<std::string> used;
+  for (size_t j = 0; j < sk.size(); ++j) {
+    std::string n = sk.names[j];
+    for (char& c : n)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = '_';
+    while (!n.empty() && n.front() == ' ') n.erase(0, 1);
+    while (!n.empty() && n.back() == ' ') n.pop_back();
+    if (n.empty() || n.back() == '{') n += "_";
+    if (!used.insert(n).second) {
+      n += "_" + std::to_string(j);
+      while (!used.insert(n).second) n += "_";
+    }
+    names[j] = std::move(n);
+  }
+  return names;
+}
+
 void WriteHierarchy(const Skeleton& sk, const std::vector<size_t>& order,
                     const std::vector<std::vector<Channel>>& channels, std::string* out) {
+  const std::vector<std::string> names = BvhNames(sk);
   std::vector<size_t> open;  // joints whose block is not closed yet
   auto close = [&] {
     const size_t j = open.back();
@@ -102,7 +128,7 @@ void WriteHierarchy(const Skeleton& sk, const std::vector<size_t>& order,
     const size_t depth = open.size();
     Indent(out, depth);
     out->append(parent < 0 ? "ROOT " : "JOINT ");
-    out->append(sk.names[j]);
+    out->append(names[j]);
     out->push_back('\n');
     Indent(out, depth);
     out->append("{\n");

@@ -208,5 +208,18 @@ TEST(BvhWriterHardening, FrameCountIsKnownUpFrontAndCapped) {
   EXPECT_EQ(ExportBvh(*clip, 30).status().code(), StatusCode::kResourceExhausted);
 }
 
+TEST(BvhWriterHardening, NamesFromOtherFormatsAreWrittenSoTheyReadBack) {
+  // glTF node names can hold line breaks, blanks at the ends and a trailing '{'.
+  auto clip = std::make_shared<Clip>(*Chain(4));
+  auto sk = std::make_shared<Skeleton>(*clip->skeleton);
+  sk->names = {"a\nb", " pad ", "brace{", "a_b"};
+  clip->skeleton = sk;
+  const std::string text = WriteBvh(*clip);
+  ASSERT_FALSE(text.empty());
+  auto back = ParseBvh(text);
+  ASSERT_TRUE(back.ok()) << back.status().message() << "\n" << text;
+  EXPECT_EQ(back->skeleton->names, (std::vector<std::string>{"a_b", "pad", "brace{_", "a_b_3"}));
+}
+
 }  // namespace
 }  // namespace armature

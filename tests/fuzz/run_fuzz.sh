@@ -1,0 +1,35 @@
+#!/bin/sh
+# Runs one fuzz target: replays tests/fuzz/regressions/<target>/ and the
+# seeds once, then fuzzes for <seconds> (0: replay only).
+#   run_fuzz.sh <target binary> <seconds> <work dir>
+# Crashes, leaks, timeouts (-timeout) and allocations over -malloc_limit_mb
+# fail the run; the input is left in <work dir>/<target>/ as crash-*, oom-*, …
+set -eu
+bin=$1
+seconds=$2
+work=$3
+here=$(cd "$(dirname "$0")" && pwd)
+target=$(basename "$bin")
+case $target in
+  engine_bvh_fuzz|engine_bvh_writer_fuzz) format=bvh ;;
+  engine_gltf_fuzz|engine_gltf_writer_fuzz) format=gltf ;;
+  engine_obj_fuzz) format=obj ;;
+  engine_detect_fuzz) format=detect ;;
+  *) format=$target ;;
+esac
+dir=$work/$target
+mkdir -p "$dir/corpus" "$dir/seeds"
+python3 "$here/make_seeds.py" "$format" "$dir/seeds" "$here/../../../shared/data"
+inputs="$dir/seeds"
+[ -d "$here/seeds/$target" ] && inputs="$inputs $here/seeds/$target"
+[ -d "$here/regressions/$target" ] && inputs="$inputs $here/regressions/$target"
+dict=
+[ -f "$here/dict/$format.dict" ] && dict="-dict=$here/dict/$format.dict"
+limits="-malloc_limit_mb=512 -rss_limit_mb=1024 -timeout=5 -artifact_prefix=$dir/"
+echo "== $target: replaying $inputs"
+# shellcheck disable=SC2086
+"$bin" $limits -runs=0 $inputs
+[ "$seconds" -gt 0 ] || exit 0
+echo "== $target: fuzzing for $seconds s"
+# shellcheck disable=SC2086
+"$bin" $limits $dict -max_total_time="$seconds" -print_final_stats=1 "$dir/corpus" $inputs
