@@ -1,7 +1,5 @@
 // Fuzz builds compile tinygltf from its header (instead of linking Debian's
-// shared library) so the sanitizers see inside it. Images are never decoded.
+// shared library) so the sanitizers see inside it. Images are never decoded
+// (TINYGLTF_NO_STB_IMAGE… are set for the whole engine in engine/CMakeLists.txt).
 #define TINYGLTF_IMPLEMENTATION
-#define TINYGLTF_NO_STB_IMAGE
-#define TINYGLTF_NO_STB_IMAGE_WRITE
-#define TINYGLTF_NO_EXTERNAL_IMAGE
 #include <tiny_gltf.h>
