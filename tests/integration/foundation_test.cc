@@ -241,7 +241,7 @@ TEST_F(Foundation, SigtermEndsInFlightStreamsAndExitsZero) {
     }
     ended = true;
   });
-  while (frames < 3) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(WaitFor([&] { return frames >= 3; }, 30)) << "the stream did not start";
   EXPECT_EQ(server.Stop(SIGTERM, 10), 0) << ReadFile(server.log_file());
   streamer.join();
   EXPECT_TRUE(ended);
