@@ -52,7 +52,11 @@ Status DataDirError(const fs::path& dir, int err, std::string_view action) {
 
 Status WriteFileAtomic(const fs::path& dir, const std::string& relative, std::string_view bytes) {
   const fs::path path = dir / relative;
-  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp-" + RandomSuffix());
+  std::string tmp_name = ".";  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on "." + string
+  tmp_name += path.filename().string();
+  tmp_name += ".tmp-";
+  tmp_name += RandomSuffix();
+  const fs::path tmp = path.parent_path() / tmp_name;
   const std::string action = "write " + relative;
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return DataDirError(dir, errno, action);

@@ -230,7 +230,7 @@ class Worker {
       Timed("SkinMesh", [&] { client_->SkinMesh(r); });
     } else if (kind == "deform") {
       v1::DeformRequest r;
-      r.set_mesh("soak_grid.grid");
+      r.set_mesh("soak_grid");  // an OBJ's one mesh takes the asset's name
       for (int i = 0; i < kGrid; ++i) r.add_fixed(i);  // the bottom row
       auto* h = r.add_handles();
       h->set_index((kGrid - 1) * kGrid + kGrid / 2);  // the top row's middle

@@ -90,12 +90,12 @@ std::vector<UploadFile> GltfResources(const fs::path& gltf_path, const std::stri
         // A symlink may lead out of the folder too: compare real paths.
         const fs::path real = fs::weakly_canonical(fs::absolute(path), ec);
         const auto [end, _] = std::mismatch(real_folder.begin(), real_folder.end(), real.begin(), real.end());
-        if (ec || end != real_folder.end()) reason = "a link out of it";
+        if (ec || end != real_folder.end()) reason = "a link out of the folder";
       }
       if (!reason.empty())
-        throw Invalid(gltf_path.filename().string() + ": buffer uri '" + uri + "' is " + reason +
-                      ": only files in the .gltf's folder (" + folder.string() +
-                      ") or its subfolders are uploaded; pass --allow-outside-resources to upload it anyway");
+        throw Invalid(gltf_path.filename().string() + ": buffer uri '" + uri + "' (" + reason +
+                      ") is not in the .gltf's folder (" + folder.string() +
+                      ") or its subfolders, the only files uploaded; pass --allow-outside-resources to upload it anyway");
     }
     resources.push_back({uri, ReadOrThrow(path, uri)});
   }

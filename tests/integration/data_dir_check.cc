@@ -29,13 +29,15 @@ uint32_t U32(const std::string& s, size_t at) {
 
 std::set<std::string> ManifestAssetNames(const fs::path& data_dir) {
   std::set<std::string> names;
-  for (const json& entry : Manifest(data_dir)["assets"]) names.insert(entry["name"].get<std::string>());
+  const json manifest = Manifest(data_dir);  // named: a range-for over a temporary's member dangles
+  for (const json& entry : manifest["assets"]) names.insert(entry["name"].get<std::string>());
   return names;
 }
 
 std::vector<std::string> LeftoverFiles(const fs::path& data_dir) {
   std::set<fs::path> named;
-  for (const json& entry : Manifest(data_dir)["assets"]) {
+  const json manifest = Manifest(data_dir);
+  for (const json& entry : manifest["assets"]) {
     named.insert(data_dir / entry["file"].get<std::string>());
     if (entry.contains("resources"))
       for (const auto& [uri, file] : entry["resources"].items()) named.insert(data_dir / file.get<std::string>());
