@@ -6,7 +6,6 @@
 
 #include <chrono>
 #include <ctime>
-#include <random>
 #include <set>
 #include <sstream>
 
@@ -24,6 +23,10 @@ using json = nlohmann::json;
 namespace {
 
 constexpr char kManifest[] = "manifest.json";
+// Space held back so that a delete can always write its (smaller) manifest,
+// however full imports have made the disk.
+constexpr char kReserve[] = ".space-reserve";
+constexpr int64_t kReserveMinBytes = 64 << 10;
 
 std::string NowRfc3339() {
   const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
@@ -32,54 +35,6 @@ std::string NowRfc3339() {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
-}
-
-std::string RandomSuffix() {
-  static thread_local std::mt19937_64 rng{std::random_device{}()};
-  std::ostringstream s;
-  s << std::hex << rng();
-  return s.str();
-}
-
-Status SyncFd(int fd, const fs::path& what) {
-  if (::fsync(fd) != 0) return Status::Internal("fsync " + what.string() + " failed");
-  return Status::Ok();
-}
-
-// Writes `bytes` to `path` atomically: a temporary file in the same
-// directory, fsync, rename, fsync of the directory.
-Status WriteFileAtomic(const fs::path& path, std::string_view bytes) {
-  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp-" + RandomSuffix());
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) return Status::Internal("cannot create " + tmp.string());
-  size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n <= 0) {
-      ::close(fd);
-      fs::remove(tmp);
-      return Status::Internal("cannot write " + tmp.string());
-    }
-    written += static_cast<size_t>(n);
-  }
-  Status st = SyncFd(fd, tmp);
-  ::close(fd);
-  if (!st.ok()) {
-    fs::remove(tmp);
-    return st;
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    return Status::Internal("cannot rename into " + path.string() + ": " + ec.message());
-  }
-  const int dfd = ::open(path.parent_path().c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd >= 0) {
-    (void)SyncFd(dfd, path.parent_path());
-    ::close(dfd);
-  }
-  return Status::Ok();
 }
 
 std::string StemOf(std::string_view filename) {
@@ -245,6 +200,7 @@ Status AssetStore::Load() {
   std::set<fs::path> referenced;
   ARMATURE_RETURN_IF_ERROR(SyncLocked(&referenced));
   RemoveLeftovers(referenced);
+  KeepReserve();
   spdlog::info("loaded {} assets from {}", Snapshot()->assets.size(), dir_.string());
   return Status::Ok();
 }
@@ -326,28 +282,39 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
 }
 
 void AssetStore::RemoveLeftovers(const std::set<fs::path>& referenced) const {
-  // Leftovers of interrupted writes: temporary files, and stored files that
-  // no manifest entry took in (a crash between the two writes of an import).
-  // Recent ones are kept: another server may be between those two writes.
-  const auto now = fs::file_time_type::clock::now();
+  // Leftovers of interrupted writes (a killed server, a full disk):
+  // temporary files, and stored files that no manifest entry took in. Every
+  // writer writes files and manifest while holding the exclusive data dir
+  // lock, and so do we now: no server is between those writes, so whatever
+  // no manifest entry names is a leftover, however young.
   for (const fs::path& d : {dir_, dir_ / "files"}) {
-    for (const auto& entry : fs::directory_iterator(d)) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(d, ec)) {
       const std::string fname = entry.path().filename().string();
       const bool temporary = fname.starts_with(".") && fname.find(".tmp-") != std::string::npos;
       const bool orphan = d != dir_ && !referenced.contains(entry.path());
-      if (!entry.is_regular_file() || !(temporary || orphan)) continue;
-      std::error_code ec;
-      const auto written = fs::last_write_time(entry.path(), ec);
-      if (ec) continue;
-      if (now - written < options_.leftover_min_age) {
-        spdlog::info("keeping a recent file no manifest entry names (another server may be importing it): {}",
-                     entry.path().string());
-        continue;
-      }
+      if (!entry.is_regular_file(ec) || !(temporary || orphan)) continue;
       spdlog::warn("removing leftover of an interrupted write: {}", entry.path().string());
       fs::remove(entry.path(), ec);
     }
   }
+}
+
+void AssetStore::KeepReserve() const {
+  const fs::path path = dir_ / kReserve;
+  std::error_code ec;
+  const auto manifest_size = fs::file_size(dir_ / kManifest, ec);
+  const int64_t wanted = kReserveMinBytes + (ec ? 0 : 2 * static_cast<int64_t>(manifest_size));
+  const auto have = fs::file_size(path, ec);
+  if (!ec && static_cast<int64_t>(have) >= wanted) return;
+  if (!AllocateFile(path, wanted)) spdlog::debug("no room for the delete reserve in {} (yet)", dir_.string());
+}
+
+bool AssetStore::ReleaseReserve() const {
+  std::error_code ec;
+  const bool had = fs::remove(dir_ / kReserve, ec);
+  if (had) spdlog::warn("data dir {} is full: using the reserve to write the manifest", dir_.string());
+  return had;
 }
 
 void AssetStore::Refresh() {
@@ -388,7 +355,7 @@ Status AssetStore::WriteManifest(const Catalog& catalog) {
   for (const auto& entry : unloaded_entries_)
     if (!replaced(entry)) entries.push_back(json::parse(entry.second));
   const json j = {{"version", 1}, {"assets", entries}};
-  ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_ / kManifest, j.dump(2)));
+  ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_, kManifest, j.dump(2)));
   std::erase_if(unloaded_entries_, replaced);
   stamp_ = StampOfManifest();  // this server's own write needs no reload
   return Status::Ok();
@@ -438,13 +405,22 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   if (!catalog.ok()) return catalog.status();
 
   // Persist the files, then the manifest that makes them part of the store.
-  ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_ / record.file, request.bytes));
-  for (const auto& [uri, file] : record.resources)
-    ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_ / file, request.resources.find(uri)->second));
-  if (Status st = WriteManifest(**catalog); !st.ok()) {
-    fs::remove(dir_ / record.file);
-    for (const auto& [uri, file] : record.resources) fs::remove(dir_ / file);
-    return st;
+  // On any failure (a full disk) everything this import wrote goes again.
+  std::vector<std::string> written;
+  auto persist = [&]() -> Status {
+    ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_, record.file, request.bytes));
+    written.push_back(record.file);
+    for (const auto& [uri, file] : record.resources) {
+      ARMATURE_RETURN_IF_ERROR(WriteFileAtomic(dir_, file, request.resources.find(uri)->second));
+      written.push_back(file);
+    }
+    return WriteManifest(**catalog);
+  };
+  if (Status st = persist(); !st.ok()) {
+    std::error_code ec;
+    for (const std::string& file : written) fs::remove(dir_ / file, ec);
+    spdlog::error("import of '{}' failed, its files removed: {}", record.name, st.message());
+    return st.WithContext(label + ": ");
   }
   Publish(std::move(*catalog));
   if (replaced) {
@@ -452,6 +428,7 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
     fs::remove(dir_ / replaced->record.file, ec);
     for (const auto& [uri, file] : replaced->record.resources) fs::remove(dir_ / file, ec);
   }
+  KeepReserve();
   spdlog::info("imported asset '{}' ({}, {} bytes)", record.name, FormatName(record.format), record.size_bytes);
   return stored;
 }
@@ -468,12 +445,29 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Delete(std::string_view
   assets.erase((*owner)->record.name);
   auto catalog = BuildCatalog(std::move(assets));
   if (!catalog.ok()) return catalog.status();
-  ARMATURE_RETURN_IF_ERROR(WriteManifest(**catalog));
+  const AssetRecord& gone = (*owner)->record;
+  auto remove_files = [&] {
+    std::error_code ec;
+    fs::remove(dir_ / gone.file, ec);
+    for (const auto& [uri, file] : gone.resources) fs::remove(dir_ / file, ec);
+  };
+  Status st = WriteManifest(**catalog);
+  // A full disk must not keep anything from being deleted: the reserve
+  // makes room for the new manifest, which is smaller than the old one.
+  if (st.code() == StatusCode::kResourceExhausted && ReleaseReserve()) st = WriteManifest(**catalog);
+  if (st.code() == StatusCode::kResourceExhausted) {
+    // No reserve left (another server used it): free the asset's own files
+    // first. Should the manifest still not fit, its entry stays, now naming
+    // missing files, and is reported (and kept) as unloadable at the next start.
+    spdlog::warn("data dir full: removing the files of '{}' before its manifest entry", gone.name);
+    remove_files();
+    st = WriteManifest(**catalog);
+  }
+  if (!st.ok()) return st;
   Publish(std::move(*catalog));
-  std::error_code ec;
-  fs::remove(dir_ / (*owner)->record.file, ec);
-  for (const auto& [uri, file] : (*owner)->record.resources) fs::remove(dir_ / file, ec);
-  spdlog::info("deleted asset '{}'", (*owner)->record.name);
+  remove_files();
+  KeepReserve();
+  spdlog::info("deleted asset '{}'", gone.name);
   return *owner;
 }
 

@@ -85,9 +85,6 @@ struct StoreOptions {
   Limits limits;  // what an import may contain (CheckAssetLimits)
   // How often the manifest is checked for other servers' writes; 0: never.
   std::chrono::milliseconds watch_interval{500};
-  // At start-up, files no manifest entry names are removed only when older
-  // than this: a replica may have written them and not yet listed them.
-  std::chrono::seconds leftover_min_age{600};
 };
 
 class AssetStore {
@@ -101,9 +98,11 @@ class AssetStore {
 
   // Parses, persists, then publishes. INVALID_ARGUMENT for bad files or
   // names, ALREADY_EXISTS for a taken name (unless replace),
-  // RESOURCE_EXHAUSTED over a limit.
+  // RESOURCE_EXHAUSTED over a limit or on a full disk ("data dir <dir>: no
+  // space left on device"; then nothing of the import is left on disk).
   StatusOr<std::shared_ptr<const StoredAsset>> Import(ImportRequest request);
-  // Removes the asset owning `name` from the manifest, then its file.
+  // Removes the asset owning `name` from the manifest, then its file. Works
+  // on a full disk (see KeepReserve).
   StatusOr<std::shared_ptr<const StoredAsset>> Delete(std::string_view name);
 
   // True when the data dir had no manifest when opened (a first start).
@@ -126,7 +125,12 @@ class AssetStore {
   // Call with write_mu_ and a DataDirLock held. `referenced`, when given,
   // receives every file the manifest names (loadable or not).
   Status SyncLocked(std::set<std::filesystem::path>* referenced = nullptr);
+  // Call with the exclusive DataDirLock held.
   void RemoveLeftovers(const std::set<std::filesystem::path>& referenced) const;
+  // The reserve: space (a preallocated file) that only a delete may use, so
+  // that a disk filled by imports never blocks the delete that frees it.
+  void KeepReserve() const;
+  bool ReleaseReserve() const;  // true if there was one to release
   ManifestStamp StampOfManifest() const;
   Status WriteManifest(const Catalog& catalog);
   void Publish(std::shared_ptr<const Catalog> catalog);

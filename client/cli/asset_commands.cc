@@ -29,12 +29,16 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
   auto file = std::make_shared<std::string>();
   auto name = std::make_shared<std::string>();
   auto replace = std::make_shared<bool>(false);
+  auto outside = std::make_shared<bool>(false);
   cmd->add_option("FILE", *file, "The file to import")->required()->check(CLI::ExistingFile);
   cmd->add_option("--name", *name, "Asset name (default: the file's stem)");
   cmd->add_flag("--replace", *replace, "Replace an existing asset of the same name");
-  cmd->callback([&ctx, file, name, replace] {
-    ctx.run = [&ctx, file, name, replace] {
-      const auto response = ctx.MakeClient().ImportFile(*file, *name, *replace);
+  cmd->add_flag("--allow-outside-resources", *outside,
+                "Also upload the files a .gltf's buffer uris name outside its folder (absolute paths, '..', file: "
+                "uris); by default only files in its folder or subfolders are sent");
+  cmd->callback([&ctx, file, name, replace, outside] {
+    ctx.run = [&ctx, file, name, replace, outside] {
+      const auto response = ctx.MakeClient().ImportFile(*file, *name, *replace, *outside);
       PrintJson(ImportSummary(response.asset()));
       return 0;
     };

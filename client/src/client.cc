@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gltf_resources.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 
 namespace armature {
@@ -30,24 +31,6 @@ std::shared_ptr<grpc::Channel> MakeChannel(const ClientOptions& o) {
     creds = grpc::SslCredentials(ssl);
   }
   return grpc::CreateCustomChannel(o.target, creds, args);
-}
-
-// Relative, local uris of a .gltf's buffers (data: uris are embedded).
-std::vector<std::string> ExternalBufferUris(const std::string& gltf_text) {
-  std::vector<std::string> uris;
-  const auto j = nlohmann::json::parse(gltf_text, nullptr, false);
-  if (j.is_discarded()) return uris;
-  for (const char* key : {"buffers", "images"}) {
-    if (!j.contains(key) || !j[key].is_array()) continue;
-    for (const auto& b : j[key]) {
-      if (!b.contains("uri") || !b["uri"].is_string()) continue;
-      const std::string uri = b["uri"];
-      if (uri.rfind("data:", 0) == 0 || uri.find("://") != std::string::npos) continue;
-      if (std::string(key) == "images") continue;  // images are not needed for animation
-      uris.push_back(uri);
-    }
-  }
-  return uris;
 }
 
 }  // namespace
@@ -101,12 +84,10 @@ void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
 }
 
 v1::ImportAssetResponse Client::ImportFile(const std::filesystem::path& path, const std::string& name,
-                                           bool replace) {
+                                           bool replace, bool allow_outside_resources) {
   UploadFile main{path.filename().string(), ReadFileOrThrow(path)};
   std::vector<UploadFile> resources;
-  if (path.extension() == ".gltf")
-    for (const std::string& uri : ExternalBufferUris(main.bytes))
-      resources.push_back({uri, ReadFileOrThrow(path.parent_path() / uri)});
+  if (path.extension() == ".gltf") resources = detail::GltfResources(path, main.bytes, allow_outside_resources);
   return Import(main, name, "", replace, resources);
 }
 

@@ -241,7 +241,7 @@ TEST_F(Foundation, SigtermEndsInFlightStreamsAndExitsZero) {
     }
     ended = true;
   });
-  while (frames < 3) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(WaitFor([&] { return frames >= 3; }, 30)) << "the stream did not start";
   EXPECT_EQ(server.Stop(SIGTERM, 10), 0) << ReadFile(server.log_file());
   streamer.join();
   EXPECT_TRUE(ended);
@@ -252,23 +252,20 @@ TEST_F(Foundation, InterruptedImportLeavesNoHalfAsset) {
     ServerProcess server(data_.path(), {"--no-demo"});
     Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
   }
-  // What a crash between writes leaves: a temporary file and a stored file
-  // no manifest entry names, from an hour ago.
+  // What a crash between writes leaves: temporary files and a stored file no
+  // manifest entry names, just written (a restart right after a kill -9).
+  // Writers hold the data dir lock while writing, and the starting server
+  // holds it now, so none of them can be an import in progress: all go at once.
   const fs::path leftovers[] = {data_.path() / "files" / ".half.bvh.tmp-1234", data_.path() / "files" / "orphan.abc.bvh",
-                                data_.path() / ".manifest.json.tmp-99"};
-  for (const fs::path& p : leftovers) {
-    std::ofstream(p) << "HIERARCHY";
-    fs::last_write_time(p, fs::file_time_type::clock::now() - std::chrono::hours(1));
-  }
-  // A file just written and not yet listed may be another replica's import in progress: kept.
-  std::ofstream(data_.path() / "files" / "in_progress.def.bvh") << kArmBvh;
+                                data_.path() / ".manifest.json.tmp-99", data_.path() / "files" / "killed.def.bvh"};
+  for (const fs::path& p : leftovers) std::ofstream(p) << "HIERARCHY";
   ServerProcess server(data_.path(), {"--no-demo"});
   Client client(OptionsFor(server));
   const auto assets = client.ListAssets();
   ASSERT_EQ(assets.assets_size(), 1);
   EXPECT_EQ(assets.assets(0).name(), "arm");
   for (const fs::path& p : leftovers) EXPECT_FALSE(fs::exists(p)) << p;
-  EXPECT_TRUE(fs::exists(data_.path() / "files" / "in_progress.def.bvh"));
+  EXPECT_EQ(client.GetClip("arm").frames(), 3);
 }
 
 // An asset whose stored file stops loading is skipped, not forgotten: a later

@@ -1,6 +1,8 @@
 // Two real servers on one data dir (as replicas on a ReadWriteMany volume)
 // serve the same assets: what one imports or deletes, the other serves too
 // (it polls the manifest), and concurrent imports on both keep every entry.
+#include <atomic>
+#include <csignal>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -95,16 +97,38 @@ TEST_F(Replicas, ConcurrentImportsOnBothKeepEveryEntry) {
   EXPECT_EQ(CodeOf([&] { cb.Import({"a0.bvh", kArmBvh}); }), grpc::StatusCode::ALREADY_EXISTS);
 }
 
-TEST_F(Replicas, AStartingReplicaKeepsAnotherOnesUnlistedFiles) {
+// Imports write their files and manifest under the data dir lock, so a
+// replica that starts (and takes the lock to clean up) never finds another
+// one between those writes: it removes every unlisted file at once, and
+// never one of an import in progress.
+TEST_F(Replicas, AStartingReplicaRemovesLeftoversButNoImportInProgress) {
   ServerProcess a(data_.path(), {"--no-demo"});
-  Client(OptionsFor(a)).Import({"arm.bvh", kArmBvh});
-  // As if A were between writing an import's file and listing it in the manifest.
-  const fs::path pending = data_.path() / "files" / "pending.0123.bvh";
-  std::ofstream(pending) << kArmBvh;
-  ServerProcess b(data_.path(), {"--no-demo"});
-  EXPECT_TRUE(fs::exists(pending));
-  Client cb(OptionsFor(b));
-  EXPECT_EQ(AssetNames(cb), std::set<std::string>{"arm"});
+  Client ca(OptionsFor(a));
+  ca.Import({"arm.bvh", kArmBvh});
+  const fs::path leftover = data_.path() / "files" / "killed.0123.bvh";
+  std::ofstream(leftover) << kArmBvh;
+  // A imports all the while B starts, cleans up and stops, three times over.
+  std::atomic<bool> done{false};
+  std::set<std::string> acknowledged = {"arm"};
+  std::thread importer([&] {
+    for (int i = 0; !done && i < 500; ++i) {
+      const std::string name = "busy" + std::to_string(i);
+      ca.Import({name + ".bvh", kArmBvh});
+      acknowledged.insert(name);
+    }
+  });
+  for (int round = 0; round < 3; ++round) {
+    ServerProcess b(data_.path(), {"--no-demo"});
+    if (round == 0) EXPECT_FALSE(fs::exists(leftover)) << "a fresh leftover survived a start";
+    EXPECT_EQ(b.Stop(SIGTERM), 0);
+  }
+  done = true;
+  importer.join();
+  // Every acknowledged import kept its file: a fresh server loads them all.
+  ServerProcess c(data_.path(), {"--no-demo"});
+  Client cc(OptionsFor(c));
+  EXPECT_EQ(AssetNames(cc), acknowledged);
+  EXPECT_EQ(ReadFile(c.log_file()).find("could not be loaded"), std::string::npos) << ReadFile(c.log_file());
 }
 
 }  // namespace

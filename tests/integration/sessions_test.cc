@@ -96,7 +96,7 @@ TEST_F(Sessions, TotalLimitCoversBothKindsAndTheIkLimitOnlyIk) {
   EXPECT_EQ(third.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
   EXPECT_NE(third.error_message().find("--max-sessions (2)"), std::string::npos) << third.error_message();
   ik.reset();  // cancelled: its place comes back once the server has seen the cancellation
-  EXPECT_TRUE(WaitFor([&] { return Gauge("ik") == 0; }, 10)) << Gauge("ik");
+  EXPECT_TRUE(WaitFor([&] { return Gauge("ik") == 0; }, 30)) << Gauge("ik");
   auto second_drag = client_->OpenDeformSession(deform_start_);
   EXPECT_EQ(Gauge("deform"), 2);
   second_drag->Close();

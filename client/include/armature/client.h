@@ -112,9 +112,11 @@ class Client {
   explicit Client(ClientOptions options = ClientOptions::FromEnvironment());
   Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options);
 
-  // Imports a file from disk; a .gltf's relative buffer uris beside it are uploaded too.
+  // Imports a file from disk; the files a .gltf's buffer uris name are
+  // uploaded too, only from its folder or subfolders unless
+  // `allow_outside_resources` (INVALID_ARGUMENT naming the uri otherwise).
   v1::ImportAssetResponse ImportFile(const std::filesystem::path& path, const std::string& name = "",
-                                     bool replace = false);
+                                     bool replace = false, bool allow_outside_resources = false);
   v1::ImportAssetResponse Import(const UploadFile& main, const std::string& name = "", const std::string& format = "",
                                  bool replace = false, const std::vector<UploadFile>& resources = {});
   v1::ListAssetsResponse ListAssets();
