@@ -1,6 +1,7 @@
 #include "server/request_validation.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace armature::server {
 
@@ -109,6 +110,16 @@ Status ValidateSkinSource(const v1::SkinMeshRequest& request) {
 Status ValidateMaxInfluences(int max_influences) {
   if (max_influences < 0 || max_influences > 8) return Status::InvalidArgument("max_influences: must be between 1 and 8");
   return Status::Ok();
+}
+
+Status ValidateReplySize(double bytes, const Limits& limits, const std::string& rpc, const std::string& how) {
+  if (bytes <= static_cast<double>(limits.max_message_bytes)) return Status::Ok();
+  char size[64];
+  std::snprintf(size, sizeof size, "%.1f MiB", bytes / (1 << 20));
+  char limit[64];
+  std::snprintf(limit, sizeof limit, "%.1f MiB", static_cast<double>(limits.max_message_bytes) / (1 << 20));
+  return Status::ResourceExhausted(rpc + ": the answer would take at least " + size + " (" + how +
+                                   "), over the message limit of " + limit + " (--max-message-mb); ask for less");
 }
 
 Status ValidateRequired(const std::string& value, const std::string& field) {

@@ -54,6 +54,11 @@ Status ValidateSkinSource(const v1::SkinMeshRequest& request);
 // BindMeshRequest.max_influences: 0 (the default) or 1 to 8.
 Status ValidateMaxInfluences(int max_influences);
 
+// An answer of about `bytes` (computed before any work: `how` says from
+// what, e.g. "100000 times × 31 joints × 28 bytes") fits in one message:
+// RESOURCE_EXHAUSTED naming --max-message-mb and the size otherwise.
+Status ValidateReplySize(double bytes, const Limits& limits, const std::string& rpc, const std::string& how);
+
 // A required string field (a name) is given.
 Status ValidateRequired(const std::string& value, const std::string& field);
 
