@@ -1,5 +1,6 @@
 #include "server/import_reactor.h"
 
+#include "armature/engine/utf8.h"
 #include "server/call_guard.h"
 #include "server/grpc_status.h"
 #include "server/proto_convert.h"
@@ -51,7 +52,10 @@ void ImportReactor::Complete() {
     return;
   }
   auto stored = store_.Import(std::move(import_));
-  if (stored.ok()) *response_->mutable_asset() = AssetInfoOf(**stored);
+  if (stored.ok()) {
+    *response_->mutable_asset() = AssetInfoOf(**stored);
+    for (const std::string& w : (*stored)->contents.warnings) response_->add_warnings(EscapeForMessage(w));
+  }
   Finish(ToGrpcStatus(stored.status()));
 }
 
