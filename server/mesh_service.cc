@@ -106,6 +106,9 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
   options.morph_weights = AsSpan(request.morph_weights());
 
   ARMATURE_RETURN_IF_ERROR(ValidateSkinSource(request));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.method(), v1::SkinningMethod_descriptor(), "method"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
   thread_local MeshWorkspace ws;
   if (!request.clip().empty()) {
     auto clip = ClipFor(catalog, named, request.clip());

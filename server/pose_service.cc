@@ -15,6 +15,9 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   auto ref = catalog.FindClip(request.clip());
   if (!ref.ok()) return ref.status();
   ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
   const Clip& clip = *ref->part->clip;
   auto joints = ResolveJoints(*clip.skeleton, request.joints(), "joints");
   if (!joints.ok()) return joints.status();
@@ -87,6 +90,9 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
     if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
     StreamPacing pacing = PacingOf(*request);
     if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new FailedStream<v1::PoseFrame>(st);
+    for (const Status& st : {ValidateEnum(request->interpolation(), v1::Interpolation_descriptor(), "interpolation"),
+                             ValidateEnum(request->space(), v1::Space_descriptor(), "space")})
+      if (!st.ok()) return new FailedStream<v1::PoseFrame>(st);
     auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
     if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
     return new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <google/protobuf/descriptor.h>
+
 namespace armature::server {
 
 Status ValidateFinite(double value, const std::string& field) {
@@ -120,6 +122,14 @@ Status ValidateReplySize(double bytes, const Limits& limits, const std::string& 
   std::snprintf(limit, sizeof limit, "%.1f MiB", static_cast<double>(limits.max_message_bytes) / (1 << 20));
   return Status::ResourceExhausted(rpc + ": the answer would take at least " + size + " (" + how +
                                    "), over the message limit of " + limit + " (--max-message-mb); ask for less");
+}
+
+Status ValidateEnum(int value, const google::protobuf::EnumDescriptor* type, const std::string& field) {
+  if (type->FindValueByNumber(value) != nullptr) return Status::Ok();
+  std::string allowed;
+  for (int i = 0; i < type->value_count(); ++i)
+    allowed += (i ? ", " : "") + type->value(i)->name() + " (" + std::to_string(type->value(i)->number()) + ")";
+  return Status::InvalidArgument(field + ": unknown value " + std::to_string(value) + "; allowed: " + allowed);
 }
 
 Status ValidateRequired(const std::string& value, const std::string& field) {
