@@ -52,7 +52,10 @@ TEST(ReplySize, ExportClipIsRefusedBeforeWritingFrames) {
 TEST(ReplySize, MeshRepliesAreCheckedAgainstTheCap) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-message-mb", "0.05"});
-  Client client(OptionsFor(server));
+  // The upload itself must respect the message cap: 16 KB chunks of the ~600 KB OBJ.
+  ClientOptions options = OptionsFor(server);
+  options.upload_chunk_bytes = 16 << 10;
+  Client client(options);
   // 100 × 100 vertices: 10000 × 12 bytes of positions alone is 120 KB, over 51 KB.
   client.Import({"grid.obj", fixtures::ToObj(fixtures::MakeGrid(100, 100, 1, 1))}, "grid");
   ExpectRefusedNamingTheFlag(StatusOf([&] { client.GetMeshGeometry("grid"); }), "GetMeshGeometry");
