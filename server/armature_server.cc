@@ -1,7 +1,11 @@
 #include "server/armature_server.h"
 
 #include <chrono>
+#include <condition_variable>
+#include <cstdlib>
 #include <fstream>
+#include <mutex>
+#include <thread>
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -19,6 +23,10 @@
 #include "server/services.h"
 
 namespace armature::server {
+namespace {
+// How long past --shutdown-grace the process waits for handlers to return.
+constexpr std::chrono::seconds kShutdownMargin{3};
+}  // namespace
 
 StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConfig& config) {
   std::unique_ptr<ArmatureServer> s(new ArmatureServer());
@@ -98,6 +106,7 @@ Status ArmatureServer::StartGateway() {
   args.SetMaxSendMessageSize(static_cast<int>(limits.max_message_bytes));
   gateway::GatewayOptions options;
   options.cors_origins = config_.cors_origins;
+  options.tokens = tokens_;
   options.max_request_bytes = static_cast<size_t>(limits.max_request_bytes);
   options.max_upload_bytes = static_cast<size_t>(limits.max_upload_bytes);
   // Keep threads free for ordinary requests however many streams are open.
@@ -135,11 +144,31 @@ void ArmatureServer::Shutdown() {
   // REST calls ride the in-process channel, which the gRPC shutdown drops at
   // once: they get their grace period first.
   if (gateway_) gateway_->Drain(deadline);
+  // Past the grace period gRPC cancels what is still in flight; a handler
+  // that still does not return (stuck in work that checks no cancellation)
+  // must not keep the process alive: the watchdog ends it.
+  std::mutex mu;
+  std::condition_variable cv;
+  bool done = false;
+  std::thread watchdog([&] {
+    std::unique_lock lock(mu);
+    if (cv.wait_until(lock, deadline + kShutdownMargin, [&] { return done; })) return;
+    spdlog::error("shutdown: calls still running {} s after the grace period; exiting anyway",
+                  std::chrono::duration_cast<std::chrono::seconds>(kShutdownMargin).count());
+    spdlog::shutdown();
+    std::_Exit(0);
+  });
   grpc_->Shutdown(deadline);
   spdlog::debug("gRPC shut down");
   if (http_) http_->Stop();
   spdlog::debug("HTTP stopped");
   grpc_->Wait();
+  {
+    std::lock_guard lock(mu);
+    done = true;
+  }
+  cv.notify_one();
+  watchdog.join();
   spdlog::info("stopped");
 }
 

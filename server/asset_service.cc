@@ -1,85 +1,128 @@
 #include "server/asset_service.h"
 
+#include <cmath>
+#include <cstdio>
+
 #include "armature/engine/bvh.h"
+#include "server/call_guard.h"
 #include "server/grpc_status.h"
 #include "server/import_reactor.h"
 #include "server/proto_convert.h"
+#include "server/request_validation.h"
 
 namespace armature::server {
+namespace {
 
-grpc::ServerReadReactor<v1::ImportAssetRequest>* AssetServiceImpl::ImportAsset(grpc::CallbackServerContext*,
+// WriteBvh samples the clip every frame_time (1/30 s without one) from 0 to
+// its duration, so its cost grows with the time span, not the keys: a clip
+// with keys at 0 and 1e6 s would write 30 million frames. At least 3 values
+// per joint per frame, each at least "0.000000 " (9 bytes).
+Status ValidateExportSize(const Clip& clip, const Limits& limits) {
+  const double step = clip.frame_time > 0 ? clip.frame_time : 1.0 / 30;
+  const double frames = std::ceil(clip.duration / step) + 1;
+  const double joints = clip.skeleton ? static_cast<double>(clip.skeleton->size()) : 0;
+  char how[128];
+  std::snprintf(how, sizeof how, "%.0f frames x %.0f joints x 3 values x 9 bytes", frames, joints);
+  return ValidateReplySize(frames * joints * 3 * 9, limits, "ExportClip", how);
+}
+
+}  // namespace
+
+grpc::ServerReadReactor<v1::ImportAssetRequest>* AssetServiceImpl::ImportAsset(grpc::CallbackServerContext* context,
                                                                                v1::ImportAssetResponse* response) {
-  return new ImportReactor(store_, limits_, response);
+  return MakeReactor<grpc::ServerReadReactor<v1::ImportAssetRequest>>(
+      context, "ImportAsset", [&] { return new ImportReactor(context, store_, limits_, response); });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::ListAssets(grpc::CallbackServerContext* context,
                                                        const v1::ListAssetsRequest*,
                                                        v1::ListAssetsResponse* response) {
-  for (const auto& [name, asset] : store_.Snapshot()->assets) *response->add_assets() = AssetInfoOf(*asset);
-  return FinishUnary(context, Status::Ok());
+  return RunUnary(context, "ListAssets", [&]() -> Status {
+    // The snapshot is held for the whole loop: a temporary's member would die
+    // before the first iteration, and a concurrent import/delete free it.
+    const auto catalog = store_.Snapshot();
+    for (const auto& [name, asset] : catalog->assets) *response->add_assets() = AssetInfoOf(*asset);
+    return Status::Ok();
+  });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::GetAsset(grpc::CallbackServerContext* context,
                                                      const v1::GetAssetRequest* request, v1::AssetInfo* response) {
-  const auto catalog = store_.Snapshot();
-  auto it = catalog->assets.find(request->name());
-  if (it == catalog->assets.end())
-    return FinishUnary(context, Status::NotFound("asset '" + request->name() + "' not found"));
-  *response = AssetInfoOf(*it->second);
-  return FinishUnary(context, Status::Ok());
+  return RunUnary(context, "GetAsset", [&]() -> Status {
+    const auto catalog = store_.Snapshot();
+    auto it = catalog->assets.find(request->name());
+    if (it == catalog->assets.end())
+      return Status::NotFound("asset '" + request->name() + "' not found");
+    *response = AssetInfoOf(*it->second);
+    return Status::Ok();
+  });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::DeleteAsset(grpc::CallbackServerContext* context,
                                                         const v1::DeleteAssetRequest* request,
                                                         v1::AssetInfo* response) {
-  auto deleted = store_.Delete(request->name());
-  if (deleted.ok()) *response = AssetInfoOf(**deleted);
-  return FinishUnary(context, deleted.status());
+  return RunUnary(context, "DeleteAsset", [&]() -> Status {
+    auto deleted = store_.Delete(request->name());
+    if (deleted.ok()) *response = AssetInfoOf(**deleted);
+    return deleted.status();
+  });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::ListClips(grpc::CallbackServerContext* context,
                                                       const v1::ListClipsRequest*, v1::ListClipsResponse* response) {
-  for (const auto& [name, ref] : store_.Snapshot()->clips)
-    *response->add_clips() = ClipInfoOf(*ref.asset, *ref.part, false);
-  return FinishUnary(context, Status::Ok());
+  return RunUnary(context, "ListClips", [&]() -> Status {
+    const auto catalog = store_.Snapshot();  // held for the loop (see ListAssets)
+    for (const auto& [name, ref] : catalog->clips)
+      *response->add_clips() = ClipInfoOf(*ref.asset, *ref.part, false);
+    return Status::Ok();
+  });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::GetClip(grpc::CallbackServerContext* context,
                                                     const v1::GetClipRequest* request, v1::ClipInfo* response) {
-  auto ref = store_.Snapshot()->FindClip(request->clip());
-  if (ref.ok()) *response = ClipInfoOf(*ref->asset, *ref->part, true);
-  return FinishUnary(context, ref.status());
+  return RunUnary(context, "GetClip", [&]() -> Status {
+    auto ref = store_.Snapshot()->FindClip(request->clip());
+    if (ref.ok()) *response = ClipInfoOf(*ref->asset, *ref->part, true);
+    return ref.status();
+  });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::ListSkeletons(grpc::CallbackServerContext* context,
                                                           const v1::ListSkeletonsRequest*,
                                                           v1::ListSkeletonsResponse* response) {
-  for (const auto& [name, ref] : store_.Snapshot()->skeletons)
-    *response->add_skeletons() = SkeletonInfoOf(*ref.asset, *ref.part);
-  return FinishUnary(context, Status::Ok());
+  return RunUnary(context, "ListSkeletons", [&]() -> Status {
+    const auto catalog = store_.Snapshot();  // held for the loop (see ListAssets)
+    for (const auto& [name, ref] : catalog->skeletons)
+      *response->add_skeletons() = SkeletonInfoOf(*ref.asset, *ref.part);
+    return Status::Ok();
+  });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::GetSkeleton(grpc::CallbackServerContext* context,
                                                         const v1::GetSkeletonRequest* request,
                                                         v1::Skeleton* response) {
-  auto ref = store_.Snapshot()->FindSkeleton(request->skeleton());
-  if (ref.ok()) {
-    response->set_name(ref->part->name);
-    response->set_asset(ref->asset->record.name);
-    ToProto(*ref->part->skeleton, response);
-  }
-  return FinishUnary(context, ref.status());
+  return RunUnary(context, "GetSkeleton", [&]() -> Status {
+    auto ref = store_.Snapshot()->FindSkeleton(request->skeleton());
+    if (ref.ok()) {
+      response->set_name(ref->part->name);
+      response->set_asset(ref->asset->record.name);
+      ToProto(*ref->part->skeleton, response);
+    }
+    return ref.status();
+  });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::ExportClip(grpc::CallbackServerContext* context,
                                                        const v1::ExportClipRequest* request,
                                                        v1::ExportClipResponse* response) {
-  auto ref = store_.Snapshot()->FindClip(request->clip());
-  if (ref.ok()) {
+  return RunUnary(context, "ExportClip", [&]() -> Status {
+    auto ref = store_.Snapshot()->FindClip(request->clip());
+    if (!ref.ok()) return ref.status();
+    ARMATURE_RETURN_IF_ERROR(ValidateExportSize(*ref->part->clip, limits_));
     response->set_filename(ref->part->name + ".bvh");
     response->set_data(WriteBvh(*ref->part->clip));
-  }
-  return FinishUnary(context, ref.status());
+    return Status::Ok();
+  });
 }
 
 }  // namespace armature::server

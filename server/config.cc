@@ -59,6 +59,12 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
       ->envname("ARMATURE_MAX_MESH_VERTICES")->check(CLI::PositiveNumber);
   app.add_option("--max-ik-iterations", c.limits.max_ik_iterations, "Most solver iterations an IK request may ask for")
       ->envname("ARMATURE_MAX_IK_ITERATIONS")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-effectors", c.limits.max_ik_effectors, "Most effectors one IK request may have")
+      ->envname("ARMATURE_MAX_IK_EFFECTORS")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-work", c.limits.max_ik_work,
+                 "Most work one IK request may ask for: the sum over its effectors of the joints in each "
+                 "effector's chain, times max_iterations")
+      ->envname("ARMATURE_MAX_IK_WORK")->check(CLI::PositiveNumber);
   app.add_option("--max-sessions-per-client", c.limits.max_sessions_per_client,
                  "Most IK/deformation sessions one client may hold open")
       ->envname("ARMATURE_MAX_SESSIONS_PER_CLIENT")->check(CLI::PositiveNumber);

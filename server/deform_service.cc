@@ -3,6 +3,7 @@
 #include <optional>
 #include <string>
 
+#include "server/call_guard.h"
 #include "server/grpc_status.h"
 #include "server/mesh_deformer.h"
 #include "server/proto_convert.h"
@@ -22,9 +23,14 @@ Status Deform(DeformerCache& cache, const std::shared_ptr<const Catalog>& catalo
 grpc::ServerUnaryReactor* DeformServiceImpl::Deform(grpc::CallbackServerContext* context,
                                                     const v1::DeformRequest* request, v1::DeformResponse* response) {
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  solves_.Enqueue([this, reactor, request, response, catalog = store_.Snapshot()] {
-    reactor->Finish(ToGrpcStatus(server::Deform(*cache_, catalog, limits_, *request, response)));
-  });
+  try {
+    solves_.Enqueue([this, context, reactor, request, response, catalog = store_.Snapshot()] {
+      reactor->Finish(ToGrpcStatus(
+          Guarded(context, "Deform", [&] { return server::Deform(*cache_, catalog, limits_, *request, response); })));
+    });
+  } catch (...) {  // could not even queue it
+    reactor->Finish(ToGrpcStatus(StatusOfCurrentException(context, "Deform")));
+  }
   return reactor;
 }
 
@@ -36,7 +42,7 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
  public:
   DeformSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
                        SessionAdmission& sessions, ElasticThreadPool& setups)
-      : store_(store), limits_(limits), setups_(setups) {
+      : context_(context), store_(store), limits_(limits), setups_(setups) {
     auto ticket = sessions.Admit(*context, SessionKind::kDeform);
     if (!ticket.ok()) {
       Finish(ToGrpcStatus(ticket.status()));
@@ -47,12 +53,18 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
   }
 
   void OnReadDone(bool ok) override {
+    GuardCallback(context_, "DeformSession", [&] { ReadDone(ok); }, [this](grpc::Status st) { EndWith(st); });
+  }
+
+  void ReadDone(bool ok) {
     if (!ok) {  // the client closed its side: the session ends normally
       End(Status::Ok());
       return;
     }
     if (!deformer_) {  // the setup factors: off the callback thread
-      setups_.Enqueue([this] { Answer(); });
+      setups_.Enqueue([this] {
+        GuardCallback(context_, "DeformSession", [&] { Answer(); }, [this](grpc::Status st) { EndWith(st); });
+      });
       return;
     }
     Answer();  // a move is a back-substitution: milliseconds
@@ -74,6 +86,13 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
       return;
     }
     StartRead(&request_);
+  }
+
+  // Ends the call after an exception (call_guard.h): nothing here may throw.
+  void EndWith(const grpc::Status& status) noexcept {
+    deformer_.reset();
+    ticket_.Release();
+    Finish(status);
   }
 
   void OnDone() override { delete this; }  // the ticket, if still held (cancelled mid-solve), goes with it
@@ -110,6 +129,7 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
     return Status::Ok();
   }
 
+  grpc::CallbackServerContext* context_;
   AssetStore& store_;
   const Limits& limits_;
   ElasticThreadPool& setups_;
@@ -124,7 +144,9 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
 
 grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* DeformServiceImpl::DeformSession(
     grpc::CallbackServerContext* context) {
-  return new DeformSessionReactor(context, store_, limits_, *sessions_, solves_);
+  return MakeReactor<grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>>(context, "DeformSession", [&]() -> grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* {
+    return new DeformSessionReactor(context, store_, limits_, *sessions_, solves_);
+  });
 }
 
 }  // namespace armature::server

@@ -1,6 +1,7 @@
 #include "server/ik_service.h"
 
 #include "armature/engine/ik.h"
+#include "server/call_guard.h"
 #include "server/grpc_status.h"
 #include "server/ik_session_reactor.h"
 
@@ -15,27 +16,39 @@ Status RunIk(const IkCall& call, IkWorkspace& workspace, IkResult& result, PoseW
   return Status::Ok();
 }
 
+// The per-thread workspace keeps its buffers' capacity between calls; one
+// large request must not pin them (3,000 effectors left 1.3 GB per thread).
+static void ReleaseIfLarge(IkWorkspace& ws) {
+  constexpr Eigen::Index kKeptElements = 1 << 20;  // 8 MiB of doubles
+  if (ws.jacobian.size() + ws.hessian.size() + ws.damped.size() + ws.gram.size() > kKeptElements) ws = IkWorkspace();
+}
+
 grpc::ServerUnaryReactor* IkServiceImpl::SolveIk(grpc::CallbackServerContext* context,
                                                  const v1::SolveIkRequest* request,
                                                  v1::SolveIkResponse* response) {
-  IkCall call;
-  Status status = IkCallFromProto(*store_.Snapshot(), limits_, *request, call);
-  if (status.ok()) {
-    // The solver stops at the call's deadline or when the client cancels,
-    // so no CPU is spent on an answer nobody waits for.
-    call.request.deadline = SteadyDeadline(*context);
-    call.request.should_stop = [context] { return context->IsCancelled(); };
-    thread_local IkWorkspace workspace;  // reused across calls on this thread
-    thread_local IkResult result;
-    thread_local PoseWorkspace pose;
-    status = RunIk(call, workspace, result, pose, response);
-  }
-  return FinishUnary(context, status);
+  return RunUnary(context, "SolveIk", [&]() -> Status {
+    IkCall call;
+    Status status = IkCallFromProto(*store_.Snapshot(), limits_, *request, call);
+    if (status.ok()) {
+      // The solver stops at the call's deadline or when the client cancels,
+      // so no CPU is spent on an answer nobody waits for.
+      call.request.deadline = SteadyDeadline(*context);
+      call.request.should_stop = [context] { return context->IsCancelled(); };
+      thread_local IkWorkspace workspace;  // reused across calls on this thread
+      thread_local IkResult result;
+      thread_local PoseWorkspace pose;
+      status = RunIk(call, workspace, result, pose, response);
+      ReleaseIfLarge(workspace);
+    }
+    return status;
+  });
 }
 
 grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>* IkServiceImpl::IkSession(
     grpc::CallbackServerContext* context) {
-  return new IkSessionReactor(context, store_, limits_, *sessions_);
+  return MakeReactor<grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>>(context, "IkSession", [&]() -> grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>* {
+    return new IkSessionReactor(context, store_, limits_, *sessions_);
+  });
 }
 
 }  // namespace armature::server

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "server/call_guard.h"
 #include "server/grpc_status.h"
 #include "server/ik_service.h"
 
@@ -30,6 +31,14 @@ IkSessionReactor::IkSessionReactor(grpc::CallbackServerContext* context, AssetSt
 }
 
 void IkSessionReactor::OnReadDone(bool ok) {
+  GuardCallback(context_, "IkSession", [&] { ReadDone(ok); }, [this](grpc::Status st) { End(std::move(st)); });
+}
+
+void IkSessionReactor::OnWriteDone(bool ok) {
+  GuardCallback(context_, "IkSession", [&] { WriteDone(ok); }, [this](grpc::Status st) { End(std::move(st)); });
+}
+
+void IkSessionReactor::ReadDone(bool ok) {
   // Not ok: the client closed its side (or went away): the session is over.
   if (!ok) return End(grpc::Status::OK);
   if (Status status = Answer(); !status.ok()) return End(ToGrpcStatus(status));
@@ -37,7 +46,7 @@ void IkSessionReactor::OnReadDone(bool ok) {
   StartWrite(&response_);
 }
 
-void IkSessionReactor::OnWriteDone(bool ok) {
+void IkSessionReactor::WriteDone(bool ok) {
   if (!ok) return End(grpc::Status(grpc::StatusCode::CANCELLED, "the client went away"));
   request_.Clear();
   StartRead(&request_);

@@ -28,6 +28,8 @@ class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionReque
 
  private:
   void End(grpc::Status status);  // finishes the call (once)
+  void ReadDone(bool ok);
+  void WriteDone(bool ok);
   Status Answer();                // solves request_ into response_
   Status Start();   // the first message
   Status Update();  // a later one

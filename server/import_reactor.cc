@@ -1,16 +1,23 @@
 #include "server/import_reactor.h"
 
+#include "armature/engine/utf8.h"
+#include "server/call_guard.h"
 #include "server/grpc_status.h"
 #include "server/proto_convert.h"
 
 namespace armature::server {
 
-ImportReactor::ImportReactor(AssetStore& store, const Limits& limits, v1::ImportAssetResponse* response)
-    : store_(store), limits_(limits), response_(response), current_(&import_.bytes) {
+ImportReactor::ImportReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
+                             v1::ImportAssetResponse* response)
+    : context_(context), store_(store), limits_(limits), response_(response), current_(&import_.bytes) {
   StartRead(&chunk_);
 }
 
 void ImportReactor::OnReadDone(bool ok) {
+  GuardCallback(context_, "ImportAsset", [&] { ReadDone(ok); }, [this](grpc::Status st) { Finish(st); });
+}
+
+void ImportReactor::ReadDone(bool ok) {
   if (!ok) {  // the client finished sending
     Complete();
     return;
@@ -34,12 +41,21 @@ void ImportReactor::OnReadDone(bool ok) {
 }
 
 void ImportReactor::Complete() {
+  // Not ok also when the call was cancelled (client gone, server shutting
+  // down): a cut-short upload is not imported.
+  if (context_->IsCancelled()) {
+    Finish(grpc::Status(grpc::StatusCode::CANCELLED, "the upload was cancelled"));
+    return;
+  }
   if (first_) {
     Finish(ToGrpcStatus(Status::InvalidArgument("no data: the upload had no messages")));
     return;
   }
   auto stored = store_.Import(std::move(import_));
-  if (stored.ok()) *response_->mutable_asset() = AssetInfoOf(**stored);
+  if (stored.ok()) {
+    *response_->mutable_asset() = AssetInfoOf(**stored);
+    for (const std::string& w : (*stored)->contents.warnings) response_->add_warnings(IsValidUtf8(w) ? w : EscapeForMessage(w, 4096));
+  }
   Finish(ToGrpcStatus(stored.status()));
 }
 

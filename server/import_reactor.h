@@ -11,14 +11,17 @@ namespace armature::server {
 
 class ImportReactor final : public grpc::ServerReadReactor<v1::ImportAssetRequest> {
  public:
-  ImportReactor(AssetStore& store, const Limits& limits, v1::ImportAssetResponse* response);
+  ImportReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
+                v1::ImportAssetResponse* response);
 
   void OnReadDone(bool ok) override;
   void OnDone() override { delete this; }
 
  private:
+  void ReadDone(bool ok);
   void Complete();
 
+  grpc::CallbackServerContext* context_;
   AssetStore& store_;
   const Limits& limits_;
   v1::ImportAssetResponse* response_;

@@ -16,6 +16,8 @@ struct Limits {
   int64_t max_clip_frames = 1000000;       // --max-clip-frames: frames of one imported clip
   int64_t max_mesh_vertices = 5000000;     // --max-mesh-vertices: vertices of one imported mesh
   int max_ik_iterations = 1000;            // --max-ik-iterations: solver iterations one IK request may ask for
+  int max_ik_effectors = 64;               // --max-ik-effectors: effectors of one IK request
+  int64_t max_ik_work = 5000000;           // --max-ik-work: effectors × chain joints × iterations of one IK request
   int max_sessions_per_client = 16;        // --max-sessions-per-client: open IK/deformation sessions per client
   int max_sessions = 256;                  // --max-sessions: open IK/deformation sessions in all
   int max_ik_sessions = 64;                // --max-ik-sessions: IK sessions open at once, all clients

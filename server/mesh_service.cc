@@ -1,5 +1,6 @@
 #include "server/mesh_service.h"
 
+#include <google/protobuf/io/coded_stream.h>
 #include <spdlog/spdlog.h>
 
 #include "armature/engine/auto_weights.h"
@@ -7,6 +8,7 @@
 #include "armature/engine/fk.h"
 #include "armature/engine/mesh.h"
 #include "armature/engine/skinning.h"
+#include "server/call_guard.h"
 #include "server/grpc_status.h"
 #include "server/paced_stream_reactor.h"
 #include "server/proto_convert.h"
@@ -43,6 +45,27 @@ std::pair<std::span<float>, std::span<float>> OutputsOf(const Mesh& mesh, Respon
   if (!mesh.normals.empty()) response->mutable_normals()->Resize(3 * n, 0.f);
   return {{response->mutable_positions()->mutable_data(), static_cast<size_t>(response->positions_size())},
           {response->mutable_normals()->mutable_data(), static_cast<size_t>(response->normals_size())}};
+}
+
+// The bytes of a reply carrying `mesh`'s positions and normals (3 floats per
+// vertex each), and with `triangles` its indices (varints), computed before
+// any work so an oversized reply is refused naming the flags instead of
+// failing in gRPC after the work.
+Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc) {
+  const double n = static_cast<double>(mesh.vertex_count());
+  double bytes = n * 12 * (mesh.normals.empty() ? 1 : 2);
+  if (triangles)
+    for (uint32_t index : mesh.triangles) bytes += google::protobuf::io::CodedOutputStream::VarintSize32(index);
+  const std::string how = std::to_string(mesh.vertex_count()) + " vertices" +
+                          (triangles ? " and " + std::to_string(mesh.triangles.size() / 3) + " triangles" : "");
+  return ValidateReplySize(bytes, limits, rpc, how + "; imports are capped by --max-mesh-vertices");
+}
+
+Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool triangles, const Limits& limits,
+                         const std::string& rpc) {
+  auto ref = catalog.FindMesh(name);
+  if (!ref.ok()) return Status::Ok();  // the RPC itself reports it
+  return ValidateMeshReply(*ref->part->mesh, triangles, limits, rpc);
 }
 
 // Per-thread scratch: skinning is allocation-free after a thread's first call.
@@ -83,6 +106,9 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
   options.morph_weights = AsSpan(request.morph_weights());
 
   ARMATURE_RETURN_IF_ERROR(ValidateSkinSource(request));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.method(), v1::SkinningMethod_descriptor(), "method"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
   thread_local MeshWorkspace ws;
   if (!request.clip().empty()) {
     auto clip = ClipFor(catalog, named, request.clip());
@@ -199,59 +225,81 @@ class StreamSkinnedMeshReactor final : public PacedStreamReactor<v1::SkinnedMesh
 }  // namespace
 
 grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMesh(
-    grpc::CallbackServerContext*, const v1::StreamSkinnedMeshRequest* request) {
-  using Failed = FailedStream<v1::SkinnedMeshFrame>;
-  auto catalog = store_.Snapshot();
-  auto mesh = catalog->FindMesh(request->mesh());
-  if (!mesh.ok()) return new Failed(mesh.status().WithContext("mesh: "));
-  if (Status st = ValidateRequired(request->clip(), "clip"); !st.ok()) return new Failed(st);
-  auto clip = ClipFor(*catalog, *mesh->part, request->clip());
-  if (!clip.ok()) return new Failed(clip.status());
-  auto method = FromProto(request->method());
-  if (!method.ok()) return new Failed(method.status());
-  StreamPacing pacing = PacingOf(*request);
-  if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new Failed(st);
-  return new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*clip), *method,
-                                      request->interpolation());
+    grpc::CallbackServerContext* context, const v1::StreamSkinnedMeshRequest* request) {
+  return MakeReactor<grpc::ServerWriteReactor<v1::SkinnedMeshFrame>>(context, "StreamSkinnedMesh", [&]() -> grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* {
+    using Failed = FailedStream<v1::SkinnedMeshFrame>;
+    auto catalog = store_.Snapshot();
+    auto mesh = catalog->FindMesh(request->mesh());
+    if (!mesh.ok()) return new Failed(mesh.status().WithContext("mesh: "));
+    if (Status st = ValidateMeshReply(*mesh->part->mesh, false, limits_, "StreamSkinnedMesh"); !st.ok())
+      return new Failed(st);
+    if (Status st = ValidateRequired(request->clip(), "clip"); !st.ok()) return new Failed(st);
+    auto clip = ClipFor(*catalog, *mesh->part, request->clip());
+    if (!clip.ok()) return new Failed(clip.status());
+    auto method = FromProto(request->method());
+    if (!method.ok()) return new Failed(method.status());
+    StreamPacing pacing = PacingOf(*request);
+    if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new Failed(st);
+    return new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*clip), *method,
+                                        request->interpolation());
+  });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::ListMeshes(grpc::CallbackServerContext* context,
                                                       const v1::ListMeshesRequest*,
                                                       v1::ListMeshesResponse* response) {
-  auto catalog = store_.Snapshot();
-  for (const auto& [name, ref] : catalog->meshes) *response->add_meshes() = MeshInfoOf(*ref.asset, *ref.part);
-  return FinishUnary(context, Status::Ok());
+  return RunUnary(context, "ListMeshes", [&]() -> Status {
+    auto catalog = store_.Snapshot();
+    for (const auto& [name, ref] : catalog->meshes) *response->add_meshes() = MeshInfoOf(*ref.asset, *ref.part);
+    return Status::Ok();
+  });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::GetMesh(grpc::CallbackServerContext* context,
                                                    const v1::GetMeshRequest* request, v1::MeshInfo* response) {
-  auto ref = store_.Snapshot()->FindMesh(request->mesh());
-  if (ref.ok()) *response = MeshInfoOf(*ref->asset, *ref->part);
-  return FinishUnary(context, ref.ok() ? Status::Ok() : ref.status().WithContext("mesh: "));
+  return RunUnary(context, "GetMesh", [&]() -> Status {
+    auto ref = store_.Snapshot()->FindMesh(request->mesh());
+    if (ref.ok()) *response = MeshInfoOf(*ref->asset, *ref->part);
+    return ref.ok() ? Status::Ok() : ref.status().WithContext("mesh: ");
+  });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::GetMeshGeometry(grpc::CallbackServerContext* context,
                                                            const v1::GetMeshGeometryRequest* request,
                                                            v1::MeshGeometry* response) {
-  return FinishUnary(context, server::GetMeshGeometry(*store_.Snapshot(), *request, response));
+  return RunUnary(context, "GetMeshGeometry", [&]() -> Status {
+    const auto catalog = store_.Snapshot();
+    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), true, limits_, "GetMeshGeometry"));
+    return server::GetMeshGeometry(*catalog, *request, response);
+  });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::SkinMesh(grpc::CallbackServerContext* context,
                                                     const v1::SkinMeshRequest* request,
                                                     v1::SkinMeshResponse* response) {
-  return FinishUnary(context, server::SkinMesh(*store_.Snapshot(), *request, response));
+  return RunUnary(context, "SkinMesh", [&]() -> Status {
+    const auto catalog = store_.Snapshot();
+    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), false, limits_, "SkinMesh"));
+    return server::SkinMesh(*catalog, *request, response);
+  });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::EvaluateBlendshapes(grpc::CallbackServerContext* context,
                                                                const v1::EvaluateBlendshapesRequest* request,
                                                                v1::EvaluateBlendshapesResponse* response) {
-  return FinishUnary(context, server::EvaluateBlendshapes(*store_.Snapshot(), *request, response));
+  return RunUnary(context, "EvaluateBlendshapes", [&]() -> Status {
+    const auto catalog = store_.Snapshot();
+    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), false, limits_, "EvaluateBlendshapes"));
+    return server::EvaluateBlendshapes(*catalog, *request, response);
+  });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::BindMesh(grpc::CallbackServerContext* context,
                                                     const v1::BindMeshRequest* request,
                                                     v1::BindMeshResponse* response) {
-  return FinishUnary(context, server::BindMesh(*store_.Snapshot(), *request, response));
+  return RunUnary(context, "BindMesh", [&]() -> Status {
+    return server::BindMesh(*store_.Snapshot(), *request, response);
+  });
 }
 
 }  // namespace armature::server

@@ -15,6 +15,7 @@
 
 #include "armature/engine/clip.h"
 #include "armature/engine/status.h"
+#include "server/call_guard.h"
 #include "server/frame_scheduler.h"
 #include "server/grpc_status.h"
 #include "server/stream_pacing.h"
@@ -95,9 +96,15 @@ class PacedStreamReactor : public grpc::ServerWriteReactor<Frame> {
       return FinishOnce(grpc::Status::OK), false;
     const WrapMode wrap = pacing_.loop ? WrapMode::kLoop : WrapMode::kClamp;
     t = WrapTime(t, clip_duration_, wrap);
-    frame_.Clear();
-    if (Status st = Fill(index_, t, wrap, frame_); !st.ok())
-      return FinishOnce(grpc::Status(grpc::StatusCode::INTERNAL, st.message())), false;
+    Status st;
+    try {  // the exception boundary of this gRPC callback (call_guard.h)
+      frame_.Clear();
+      st = Fill(index_, t, wrap, frame_);
+      if (!st.ok()) st = Status(StatusCode::kInternal, st.message());
+    } catch (...) {
+      st = StatusOfCurrentException(nullptr, "stream frame");
+    }
+    if (!st.ok()) return FinishOnce(ToGrpcStatus(st)), false;
     ++index_;
     return true;
   }

@@ -2,6 +2,7 @@
 
 #include "armature/engine/clip.h"
 #include "armature/engine/fk.h"
+#include "server/call_guard.h"
 #include "server/grpc_status.h"
 #include "server/proto_convert.h"
 #include "server/request_validation.h"
@@ -14,9 +15,19 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   auto ref = catalog.FindClip(request.clip());
   if (!ref.ok()) return ref.status();
   ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
   const Clip& clip = *ref->part->clip;
   auto joints = ResolveJoints(*clip.skeleton, request.joints(), "joints");
   if (!joints.ok()) return joints.status();
+  // Each pose carries 7 floats per listed joint (a repeated joint counts
+  // again); refused before any pose is computed.
+  constexpr double kBytesPerJoint = 7 * sizeof(float);
+  const double times = request.times_size(), listed = static_cast<double>(joints->size());
+  ARMATURE_RETURN_IF_ERROR(ValidateReplySize(
+      times * (listed * kBytesPerJoint + 16), limits, "EvaluateClip",
+      std::to_string(request.times_size()) + " times x " + std::to_string(joints->size()) + " joints x 28 bytes"));
 
   SampleOptions options;
   options.interpolation = FromProto(request.interpolation());
@@ -59,24 +70,33 @@ Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1
 grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateClip(grpc::CallbackServerContext* context,
                                                         const v1::EvaluateClipRequest* request,
                                                         v1::EvaluateClipResponse* response) {
-  return FinishUnary(context, server::EvaluateClip(*store_.Snapshot(), limits_, *request, response));
+  return RunUnary(context, "EvaluateClip", [&]() -> Status {
+    return server::EvaluateClip(*store_.Snapshot(), limits_, *request, response);
+  });
 }
 
 grpc::ServerUnaryReactor* PoseServiceImpl::ComputeFk(grpc::CallbackServerContext* context,
                                                      const v1::ComputeFkRequest* request,
                                                      v1::ComputeFkResponse* response) {
-  return FinishUnary(context, server::ComputeFk(*store_.Snapshot(), *request, response));
+  return RunUnary(context, "ComputeFk", [&]() -> Status {
+    return server::ComputeFk(*store_.Snapshot(), *request, response);
+  });
 }
 
-grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext*,
+grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext* context,
                                                                      const v1::StreamClipRequest* request) {
-  auto ref = store_.Snapshot()->FindClip(request->clip());
-  if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
-  StreamPacing pacing = PacingOf(*request);
-  if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new FailedStream<v1::PoseFrame>(st);
-  auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
-  if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
-  return new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
+  return MakeReactor<grpc::ServerWriteReactor<v1::PoseFrame>>(context, "StreamClip", [&]() -> grpc::ServerWriteReactor<v1::PoseFrame>* {
+    auto ref = store_.Snapshot()->FindClip(request->clip());
+    if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
+    StreamPacing pacing = PacingOf(*request);
+    if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new FailedStream<v1::PoseFrame>(st);
+    for (const Status& st : {ValidateEnum(request->interpolation(), v1::Interpolation_descriptor(), "interpolation"),
+                             ValidateEnum(request->space(), v1::Space_descriptor(), "space")})
+      if (!st.ok()) return new FailedStream<v1::PoseFrame>(st);
+    auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
+    if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
+    return new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
+  });
 }
 
 }  // namespace armature::server

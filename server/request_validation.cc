@@ -1,6 +1,9 @@
 #include "server/request_validation.h"
 
 #include <cmath>
+#include <cstdio>
+
+#include <google/protobuf/descriptor.h>
 
 namespace armature::server {
 
@@ -109,6 +112,24 @@ Status ValidateSkinSource(const v1::SkinMeshRequest& request) {
 Status ValidateMaxInfluences(int max_influences) {
   if (max_influences < 0 || max_influences > 8) return Status::InvalidArgument("max_influences: must be between 1 and 8");
   return Status::Ok();
+}
+
+Status ValidateReplySize(double bytes, const Limits& limits, const std::string& rpc, const std::string& how) {
+  if (bytes <= static_cast<double>(limits.max_message_bytes)) return Status::Ok();
+  char size[64];
+  std::snprintf(size, sizeof size, "%.1f MiB", bytes / (1 << 20));
+  char limit[64];
+  std::snprintf(limit, sizeof limit, "%.1f MiB", static_cast<double>(limits.max_message_bytes) / (1 << 20));
+  return Status::ResourceExhausted(rpc + ": the answer would take at least " + size + " (" + how +
+                                   "), over the message limit of " + limit + " (--max-message-mb); ask for less");
+}
+
+Status ValidateEnum(int value, const google::protobuf::EnumDescriptor* type, const std::string& field) {
+  if (type->FindValueByNumber(value) != nullptr) return Status::Ok();
+  std::string allowed;
+  for (int i = 0; i < type->value_count(); ++i)
+    allowed += (i ? ", " : "") + type->value(i)->name() + " (" + std::to_string(type->value(i)->number()) + ")";
+  return Status::InvalidArgument(field + ": unknown value " + std::to_string(value) + "; allowed: " + allowed);
 }
 
 Status ValidateRequired(const std::string& value, const std::string& field) {

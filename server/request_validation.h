@@ -54,6 +54,16 @@ Status ValidateSkinSource(const v1::SkinMeshRequest& request);
 // BindMeshRequest.max_influences: 0 (the default) or 1 to 8.
 Status ValidateMaxInfluences(int max_influences);
 
+// An answer of about `bytes` (computed before any work: `how` says from
+// what, e.g. "100000 times × 31 joints × 28 bytes") fits in one message:
+// RESOURCE_EXHAUSTED naming --max-message-mb and the size otherwise.
+Status ValidateReplySize(double bytes, const Limits& limits, const std::string& rpc, const std::string& how);
+
+// An enum field's number is one the API defines (proto3 keeps unknown
+// numbers, which would otherwise silently act as the default):
+// INVALID_ARGUMENT naming the field and listing the allowed values.
+Status ValidateEnum(int value, const google::protobuf::EnumDescriptor* type, const std::string& field);
+
 // A required string field (a name) is given.
 Status ValidateRequired(const std::string& value, const std::string& field);
 

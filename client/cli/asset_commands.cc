@@ -39,7 +39,9 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
   cmd->callback([&ctx, file, name, replace, outside] {
     ctx.run = [&ctx, file, name, replace, outside] {
       const auto response = ctx.MakeClient().ImportFile(*file, *name, *replace, *outside);
-      PrintJson(ImportSummary(response.asset()));
+      auto summary = ImportSummary(response.asset());
+      summary["warnings"] = std::vector<std::string>(response.warnings().begin(), response.warnings().end());
+      PrintJson(summary);
       return 0;
     };
   });

@@ -536,6 +536,11 @@ void SolveDls(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& w
       Linearize(skeleton, request, ws);
       linearized = true;
       if (mu < 0) mu = kInitialDamping * std::max(ws.hessian.diagonal().maxCoeff(), 1e-9);
+      // Linearizing costs rows × columns²: look again before the solve.
+      if (const std::optional<IkStop> interrupt = ik_internal::CheckInterrupt(request)) {
+        stop = *interrupt;
+        break;
+      }
     }
     ws.damped = ws.hessian;
     ws.damped.diagonal().array() += mu;

@@ -8,6 +8,7 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include "armature/engine/utf8.h"
 #include "server/gateway/error_mapping.h"
 #include "server/gateway/generic_call.h"
 #include "server/gateway/openapi.h"
@@ -153,6 +154,15 @@ void Gateway::Register(httplib::Server& http) {
   http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     cors_.Decorate(req, res);
     if (req.has_header("x-request-id")) res.set_header("x-request-id", req.get_header_value("x-request-id"));
+    // Two Content-Length headers (or one beside Transfer-Encoding) could
+    // frame the body differently here and in a proxy: refused unread.
+    if (req.get_header_value_count("Content-Length") > 1 ||
+        (req.has_header("Content-Length") && req.has_header("Transfer-Encoding"))) {
+      res.set_header("Connection", "close");
+      WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT,
+                 "request headers: more than one Content-Length, or Content-Length with Transfer-Encoding");
+      return Server::HandlerResponse::Handled;
+    }
     if (req.method != "OPTIONS") return Server::HandlerResponse::Unhandled;
     auto path = RequestPath::Parse(req.target);
     std::string allowed = path.ok() ? AllowedMethods(*path) : "";
@@ -174,16 +184,25 @@ void Gateway::Register(httplib::Server& http) {
     WriteError(res, res.status, code, what);
     return Server::HandlerResponse::Handled;
   }));
+  // The exception boundary of REST handlers (see server/call_guard.h for gRPC's).
   http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
     std::string what = "unknown exception";
+    bool out_of_memory = false;
     try {
       std::rethrow_exception(ep);
+    } catch (const std::bad_alloc&) {
+      out_of_memory = true;
+      what = "out of memory";
     } catch (const std::exception& e) {
-      what = e.what();
+      what = EscapeForMessage(e.what(), 1024);
     } catch (...) {
     }
-    spdlog::error("gateway: {} {}: {}", req.method, req.path, what);
-    WriteError(res, 500, grpc::StatusCode::INTERNAL, "internal error");
+    const std::string id = req.has_header("x-request-id") ? EscapeForMessage(req.get_header_value("x-request-id")) : "-";
+    spdlog::error("gateway: {} {} (request {}): {}", req.method, EscapeForMessage(req.path, 256), id, what);
+    if (out_of_memory)
+      return WriteError(res, 503, grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        "the server ran out of memory serving this request; try a smaller one");
+    WriteError(res, 500, grpc::StatusCode::INTERNAL, "internal error: " + what);
   });
 
   http.Get("/openapi.json", [this](const httplib::Request&, httplib::Response& res) {
@@ -214,6 +233,14 @@ void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const 
                       req.method + " is not allowed on " + req.path + " (allowed: " + allowed + ")");
   }
   const HttpBinding& binding = *route->binding;
+  // Authentication before the body is read: an unauthenticated upload is
+  // answered from its headers and its connection closed unread.
+  if (options_.tokens) {
+    if (Status st = options_.tokens->Check(req.get_header_value("Authorization")); !st.ok()) {
+      if (reader) res.set_header("Connection", "close");
+      return WriteError(res, grpc::Status(grpc::StatusCode::UNAUTHENTICATED, st.message()));
+    }
+  }
 
   HttpRequestParts parts;
   parts.path = std::move(route->variables);

@@ -19,6 +19,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "armature/engine/status.h"
+#include "server/bearer_tokens.h"
 #include "server/gateway/call_registry.h"
 #include "server/gateway/cors.h"
 #include "server/gateway/http_rule.h"
@@ -46,6 +47,9 @@ struct GatewayOptions {
   std::chrono::milliseconds first_response_wait{2000};
   std::chrono::milliseconds sse_heartbeat{15000};
   size_t max_streams = 200;  // open SSE streams; more get 429 (each holds an HTTP thread)
+  // --auth-token-file: checked before a request body is read, so token-less
+  // uploads cost no memory (the gRPC auth gate checks again).
+  std::shared_ptr<const BearerTokens> tokens;
 };
 
 class Gateway {

@@ -1,0 +1,69 @@
+// The REST gateway answers from the headers alone when it should: no token
+// (before reading an upload body), or an ambiguous body length.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "client_helpers.h"
+#include "server_process.h"
+
+namespace armature::testing {
+namespace {
+
+// Sends `head` (request line and headers, no body) and returns what the
+// server answers before the client sends anything more (up to 10 s).
+std::string AnswerToHeaders(int port, const std::string& head) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<uint16_t>(port));
+  ::inet_pton(AF_INET, "127.0.0.1", &addr.sin_addr);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return "";
+  }
+  timeval timeout{10, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  ::send(fd, head.data(), head.size(), 0);
+  std::string answer;
+  char buf[4096];
+  for (ssize_t n; (n = ::recv(fd, buf, sizeof buf, 0)) > 0;) {
+    answer.append(buf, static_cast<size_t>(n));
+    if (answer.find("\r\n\r\n") != std::string::npos && answer.find('}') != std::string::npos) break;
+  }
+  ::close(fd);
+  return answer;
+}
+
+TEST(RestHeaders, AnUploadWithoutATokenIsRefusedBeforeItsBody) {
+  TempDir data, files;
+  const auto tokens = WriteTemp(files, "tokens", "secret-token\n");
+  ServerProcess server(data.path(), {"--no-demo", "--auth-token-file", tokens.string(), "--max-upload-mb", "512"});
+  // 200 MB announced, none sent: the 401 comes from the headers alone.
+  const std::string answer = AnswerToHeaders(
+      server.http_port(), "POST /v1/assets:import?filename=a.bvh HTTP/1.1\r\nHost: x\r\n"
+                          "Content-Type: application/octet-stream\r\nContent-Length: 209715200\r\n\r\n");
+  // AnswerToHeaders never sends a body byte: any answer at all came from the headers.
+  EXPECT_EQ(answer.rfind("HTTP/1.1 401", 0), 0u) << answer;
+  EXPECT_NE(answer.find("\"code\":16"), std::string::npos) << answer;  // UNAUTHENTICATED
+  EXPECT_NE(answer.find("missing credentials"), std::string::npos) << answer;
+}
+
+TEST(RestHeaders, TwoContentLengthsAreABadRequest) {
+  TempDir data;
+  ServerProcess server(data.path(), {"--no-demo"});
+  const std::string answer = AnswerToHeaders(
+      server.http_port(), "POST /v1/clips/arm:evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                          "Content-Length: 2\r\nContent-Length: 40\r\n\r\n");
+  EXPECT_EQ(answer.rfind("HTTP/1.1 400", 0), 0u) << answer;
+  EXPECT_NE(answer.find("Content-Length"), std::string::npos) << answer;
+}
+
+}  // namespace
+}  // namespace armature::testing
