@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <string>
+#include <string_view>
+#include <utility>
 
 #include "armature/engine/mesh.h"
 
@@ -28,6 +30,24 @@ Status CheckAssetLimits(const AssetContents& contents, const Limits& limits) {
                                        " (--max-mesh-vertices)");
   }
   return Status::Ok();
+}
+
+ImportLimits ImportLimitsOf(const Limits& limits) {
+  ImportLimits caps;
+  caps.max_clip_frames = static_cast<uint64_t>(std::max<int64_t>(limits.max_clip_frames, 0));
+  caps.max_mesh_vertices = static_cast<uint64_t>(std::max<int64_t>(limits.max_mesh_vertices, 0));
+  return caps;
+}
+
+StatusOr<AssetContents> WithLimitFlags(StatusOr<AssetContents> parsed) {
+  if (parsed.ok() || parsed.status().code() != StatusCode::kResourceExhausted) return parsed;
+  static constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
+      {"max_clip_frames", "--max-clip-frames"}, {"max_mesh_vertices", "--max-mesh-vertices"}};
+  const std::string& message = parsed.status().message();
+  for (const auto& [field, flag] : kFlags)
+    if (message.find(field) != std::string::npos)
+      return Status::ResourceExhausted(message + " (" + std::string(flag) + ")");
+  return parsed;
 }
 
 }  // namespace armature::server

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "armature/engine/asset.h"
+#include "armature/engine/import_limits.h"
 #include "armature/engine/status.h"
 #include "server/limits.h"
 
@@ -11,5 +12,13 @@ namespace armature::server {
 // RESOURCE_EXHAUSTED naming the part, its size, the limit and its flag:
 // clips over --max-clip-frames, meshes over --max-mesh-vertices.
 Status CheckAssetLimits(const AssetContents& contents, const Limits& limits);
+
+// The engine's import caps with the flag-backed ones taken from `limits`, so
+// oversized files are refused while parsing, before they allocate.
+ImportLimits ImportLimitsOf(const Limits& limits);
+
+// `parsed` with the flag named after an engine cap that has one
+// ("... max_clip_frames = 10 (--max-clip-frames)").
+StatusOr<AssetContents> WithLimitFlags(StatusOr<AssetContents> parsed);
 
 }  // namespace armature::server

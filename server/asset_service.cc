@@ -1,7 +1,7 @@
 #include "server/asset_service.h"
 
-#include <cmath>
-#include <cstdio>
+#include <string>
+#include <utility>
 
 #include "armature/engine/bvh.h"
 #include "server/call_guard.h"
@@ -13,17 +13,11 @@
 namespace armature::server {
 namespace {
 
-// WriteBvh samples the clip every frame_time (1/30 s without one) from 0 to
-// its duration, so its cost grows with the time span, not the keys: a clip
-// with keys at 0 and 1e6 s would write 30 million frames. At least 3 values
-// per joint per frame, each at least "0.000000 " (9 bytes).
+// The writer's own estimate of its output (hierarchy plus frames × channels),
+// so a clip whose keys span a huge time is refused before a frame is written.
 Status ValidateExportSize(const Clip& clip, const Limits& limits) {
-  const double step = clip.frame_time > 0 ? clip.frame_time : 1.0 / 30;
-  const double frames = std::ceil(clip.duration / step) + 1;
-  const double joints = clip.skeleton ? static_cast<double>(clip.skeleton->size()) : 0;
-  char how[128];
-  std::snprintf(how, sizeof how, "%.0f frames x %.0f joints x 3 values x 9 bytes", frames, joints);
-  return ValidateReplySize(frames * joints * 3 * 9, limits, "ExportClip", how);
+  const std::string how = std::to_string(BvhExportFrameCount(clip)) + " frames of BVH text";
+  return ValidateReplySize(static_cast<double>(BvhExportByteEstimate(clip)), limits, "ExportClip", how);
 }
 
 }  // namespace
@@ -120,7 +114,9 @@ grpc::ServerUnaryReactor* AssetServiceImpl::ExportClip(grpc::CallbackServerConte
     if (!ref.ok()) return ref.status();
     ARMATURE_RETURN_IF_ERROR(ValidateExportSize(*ref->part->clip, limits_));
     response->set_filename(ref->part->name + ".bvh");
-    response->set_data(WriteBvh(*ref->part->clip));
+    auto bvh = ExportBvh(*ref->part->clip);
+    if (!bvh.ok()) return bvh.status();
+    response->set_data(std::move(*bvh));
     return Status::Ok();
   });
 }

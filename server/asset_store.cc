@@ -101,7 +101,7 @@ bool SameStoredFiles(const AssetRecord& a, const AssetRecord& b) {
 }
 
 // Reads a stored asset's files back and parses them.
-StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r) {
+StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r, const Limits& limits) {
   auto bytes = ReadFile(dir / r.file);
   if (!bytes.ok()) return bytes.status();
   ResourceMap resources;
@@ -110,7 +110,7 @@ StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r) 
     if (!data.ok()) return data.status();
     resources.emplace(uri, std::move(*data));
   }
-  return ParseAsset(r.format, *bytes, r.name, resources);
+  return WithLimitFlags(ParseAsset(r.format, *bytes, r.name, resources, ImportLimitsOf(limits)));
 }
 
 template <class Part>
@@ -256,7 +256,7 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
         assets[record->name] = it->second;  // unchanged: keep the parsed asset
         continue;
       }
-      auto contents = LoadContents(dir_, *record);
+      auto contents = LoadContents(dir_, *record, options_.limits);
       if (!contents.ok()) {
         spdlog::error("asset '{}' ({}) could not be loaded and is skipped: {}", record->name, record->file,
                       contents.status().message());
@@ -368,7 +368,8 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   auto format = DetectFormat(request.format, request.filename, request.bytes);
   if (!format.ok()) return format.status();
   const std::string label = request.filename.empty() ? request.name : request.filename;
-  auto contents = ParseAsset(*format, request.bytes, request.name, request.resources);
+  auto contents = WithLimitFlags(
+      ParseAsset(*format, request.bytes, request.name, request.resources, ImportLimitsOf(options_.limits)));
   if (!contents.ok()) return contents.status().WithContext(label + ": ");
   ARMATURE_RETURN_IF_ERROR(CheckAssetLimits(*contents, options_.limits).WithContext(label + ": "));
 

@@ -91,7 +91,7 @@ TEST(BvhHardening, FrameLimitIsAppliedAtTheFramesLine) {
   auto d = ParseBvh(Bvh("Frames: 5000000", kTwoFrames));
   ASSERT_FALSE(d.ok());
   EXPECT_EQ(d.status().code(), StatusCode::kResourceExhausted);
-  EXPECT_EQ(d.status().message(), "line 21: Frames: 5000000 is over the import limit max_clip_frames = 1000000");
+  EXPECT_EQ(d.status().message(), "line 21: 5000000 frames (Frames:) is over the import limit max_clip_frames = 1000000");
 
   ImportLimits limits;
   limits.max_clip_frames = 1;
