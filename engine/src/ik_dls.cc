@@ -536,9 +536,10 @@ void SolveDls(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& w
       Linearize(skeleton, request, ws);
       linearized = true;
       if (mu < 0) mu = kInitialDamping * std::max(ws.hessian.diagonal().maxCoeff(), 1e-9);
-      // Linearizing costs rows × columns²: look again before the solve.
-      if (const std::optional<IkStop> interrupt = ik_internal::CheckInterrupt(request)) {
-        stop = *interrupt;
+      // Linearizing costs rows × columns²: look at the clock again before the
+      // solve (should_stop stays once per iteration, as documented).
+      if (request.deadline && std::chrono::steady_clock::now() >= *request.deadline) {
+        stop = IkStop::kDeadline;
         break;
       }
     }
