@@ -41,8 +41,8 @@ namespace {
 class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse> {
  public:
   DeformSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                       SessionAdmission& sessions, ElasticThreadPool& setups)
-      : context_(context), store_(store), limits_(limits), setups_(setups) {
+                       SessionAdmission& sessions, StreamAdmission::Ticket stream, ElasticThreadPool& setups)
+      : context_(context), store_(store), limits_(limits), setups_(setups), stream_(std::move(stream)) {
     auto ticket = sessions.Admit(*context, SessionKind::kDeform);
     if (!ticket.ok()) {
       Finish(ToGrpcStatus(ticket.status()));
@@ -133,6 +133,7 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
   AssetStore& store_;
   const Limits& limits_;
   ElasticThreadPool& setups_;
+  StreamAdmission::Ticket stream_;   // this call's place among the client's streams
   SessionAdmission::Ticket ticket_;  // this session's place
   uint64_t moves_ = 0;
   std::optional<MeshDeformer> deformer_;
@@ -145,7 +146,10 @@ class DeformSessionReactor final : public grpc::ServerBidiReactor<v1::DeformSess
 grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* DeformServiceImpl::DeformSession(
     grpc::CallbackServerContext* context) {
   return MakeReactor<grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>>(context, "DeformSession", [&]() -> grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* {
-    return new DeformSessionReactor(context, store_, limits_, *sessions_, solves_);
+    using Base = grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>;
+    auto stream = streams_->Admit(*context, "DeformSession");
+    if (!stream.ok()) return new FinishedReactor<Base>(stream.status());
+    return new DeformSessionReactor(context, store_, limits_, *sessions_, std::move(*stream), solves_);
   });
 }
 

@@ -12,6 +12,7 @@
 #include "server/elastic_thread_pool.h"
 #include "server/limits.h"
 #include "server/session_admission.h"
+#include "server/stream_admission.h"
 
 namespace armature::server {
 
@@ -19,8 +20,9 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
  public:
   // `cache` serves the unary Deform (sessions keep their own deformer).
   DeformServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
-                    std::shared_ptr<DeformerCache> cache)
-      : store_(store), limits_(limits), sessions_(std::move(sessions)), cache_(std::move(cache)),
+                    std::shared_ptr<StreamAdmission> streams, std::shared_ptr<DeformerCache> cache)
+      : store_(store), limits_(limits), sessions_(std::move(sessions)), streams_(std::move(streams)),
+        cache_(std::move(cache)),
         solves_(std::max(4u, 2 * std::thread::hardware_concurrency())) {}
 
   grpc::ServerUnaryReactor* Deform(grpc::CallbackServerContext* context, const v1::DeformRequest* request,
@@ -32,6 +34,7 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
   AssetStore& store_;
   const Limits& limits_;
   std::shared_ptr<SessionAdmission> sessions_;  // shared with the other session kinds
+  std::shared_ptr<StreamAdmission> streams_;    // shared with the other streaming RPCs
   std::shared_ptr<DeformerCache> cache_;
   // Factorizations take seconds on large meshes: they run here, not on
   // gRPC's callback threads, so other calls keep being served. Last member:

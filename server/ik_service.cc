@@ -47,7 +47,10 @@ grpc::ServerUnaryReactor* IkServiceImpl::SolveIk(grpc::CallbackServerContext* co
 grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>* IkServiceImpl::IkSession(
     grpc::CallbackServerContext* context) {
   return MakeReactor<grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>>(context, "IkSession", [&]() -> grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>* {
-    return new IkSessionReactor(context, store_, limits_, *sessions_);
+    using Base = grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>;
+    auto stream = streams_->Admit(*context, "IkSession");
+    if (!stream.ok()) return new FinishedReactor<Base>(stream.status());
+    return new IkSessionReactor(context, store_, limits_, *sessions_, std::move(*stream));
   });
 }
 

@@ -9,13 +9,15 @@
 #include "server/ik_convert.h"
 #include "server/limits.h"
 #include "server/session_admission.h"
+#include "server/stream_admission.h"
 
 namespace armature::server {
 
 class IkServiceImpl final : public v1::IkService::CallbackService {
  public:
-  IkServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions)
-      : store_(store), limits_(limits), sessions_(std::move(sessions)) {}
+  IkServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
+                std::shared_ptr<StreamAdmission> streams)
+      : store_(store), limits_(limits), sessions_(std::move(sessions)), streams_(std::move(streams)) {}
 
   grpc::ServerUnaryReactor* SolveIk(grpc::CallbackServerContext* context, const v1::SolveIkRequest* request,
                                     v1::SolveIkResponse* response) override;
@@ -26,6 +28,7 @@ class IkServiceImpl final : public v1::IkService::CallbackService {
   AssetStore& store_;
   const Limits& limits_;
   std::shared_ptr<SessionAdmission> sessions_;  // shared with the other session kinds
+  std::shared_ptr<StreamAdmission> streams_;    // shared with the other streaming RPCs
 };
 
 // Solves `call` (its request carrying any deadline and cancel check) and

@@ -19,8 +19,8 @@ Status InContext(const Status& status, uint64_t message) {
 }  // namespace
 
 IkSessionReactor::IkSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                                   SessionAdmission& sessions)
-    : context_(context), store_(store), limits_(limits) {
+                                   SessionAdmission& sessions, StreamAdmission::Ticket stream)
+    : context_(context), store_(store), limits_(limits), stream_(std::move(stream)) {
   auto ticket = sessions.Admit(*context, SessionKind::kIk);
   if (!ticket.ok()) {
     End(ToGrpcStatus(ticket.status()));

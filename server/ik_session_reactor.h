@@ -12,6 +12,7 @@
 #include "server/ik_convert.h"
 #include "server/limits.h"
 #include "server/session_admission.h"
+#include "server/stream_admission.h"
 
 namespace armature::server {
 
@@ -20,7 +21,7 @@ class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionReque
   // When `sessions` refuses the client a place, the stream ends at once
   // with its RESOURCE_EXHAUSTED.
   IkSessionReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                   SessionAdmission& sessions);
+                   SessionAdmission& sessions, StreamAdmission::Ticket stream);
 
   void OnReadDone(bool ok) override;
   void OnWriteDone(bool ok) override;
@@ -37,6 +38,7 @@ class IkSessionReactor final : public grpc::ServerBidiReactor<v1::IkSessionReque
   grpc::CallbackServerContext* context_;
   AssetStore& store_;
   const Limits& limits_;
+  StreamAdmission::Ticket stream_;   // this call's place among the client's streams
   SessionAdmission::Ticket ticket_;  // this session's place
 
   v1::IkSessionRequest request_;

@@ -228,6 +228,8 @@ grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMe
     grpc::CallbackServerContext* context, const v1::StreamSkinnedMeshRequest* request) {
   return MakeReactor<grpc::ServerWriteReactor<v1::SkinnedMeshFrame>>(context, "StreamSkinnedMesh", [&]() -> grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* {
     using Failed = FailedStream<v1::SkinnedMeshFrame>;
+    auto stream = streams_->Admit(*context, "StreamSkinnedMesh");
+    if (!stream.ok()) return new Failed(stream.status());
     auto catalog = store_.Snapshot();
     auto mesh = catalog->FindMesh(request->mesh());
     if (!mesh.ok()) return new Failed(mesh.status().WithContext("mesh: "));
@@ -240,8 +242,10 @@ grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMe
     if (!method.ok()) return new Failed(method.status());
     StreamPacing pacing = PacingOf(*request);
     if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new Failed(st);
-    return new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*clip), *method,
-                                        request->interpolation());
+    auto* reactor = new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*clip), *method,
+                                                 request->interpolation());
+    reactor->HoldUntilDone(std::move(*stream));
+    return reactor;
   });
 }
 

@@ -2,16 +2,20 @@
 // blendshapes and automatic skin weights.
 #pragma once
 
+#include <memory>
+
 #include "armature/v1/meshes.grpc.pb.h"
 #include "server/asset_store.h"
 #include "server/frame_scheduler.h"
 #include "server/limits.h"
+#include "server/stream_admission.h"
 
 namespace armature::server {
 
 class MeshServiceImpl final : public v1::MeshService::CallbackService {
  public:
-  MeshServiceImpl(AssetStore& store, const Limits& limits) : store_(store), limits_(limits) {}
+  MeshServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<StreamAdmission> streams)
+      : store_(store), limits_(limits), streams_(std::move(streams)) {}
 
   grpc::ServerUnaryReactor* ListMeshes(grpc::CallbackServerContext* context, const v1::ListMeshesRequest* request,
                                        v1::ListMeshesResponse* response) override;
@@ -33,6 +37,7 @@ class MeshServiceImpl final : public v1::MeshService::CallbackService {
  private:
   AssetStore& store_;
   const Limits& limits_;
+  std::shared_ptr<StreamAdmission> streams_;  // shared with the other streaming RPCs
   FrameScheduler scheduler_;  // paces StreamSkinnedMesh
 };
 

@@ -18,6 +18,7 @@
 #include "server/call_guard.h"
 #include "server/frame_scheduler.h"
 #include "server/grpc_status.h"
+#include "server/stream_admission.h"
 #include "server/stream_pacing.h"
 
 namespace armature::server {
@@ -53,7 +54,12 @@ class PacedStreamReactor : public grpc::ServerWriteReactor<Frame> {
     if (!write_pending_) FinishOnce(grpc::Status::CANCELLED);
   }
 
+  // Keeps the stream's place (--max-streams-per-client) until gRPC is done
+  // with the call; set by the handler before it returns the reactor.
+  void HoldUntilDone(StreamAdmission::Ticket ticket) { stream_ticket_ = std::move(ticket); }
+
   void OnDone() override {
+    stream_ticket_.Release();
     OnStreamDone(index_);
     Unref();
   }
@@ -127,6 +133,7 @@ class PacedStreamReactor : public grpc::ServerWriteReactor<Frame> {
   const std::chrono::steady_clock::time_point start_;
   Frame frame_;
   uint64_t index_ = 0;
+  StreamAdmission::Ticket stream_ticket_;
 
   std::atomic<int> refs_{1};  // OnDone's
   std::mutex mu_;

@@ -86,6 +86,8 @@ grpc::ServerUnaryReactor* PoseServiceImpl::ComputeFk(grpc::CallbackServerContext
 grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext* context,
                                                                      const v1::StreamClipRequest* request) {
   return MakeReactor<grpc::ServerWriteReactor<v1::PoseFrame>>(context, "StreamClip", [&]() -> grpc::ServerWriteReactor<v1::PoseFrame>* {
+    auto stream = streams_->Admit(*context, "StreamClip");
+    if (!stream.ok()) return new FailedStream<v1::PoseFrame>(stream.status());
     auto ref = store_.Snapshot()->FindClip(request->clip());
     if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
     StreamPacing pacing = PacingOf(*request);
@@ -95,7 +97,9 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
       if (!st.ok()) return new FailedStream<v1::PoseFrame>(st);
     auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
     if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
-    return new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
+    auto* reactor = new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
+    reactor->HoldUntilDone(std::move(*stream));
+    return reactor;
   });
 }
 

@@ -1,16 +1,20 @@
 // PoseService: clip evaluation, real-time pose streams and forward kinematics.
 #pragma once
 
+#include <memory>
+
 #include "armature/v1/poses.grpc.pb.h"
 #include "server/asset_store.h"
 #include "server/frame_scheduler.h"
 #include "server/limits.h"
+#include "server/stream_admission.h"
 
 namespace armature::server {
 
 class PoseServiceImpl final : public v1::PoseService::CallbackService {
  public:
-  PoseServiceImpl(AssetStore& store, const Limits& limits) : store_(store), limits_(limits) {}
+  PoseServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<StreamAdmission> streams)
+      : store_(store), limits_(limits), streams_(std::move(streams)) {}
 
   grpc::ServerUnaryReactor* EvaluateClip(grpc::CallbackServerContext* context,
                                          const v1::EvaluateClipRequest* request,
@@ -23,6 +27,7 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
  private:
   AssetStore& store_;
   const Limits& limits_;
+  std::shared_ptr<StreamAdmission> streams_;  // shared with the other streaming RPCs
   FrameScheduler scheduler_;  // paces StreamClip
 };
 

@@ -6,6 +6,7 @@
 #include "server/mesh_service.h"
 #include "server/pose_service.h"
 #include "server/session_admission.h"
+#include "server/stream_admission.h"
 
 namespace armature::server {
 
@@ -13,14 +14,16 @@ std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, 
   // Sessions of every kind share one admission (per-client and total limits, the gauge).
   auto sessions = std::make_shared<SessionAdmission>(limits);
   metrics.AddCollector([sessions](PrometheusText& out) { sessions->Collect(out); });
+  // Streams of every RPC share one per-client admission (--max-streams-per-client).
+  auto streams = std::make_shared<StreamAdmission>(limits);
   std::vector<ServiceEntry> services;
   services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
-  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits));
+  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits, streams));
   auto deform_cache = std::make_shared<DeformerCache>(static_cast<size_t>(limits.deform_cache_bytes));
   metrics.AddCollector([deform_cache](PrometheusText& out) { deform_cache->Collect(out); });
-  services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits, sessions, deform_cache));
-  services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions));
-  services.push_back(MakeService<v1::MeshService, MeshServiceImpl>(store, limits));
+  services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits, sessions, streams, deform_cache));
+  services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions, streams));
+  services.push_back(MakeService<v1::MeshService, MeshServiceImpl>(store, limits, streams));
   return services;
 }
 

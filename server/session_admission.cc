@@ -3,17 +3,17 @@
 #include "server/auth_gate.h"
 
 namespace armature::server {
-namespace {
 
-// "token:<authorization>" or "peer:<address>" ("ipv4:10.0.0.7:51234" → "peer:ipv4:10.0.0.7";
-// "unix:/run/a.sock" has no port and stays whole).
-std::string ClientOf(const grpc::ServerContextBase& context) {
+// "ipv4:10.0.0.7:51234" → "peer:ipv4:10.0.0.7"; "unix:/run/a.sock" has no port and stays whole.
+std::string ClientIdentityOf(const grpc::ServerContextBase& context) {
   if (std::string auth = AuthorizationOf(context); !auth.empty()) return "token:" + auth;
   std::string peer = context.peer();
   const size_t colon = peer.rfind(':');
   if (colon != std::string::npos && colon > peer.find(':')) peer.resize(colon);
   return "peer:" + peer;
 }
+
+namespace {
 
 const char* RpcOf(SessionKind kind) { return kind == SessionKind::kIk ? "IkSession" : "DeformSession"; }
 const char* LabelOf(SessionKind kind) { return kind == SessionKind::kIk ? "ik" : "deform"; }
@@ -27,7 +27,7 @@ Status Refused(SessionKind kind, const std::string& what, const char* flag, int 
 }  // namespace
 
 StatusOr<SessionAdmission::Ticket> SessionAdmission::Admit(const grpc::ServerContextBase& context, SessionKind kind) {
-  std::string client = ClientOf(context);
+  std::string client = ClientIdentityOf(context);
   {
     std::lock_guard lock(mu_);
     int& of_kind = per_kind_[IndexOf(kind)];
@@ -51,11 +51,7 @@ StatusOr<SessionAdmission::Ticket> SessionAdmission::Admit(const grpc::ServerCon
     ++of_kind;
     ++total_;
   }
-  Ticket ticket;
-  ticket.admission_ = this;
-  ticket.kind_ = kind;
-  ticket.client_ = std::move(client);
-  return ticket;
+  return Ticket([this, client = std::move(client), kind] { Release(client, kind); });
 }
 
 void SessionAdmission::Release(const std::string& client, SessionKind kind) {
@@ -75,23 +71,6 @@ void SessionAdmission::Collect(PrometheusText& out) const {
   out.Family("armature_sessions_active", "gauge", "IK and deformation sessions now open, by kind.");
   for (SessionKind kind : {SessionKind::kIk, SessionKind::kDeform})
     out.Sample("armature_sessions_active", {{"kind", LabelOf(kind)}}, static_cast<double>(open(kind)));
-}
-
-SessionAdmission::Ticket& SessionAdmission::Ticket::operator=(Ticket&& other) noexcept {
-  if (this != &other) {
-    Release();
-    admission_ = other.admission_;
-    kind_ = other.kind_;
-    client_ = std::move(other.client_);
-    other.admission_ = nullptr;
-  }
-  return *this;
-}
-
-void SessionAdmission::Ticket::Release() {
-  if (admission_ == nullptr) return;
-  admission_->Release(client_, kind_);
-  admission_ = nullptr;
 }
 
 }  // namespace armature::server

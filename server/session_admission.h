@@ -18,10 +18,15 @@
 #include <grpcpp/grpcpp.h>
 
 #include "armature/engine/status.h"
+#include "server/admission_ticket.h"
 #include "server/limits.h"
 #include "server/metrics.h"
 
 namespace armature::server {
+
+// The client a call comes from, for per-client limits: "token:<authorization>"
+// when it sends a bearer token, else "peer:<address without the port>".
+std::string ClientIdentityOf(const grpc::ServerContextBase& context);
 
 enum class SessionKind { kIk, kDeform };
 inline constexpr int kSessionKindCount = 2;
@@ -32,22 +37,8 @@ class SessionAdmission {
   SessionAdmission(const SessionAdmission&) = delete;
   SessionAdmission& operator=(const SessionAdmission&) = delete;
 
-  // One open session's place; given back when destroyed or Release()d.
-  // The admission must outlive its tickets.
-  class Ticket {
-   public:
-    Ticket() = default;
-    Ticket(Ticket&& other) noexcept { *this = std::move(other); }
-    Ticket& operator=(Ticket&& other) noexcept;
-    ~Ticket() { Release(); }
-    void Release();  // idempotent
-
-   private:
-    friend class SessionAdmission;
-    SessionAdmission* admission_ = nullptr;
-    SessionKind kind_ = SessionKind::kIk;
-    std::string client_;
-  };
+  // One open session's place. The admission must outlive its tickets.
+  using Ticket = AdmissionTicket;
 
   // A place for a `kind` session of the caller of `context`, or
   // RESOURCE_EXHAUSTED naming the limit it would go over.

@@ -31,7 +31,9 @@ void SolveFabrik(const Skeleton& skeleton, const IkRequest& request, IkWorkspace
   ws.lengths.resize(m);
   for (int i = 0; i < m; ++i) ws.lengths[i] = (point_now(i + 1) - point_now(i)).norm();
 
-  ik_internal::SweepUntilReached(skeleton, request, ws, result, [&] {
+  // Each joint's turn refreshes the chain below it: look at the clock often.
+  ik_internal::InterruptPoll poll(request, 8);
+  ik_internal::SweepUntilReached(skeleton, request, ws, result, [&]() -> std::optional<IkStop> {
     std::vector<Eigen::Vector3d>& p = ws.points;
     for (int i = 0; i < m; ++i) p[i] = ws.world_position[joint(i)];
     const Eigen::Vector3d base = p[0];
@@ -60,7 +62,9 @@ void SolveFabrik(const Skeleton& skeleton, const IkRequest& request, IkWorkspace
           ik_internal::TurnJointAbout(skeleton, request, ws, j, bone.normalized(), point_now(i + 2), p[i + 2]);
       }
       refresh_below(j);
+      if (const std::optional<IkStop> interrupt = poll()) return interrupt;
     }
+    return std::nullopt;
   });
 }
 

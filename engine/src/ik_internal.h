@@ -92,10 +92,29 @@ void SetWorldRotation(const Skeleton& skeleton, const IkRequest& request, IkWork
 // stop (`stop` unless every effector is reached).
 void FinishResult(const IkRequest& request, const IkWorkspace& ws, int iterations, IkStop stop, IkResult& result);
 
+// CheckInterrupt every `every` calls: a sweep over a long chain looks at
+// the clock and the cancel flag often enough without paying for it per joint.
+class InterruptPoll {
+ public:
+  InterruptPoll(const IkRequest& request, int every) : request_(request), every_(every) {}
+  std::optional<IkStop> operator()() {
+    if (++calls_ < every_) return std::nullopt;
+    calls_ = 0;
+    return CheckInterrupt(request_);
+  }
+
+ private:
+  const IkRequest& request_;
+  int every_;
+  int calls_ = 0;
+};
+
 // Drives a single-chain solver (CCD, FABRIK): `sweep()` moves the chain
-// once; between sweeps the pose is re-read, the effector joint is turned to
-// its rotation target, and the loop ends when the effector is reached, the
-// sweeps stop improving, the iteration cap or the deadline.
+// once and returns the interrupt that cut it short, if any (one sweep over
+// a long chain can outlast the deadline); between sweeps the pose is
+// re-read, the effector joint is turned to its rotation target, and the loop
+// ends when the effector is reached, the sweeps stop improving, the
+// iteration cap or the deadline.
 template <class Sweep>
 void SweepUntilReached(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws, IkResult& result,
                        Sweep&& sweep) {
@@ -118,8 +137,13 @@ void SweepUntilReached(const Skeleton& skeleton, const IkRequest& request, IkWor
       stop = *interrupt;
       break;
     }
-    sweep();
+    const std::optional<IkStop> interrupted = sweep();
     UpdateWorld(skeleton, ws, ws.update);
+    if (interrupted) {
+      stop = *interrupted;
+      ++iterations;
+      break;
+    }
     if (e.has_rotation) {
       SetWorldRotation(skeleton, request, ws, e.joint, e.target_rotation);
       UpdateWorld(skeleton, ws, ws.update);
