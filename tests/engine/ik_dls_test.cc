@@ -246,11 +246,7 @@ TEST(IkDls, DeadlineAndCancelStopTheSolve) {
   r.should_stop = [&] { return ++calls > 3; };
   ASSERT_TRUE(SolveIk(c.skeleton, r, ws, result).ok());
   EXPECT_EQ(result.stop, IkStop::kCancelled);
-  // Looked at before each iteration and again after each linearization: the
-  // fourth look stops it after at least one iteration and fewer than three.
-  EXPECT_EQ(calls, 4);
-  EXPECT_GE(result.iterations, 1);
-  EXPECT_LT(result.iterations, 3);
+  EXPECT_EQ(result.iterations, 3);  // checked once before each iteration
   EXPECT_EQ(IkStopStatus(result).code(), StatusCode::kCancelled);
 
   r.should_stop = nullptr;
