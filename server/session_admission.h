@@ -26,6 +26,9 @@ namespace armature::server {
 
 // The client a call comes from, for per-client limits: "token:<authorization>"
 // when it sends a bearer token, else "peer:<address without the port>".
+// Metadata the REST gateway sets on its in-process calls: the HTTP client's address.
+inline constexpr char kRestPeerMetadata[] = "x-armature-rest-peer";
+
 std::string ClientIdentityOf(const grpc::ServerContextBase& context);
 
 enum class SessionKind { kIk, kDeform };

@@ -13,6 +13,7 @@
 #include "server/gateway/generic_call.h"
 #include "server/gateway/openapi.h"
 #include "server/gateway/sse.h"
+#include "server/session_admission.h"
 
 namespace armature::server::gateway {
 namespace {
@@ -145,6 +146,8 @@ grpc::Status Gateway::MakeContext(const httplib::Request& req, const HttpBinding
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, std::string("header ") + name + ": must be printable ASCII");
     ctx->AddMetadata(name, value);
   }
+  // Per-client limits (streams, sessions) count each HTTP client apart.
+  ctx->AddMetadata(kRestPeerMetadata, req.remote_addr);
   *context = std::move(ctx);
   return grpc::Status::OK;
 }

@@ -2,6 +2,8 @@
 // (StreamClip here); one more is refused naming the flag, and closing one
 // makes room again.
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <thread>
@@ -12,6 +14,7 @@
 #include "armature/client.h"
 #include "armature/v1/poses.grpc.pb.h"
 #include "client_helpers.h"
+#include "../engine/test_files.h"
 #include "server_process.h"
 
 namespace armature::testing {
@@ -84,6 +87,48 @@ TEST(StreamLimits, OneStreamOverTheLimitIsRefusedUntilOneCloses) {
   EXPECT_EQ(again->first.index(), 0u);
   EXPECT_EQ(again->Close().error_code(), grpc::StatusCode::CANCELLED);
   for (auto& s : open) EXPECT_EQ(s->Close().error_code(), grpc::StatusCode::CANCELLED);
+}
+
+// What curl prints for a REST stream opened from `source` (a loopback
+// address), cut off after `seconds`.
+std::string CurlStream(const std::string& source, const std::string& url, int seconds) {
+  const std::string command = "curl -sN --interface " + source + " --max-time " + std::to_string(seconds) + " '" + url +
+                              "' 2>/dev/null";
+  std::string out;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[4096];
+    size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0 && out.size() < (1 << 20)) out.append(buffer, n);
+    pclose(pipe);
+  }
+  return out;
+}
+
+// REST clients reach gRPC through the gateway's in-process channel; each HTTP
+// client counts apart (by address), not all of them as one.
+TEST(StreamLimits, RestClientsCountApartByAddress) {
+  TempDir data;
+  ServerProcess server(data.path(), {"--no-demo", "--max-streams-per-client", "1"});
+  Client client(OptionsFor(server));
+  client.Import({"arm.bvh", kArmBvh});
+  const std::string url = "http://127.0.0.1:" + std::to_string(server.http_port()) + "/v1/clips/arm:stream?loop=true&fps=10";
+
+  // The first client's stream: held in the background until it has its
+  // place (its first frame has arrived).
+  const std::string held = (data.path() / "held.txt").string();
+  ASSERT_EQ(std::system(("curl -sN --interface 127.0.0.1 --max-time 8 '" + url + "' > " + held + " 2>/dev/null &").c_str()), 0);
+  std::string first;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(6);
+  while (first.find("data: ") == std::string::npos && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    first = test_util::ReadFileBytes(held).value_or("");
+  }
+  ASSERT_NE(first.find("data: "), std::string::npos) << "the first REST stream got no frame: " << first;
+  const std::string same = CurlStream("127.0.0.1", url, 1);
+  const std::string other = CurlStream("127.0.0.2", url, 1);
+  EXPECT_NE(same.find("--max-streams-per-client"), std::string::npos) << "a second stream from 127.0.0.1: " << same;
+  EXPECT_NE(other.find("data: "), std::string::npos) << "a stream from 127.0.0.2: " << other;
+  EXPECT_EQ(other.find("--max-streams-per-client"), std::string::npos) << other;
 }
 
 }  // namespace
