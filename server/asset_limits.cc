@@ -39,11 +39,19 @@ ImportLimits ImportLimitsOf(const Limits& limits) {
   return caps;
 }
 
+ImportLimits LoadLimitsOf(const Limits& limits) {
+  const ImportLimits flags = ImportLimitsOf(limits);
+  ImportLimits caps;
+  caps.max_clip_frames = std::max(caps.max_clip_frames, flags.max_clip_frames);
+  caps.max_mesh_vertices = std::max(caps.max_mesh_vertices, flags.max_mesh_vertices);
+  return caps;
+}
+
 StatusOr<AssetContents> WithLimitFlags(StatusOr<AssetContents> parsed) {
   if (parsed.ok() || parsed.status().code() != StatusCode::kResourceExhausted) return parsed;
   static constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
       {"max_clip_frames", "--max-clip-frames"}, {"max_mesh_vertices", "--max-mesh-vertices"}};
-  const std::string& message = parsed.status().message();
+  const std::string message = parsed.status().message();
   for (const auto& [field, flag] : kFlags)
     if (message.find(field) != std::string::npos)
       return Status::ResourceExhausted(message + " (" + std::string(flag) + ")");

@@ -17,6 +17,11 @@ Status CheckAssetLimits(const AssetContents& contents, const Limits& limits);
 // oversized files are refused while parsing, before they allocate.
 ImportLimits ImportLimitsOf(const Limits& limits);
 
+// The caps for reading back what is already stored: never below the engine's
+// defaults, so lowering a flag does not drop assets imported before, and
+// raised with the flags, so what a raised flag let in loads again.
+ImportLimits LoadLimitsOf(const Limits& limits);
+
 // `parsed` with the flag named after an engine cap that has one
 // ("... max_clip_frames = 10 (--max-clip-frames)").
 StatusOr<AssetContents> WithLimitFlags(StatusOr<AssetContents> parsed);

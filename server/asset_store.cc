@@ -110,7 +110,7 @@ StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r, 
     if (!data.ok()) return data.status();
     resources.emplace(uri, std::move(*data));
   }
-  return WithLimitFlags(ParseAsset(r.format, *bytes, r.name, resources, ImportLimitsOf(limits)));
+  return WithLimitFlags(ParseAsset(r.format, *bytes, r.name, resources, LoadLimitsOf(limits)));
 }
 
 template <class Part>

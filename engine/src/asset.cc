@@ -76,6 +76,10 @@ std::string OverImportLimit(const std::string& what, uint64_t value, const char*
   return what + " " + std::to_string(value) + " is over the import limit " + field + " = " + std::to_string(limit);
 }
 
+std::string OverImportLimitCount(uint64_t value, const std::string& unit, const char* field, uint64_t limit) {
+  return std::to_string(value) + " " + unit + " is over the import limit " + field + " = " + std::to_string(limit);
+}
+
 namespace {
 
 StatusOr<AssetContents> ParseFormat(AssetFormat format, std::string_view bytes, std::string_view name,

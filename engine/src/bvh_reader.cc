@@ -325,8 +325,8 @@ class BvhParser {
     const auto frame_count = static_cast<uint64_t>(frames);
     if (frame_count > limits_.max_clip_frames)
       return Status::ResourceExhausted("line " + std::to_string(frames_line) + ": " +
-                                       std::to_string(frame_count) + " frames (Frames:) is over the import limit max_clip_frames = " +
-                                       std::to_string(limits_.max_clip_frames));
+                                       OverImportLimitCount(frame_count, "frames (Frames:)", "max_clip_frames",
+                                                            limits_.max_clip_frames));
     ARMATURE_RETURN_IF_ERROR(ReadLabeledLine({"Frame", "Time"}, &value));
     double dt = 0;
     if (!ParseDouble(value, &dt) || !std::isfinite(dt) || !(dt > 0))

@@ -481,9 +481,8 @@ class Importer {
     if (!declared.ok()) return declared.status();
     const uint64_t vertices = static_cast<uint64_t>(base) + std::min<uint64_t>(*declared, UINT64_MAX / 2);
     if (vertices > limits_.max_mesh_vertices)
-      return Status::ResourceExhausted(attrs + "POSITION: " + OverImportLimit("mesh vertex count", vertices,
-                                                                              "max_mesh_vertices",
-                                                                              limits_.max_mesh_vertices));
+      return Status::ResourceExhausted(attrs + "POSITION: " + OverImportLimitCount(vertices, "vertices", "max_mesh_vertices",
+                                                                                   limits_.max_mesh_vertices));
     uint64_t morph = 0;
     if (__builtin_mul_overflow(vertices, prim.targets.size(), &morph)) morph = UINT64_MAX;
     if (morph > limits_.max_morph_target_vertices)

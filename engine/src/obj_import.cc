@@ -81,9 +81,9 @@ StatusOr<Mesh> ParseObj(std::string_view text, std::string_view name, std::vecto
     const std::string_view kind = tokens[0];
     if (kind == "v") {
       if (mesh.positions.size() >= limits.max_mesh_vertices)
-        return Status::ResourceExhausted(At(line_number) + OverImportLimit("vertex count", mesh.positions.size() + 1,
-                                                                           "max_mesh_vertices",
-                                                                           limits.max_mesh_vertices));
+        return Status::ResourceExhausted(At(line_number) + OverImportLimitCount(mesh.positions.size() + 1, "vertices",
+                                                                                "max_mesh_vertices",
+                                                                                limits.max_mesh_vertices));
       auto v = ParseVector(tokens, line_number);
       if (!v.ok()) return v.status();
       mesh.positions.push_back(*v);

@@ -152,7 +152,7 @@ TEST(GltfHardening, MeshVerticesAreCappedBeforeDecoding) {
   ImportLimits limits;
   limits.max_mesh_vertices = 2;
   ExpectError(Import(Json(kPosition), limits), StatusCode::kResourceExhausted,
-              "POSITION: mesh vertex count 3 is over the import limit max_mesh_vertices = 2");
+              "POSITION: 3 vertices is over the import limit max_mesh_vertices = 2");
 }
 
 // An animation of node 0's translation by sampler 0 (input accessor 1, output accessor 2).

@@ -73,7 +73,8 @@ Outcome ViaRest(httplib::Client& http, const HostileUpload& u, const std::string
   const auto r = http.Post("/v1/assets:import?filename=" + u.filename + "&name=" + name,
                            u.bytes, "application/octet-stream");
   if (!r) return {false, false, "no HTTP answer (" + httplib::to_string(r.error()) + ")"};
-  const bool client_error = r->status == 400 || r->status == 409 || r->status == 413 || r->status == 422;
+  const bool client_error =
+      r->status == 400 || r->status == 409 || r->status == 413 || r->status == 422 || r->status == 429;
   return {r->status == 200, r->status == 200 || client_error,
           "HTTP " + std::to_string(r->status) + ": " + r->body.substr(0, 200)};
 }

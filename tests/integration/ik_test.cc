@@ -452,7 +452,7 @@ v1::SolveIkRequest EndlessSolve() {
 }
 
 TEST_F(IkApi, DeadlineStopsTheSolve) {
-  ServerProcess server(data_.path(), {"--max-ik-iterations", "100000000"});
+  ServerProcess server(data_.path(), {"--max-ik-iterations", "100000000", "--max-ik-work", "1000000000000000"});
   ClientOptions o = OptionsFor(server);
   o.timeout = std::chrono::milliseconds(300);
   Client client(o);

@@ -30,4 +30,7 @@ struct ImportLimits {
 // "<what> <value> is over the import limit <field> = <limit>" as RESOURCE_EXHAUSTED text.
 std::string OverImportLimit(const std::string& what, uint64_t value, const char* field, uint64_t limit);
 
+// "<value> <unit> is over the import limit <field> = <limit>" (e.g. "160 vertices ...").
+std::string OverImportLimitCount(uint64_t value, const std::string& unit, const char* field, uint64_t limit);
+
 }  // namespace armature
