@@ -10,7 +10,7 @@
 It fails loudly (exit 1, before touching anything) when a C++ file under engine/, server/
 or tests/ is neither in the table nor covered by a fallback rule. CMakeLists that the
 script replaces are 3-way merged (git merge-file) against the version they were written
-from (files/_base/), so edits made on main meanwhile are kept or reported as conflicts.
+from (BASE_COMMIT), so edits made on main meanwhile are kept or reported as conflicts.
 Leaves the changes staged; commit them yourself.
 """
 import argparse
@@ -118,7 +118,7 @@ def build_moves():
 
 MOVES = build_moves()
 
-# Files installed from files/ (whole file; 3-way merged when main changed them since _base/).
+# Files installed from files/ (whole file; 3-way merged when main changed them since BASE_COMMIT).
 INSTALLED = ["base/CMakeLists.txt", "engine/CMakeLists.txt", "server/CMakeLists.txt",
              "tests/CMakeLists.txt", "ARCHITECTURE.md"]
 
@@ -328,16 +328,24 @@ def plan(repo):
     return files, old_files, moves, fell_back, missing
 
 
+# The commit whose CMakeLists the files/ versions were written from (the 3-way merge base).
+BASE_COMMIT = "3fe7dee"
+
+
 def install(repo, rel):
-    src, base, dst = os.path.join(FILES, rel), os.path.join(FILES, "_base", rel), os.path.join(repo, rel)
+    src, dst = os.path.join(FILES, rel), os.path.join(repo, rel)
     os.makedirs(os.path.dirname(dst) or repo, exist_ok=True)
-    if os.path.exists(dst) and os.path.exists(base):
+    old = subprocess.run(["git", "-C", repo, "show", f"{BASE_COMMIT}:{rel}"], capture_output=True, text=True)
+    if os.path.exists(dst) and old.returncode == 0:
         cur = open(dst).read()
-        if cur != open(base).read():
+        if cur != old.stdout:
+            base = os.path.join(repo, ".git-relayout-base")
+            open(base, "w").write(old.stdout)
             r = subprocess.run(["git", "merge-file", "-p", dst, base, src], capture_output=True, text=True)
+            os.remove(base)
             if r.returncode != 0:
-                die(f"{rel} changed on main since files/_base/{rel} and the 3-way merge conflicts; port the "
-                    f"change into files/{rel} and files/_base/{rel}:", r.stdout.splitlines())
+                die(f"{rel} changed on main since {BASE_COMMIT} and the 3-way merge conflicts; port the "
+                    f"change into files/{rel} and move BASE_COMMIT:", r.stdout.splitlines())
             open(dst, "w").write(r.stdout)
             print(f"  merged {rel} (main had changed it)")
             return
