@@ -11,9 +11,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "armature/engine/bvh.h"
-#include "armature/engine/demo_walk.h"
-#include "armature/engine/fk.h"
+#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/demo_walk.h"
+#include "armature/engine/kinematics/fk.h"
 
 namespace armature {
 namespace {

@@ -16,7 +16,7 @@
 #include <benchmark/benchmark.h>
 
 #include "rpc_bench_server.h"
-#include "server/mesh_deformer.h"
+#include "server/deform/mesh_deformer.h"
 #include "sheet_rpc.h"
 
 namespace {

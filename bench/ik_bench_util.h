@@ -12,8 +12,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "../tests/engine/ik_rigs.h"
-#include "armature/engine/ik.h"
+#include "../tests/engine/testing/ik_rigs.h"
+#include "armature/engine/kinematics/ik.h"
 
 namespace armature::ik_bench {
 

@@ -7,8 +7,8 @@
 #include <memory>
 #include <vector>
 
-#include "armature/engine/arap.h"
-#include "armature/engine/laplacian_editor.h"
+#include "armature/engine/deform/arap.h"
+#include "armature/engine/deform/laplacian_editor.h"
 #include "sheet_mesh.h"
 
 namespace armature {

@@ -9,8 +9,8 @@
 #include <stdexcept>
 
 #include "armature/client.h"
-#include "server/armature_server.h"
-#include "server/logging.h"
+#include "server/host/armature_server.h"
+#include "server/host/logging.h"
 
 namespace armature_bench {
 namespace fs = std::filesystem;

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "../tests/engine/generated_meshes.h"
-#include "armature/engine/deformation_constraints.h"
+#include "../tests/engine/testing/generated_meshes.h"
+#include "armature/engine/deform/deformation_constraints.h"
 
 namespace armature_bench {
 

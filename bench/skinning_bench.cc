@@ -5,11 +5,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "../tests/engine/mesh_test_util.h"
-#include "armature/engine/blendshape.h"
-#include "armature/engine/fk.h"
-#include "armature/engine/rotation.h"
-#include "armature/engine/skinning.h"
+#include "../tests/engine/testing/mesh_test_util.h"
+#include "armature/engine/mesh/blendshape.h"
+#include "armature/engine/kinematics/fk.h"
+#include "armature/engine/math/rotation.h"
+#include "armature/engine/mesh/skinning.h"
 
 namespace armature {
 namespace {

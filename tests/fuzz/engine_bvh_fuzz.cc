@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "armature/engine/bvh.h"
-#include "armature/engine/utf8.h"
+#include "armature/engine/io/bvh.h"
+#include "armature/base/utf8.h"
 #include "fuzz_limits.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

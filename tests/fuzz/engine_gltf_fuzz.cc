@@ -4,9 +4,9 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "armature/engine/gltf.h"
-#include "armature/engine/mesh.h"
-#include "armature/engine/utf8.h"
+#include "armature/engine/io/gltf.h"
+#include "armature/engine/mesh/mesh.h"
+#include "armature/base/utf8.h"
 #include "fuzz_limits.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

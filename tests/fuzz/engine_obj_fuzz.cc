@@ -5,8 +5,8 @@
 #include <string_view>
 #include <vector>
 
-#include "armature/engine/obj.h"
-#include "armature/engine/utf8.h"
+#include "armature/engine/io/obj.h"
+#include "armature/base/utf8.h"
 #include "fuzz_limits.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -3,7 +3,7 @@
 // an allocation over it then means memory that no cap governs (a bug).
 #pragma once
 
-#include "armature/engine/import_limits.h"
+#include "armature/engine/io/import_limits.h"
 
 namespace armature::fuzz {
 

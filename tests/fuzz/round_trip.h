@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "armature/engine/bvh.h"
+#include "armature/engine/io/bvh.h"
 #include "fuzz_limits.h"
 
 namespace armature::fuzz {

@@ -6,9 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "armature/client.h"
-#include "client_helpers.h"
-#include "http_get.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/http_get.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "armature/client.h"
-#include "client_helpers.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -13,9 +13,9 @@
 #include <gtest/gtest.h>
 
 #include "armature/client.h"
-#include "client_helpers.h"
+#include "support/client_helpers.h"
 #include "data_dir_check.h"
-#include "server_process.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server_process.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace fs = std::filesystem;

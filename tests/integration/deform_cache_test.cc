@@ -14,10 +14,10 @@
 
 #include "armature/client.h"
 #include "armature/v1/deform.grpc.pb.h"
-#include "client_helpers.h"
-#include "deform_grid.h"
-#include "metrics_scrape.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/deform_grid.h"
+#include "support/metrics_scrape.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

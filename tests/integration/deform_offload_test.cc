@@ -10,10 +10,10 @@
 #include <gtest/gtest.h>
 
 #include "armature/client.h"
-#include "client_helpers.h"
-#include "deform_grid.h"
-#include "metrics_scrape.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/deform_grid.h"
+#include "support/metrics_scrape.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -12,8 +12,8 @@
 
 // The test fixtures (Eigen) before httplib.h, whose system headers define a
 // macro that breaks Eigen's product kernels.
-#include "../engine/deformation_test_util.h"
-#include "../engine/scipy_reference.h"
+#include "../engine/testing/deformation_test_util.h"
+#include "../engine/testing/scipy_reference.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -21,9 +21,9 @@
 
 #include "armature/client.h"
 #include "armature/v1/deform.grpc.pb.h"
-#include "client_helpers.h"
-#include "deform_grid.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/deform_grid.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -12,9 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "armature/client.h"
-#include "armature/engine/demo_walk.h"
-#include "client_helpers.h"
-#include "server_process.h"
+#include "armature/engine/io/demo_walk.h"
+#include "support/client_helpers.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

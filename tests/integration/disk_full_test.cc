@@ -16,10 +16,10 @@
 #include <gtest/gtest.h>
 
 #include "armature/client.h"
-#include "armature/engine/demo_character.h"
-#include "client_helpers.h"
+#include "armature/engine/io/demo_character.h"
+#include "support/client_helpers.h"
 #include "data_dir_check.h"
-#include "server_process.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -5,12 +5,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "armature/engine/bvh.h"
-#include "armature/engine/demo_character.h"
-#include "armature/engine/demo_walk.h"
-#include "client_helpers.h"
-#include "deform_grid.h"
-#include "server_process.h"
+#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/demo_character.h"
+#include "armature/engine/io/demo_walk.h"
+#include "support/client_helpers.h"
+#include "support/deform_grid.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -21,9 +21,9 @@
 #include <httplib.h>
 
 #include "armature/client.h"
-#include "client_helpers.h"
+#include "support/client_helpers.h"
 #include "hostile_uploads.h"
-#include "server_process.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

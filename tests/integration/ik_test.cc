@@ -22,9 +22,9 @@
 
 #include "../common/sse_events.h"
 #include "armature/client.h"
-#include "client_helpers.h"
-#include "metrics_scrape.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/metrics_scrape.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

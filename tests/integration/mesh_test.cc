@@ -10,16 +10,16 @@
 
 // The engine (Eigen) before httplib.h, whose system headers define a macro
 // that breaks Eigen's product kernels.
-#include "armature/engine/asset.h"
-#include "armature/engine/mesh.h"
-#include "armature/engine/skinning.h"
-#include "../engine/mesh_test_util.h"
+#include "armature/engine/io/asset.h"
+#include "armature/engine/mesh/mesh.h"
+#include "armature/engine/mesh/skinning.h"
+#include "../engine/testing/mesh_test_util.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
-#include "client_helpers.h"
+#include "support/client_helpers.h"
 
 namespace armature::testing {
 namespace {

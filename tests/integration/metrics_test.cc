@@ -10,12 +10,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "../engine/generated_meshes.h"
+#include "../engine/testing/generated_meshes.h"
 #include "armature/client.h"
-#include "client_helpers.h"
-#include "http_get.h"
-#include "metrics_scrape.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/http_get.h"
+#include "support/metrics_scrape.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "armature/client.h"
-#include "client_helpers.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "client_helpers.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -7,11 +7,11 @@
 
 #include <gtest/gtest.h>
 
-#include "../engine/generated_meshes.h"
+#include "../engine/testing/generated_meshes.h"
 #include "armature/client.h"
-#include "client_helpers.h"
-#include "metrics_scrape.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/metrics_scrape.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

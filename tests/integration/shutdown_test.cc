@@ -12,8 +12,8 @@
 
 #include "armature/client.h"
 #include "armature/v1/assets.grpc.pb.h"
-#include "client_helpers.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

@@ -13,9 +13,9 @@
 
 #include "armature/client.h"
 #include "armature/v1/poses.grpc.pb.h"
-#include "client_helpers.h"
-#include "../engine/test_files.h"
-#include "server_process.h"
+#include "support/client_helpers.h"
+#include "../engine/testing/test_files.h"
+#include "support/server_process.h"
 
 namespace armature::testing {
 namespace {

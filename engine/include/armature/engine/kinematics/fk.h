@@ -1,0 +1,30 @@
+// Forward kinematics: local joint transforms → world transforms, with a
+// floating root (the root's local transform is its world placement).
+#pragma once
+
+#include <span>
+
+#include <Eigen/Geometry>
+
+#include "armature/engine/anim/skeleton.h"
+#include "armature/base/status.h"
+#include "armature/engine/math/transform.h"
+
+namespace armature {
+
+// world[i] = world[parent(i)] · local[i]. Spans are caller-owned, size = joints.
+void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world);
+
+// Same, but also the world rotation of each joint as a quaternion (the
+// product of local rotations; scale is ignored for it).
+void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world,
+                  std::span<Eigen::Quaterniond> world_rotation);
+
+// A local pose from the rest pose with rotations and translations a client
+// supplies: `rotations` has 4 per joint (w,x,y,z); `translations` is empty
+// (rest offsets), 3 (root translation only) or 3 per joint. Quaternions are
+// normalized; zero-length, NaN or wrongly sized input is INVALID_ARGUMENT.
+Status PoseFromArrays(const Skeleton& skeleton, std::span<const float> rotations, std::span<const float> translations,
+                      std::span<Trs> out);
+
+}  // namespace armature

@@ -1,0 +1,61 @@
+#include "server/assets/asset_limits.h"
+
+#include <algorithm>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "armature/engine/mesh/mesh.h"
+
+namespace armature::server {
+
+Status CheckAssetLimits(const AssetContents& contents, const Limits& limits) {
+  for (const NamedClip& c : contents.clips) {
+    // The source's frame count, or the most keys of any track if that is more.
+    size_t keys = c.clip->frame_count;
+    for (const JointTrack& j : c.clip->joints)
+      keys = std::max({keys, j.translation.times.size(), j.rotation.times.size(), j.scale.times.size()});
+    for (const WeightsTrack& w : c.clip->weights) keys = std::max(keys, w.times.size());
+    const auto frames = static_cast<int64_t>(keys);
+    if (frames > limits.max_clip_frames)
+      return Status::ResourceExhausted("clip '" + c.name + "' has " + std::to_string(frames) +
+                                       " frames, over the limit of " + std::to_string(limits.max_clip_frames) +
+                                       " (--max-clip-frames)");
+  }
+  for (const NamedMesh& m : contents.meshes) {
+    const auto vertices = static_cast<int64_t>(m.mesh->vertex_count());
+    if (vertices > limits.max_mesh_vertices)
+      return Status::ResourceExhausted("mesh '" + m.name + "' has " + std::to_string(vertices) +
+                                       " vertices, over the limit of " + std::to_string(limits.max_mesh_vertices) +
+                                       " (--max-mesh-vertices)");
+  }
+  return Status::Ok();
+}
+
+ImportLimits ImportLimitsOf(const Limits& limits) {
+  ImportLimits caps;
+  caps.max_clip_frames = static_cast<uint64_t>(std::max<int64_t>(limits.max_clip_frames, 0));
+  caps.max_mesh_vertices = static_cast<uint64_t>(std::max<int64_t>(limits.max_mesh_vertices, 0));
+  return caps;
+}
+
+ImportLimits LoadLimitsOf(const Limits& limits) {
+  const ImportLimits flags = ImportLimitsOf(limits);
+  ImportLimits caps;
+  caps.max_clip_frames = std::max(caps.max_clip_frames, flags.max_clip_frames);
+  caps.max_mesh_vertices = std::max(caps.max_mesh_vertices, flags.max_mesh_vertices);
+  return caps;
+}
+
+StatusOr<AssetContents> WithLimitFlags(StatusOr<AssetContents> parsed) {
+  if (parsed.ok() || parsed.status().code() != StatusCode::kResourceExhausted) return parsed;
+  static constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
+      {"max_clip_frames", "--max-clip-frames"}, {"max_mesh_vertices", "--max-mesh-vertices"}};
+  const std::string message = parsed.status().message();
+  for (const auto& [field, flag] : kFlags)
+    if (message.find(field) != std::string::npos)
+      return Status::ResourceExhausted(message + " (" + std::string(flag) + ")");
+  return parsed;
+}
+
+}  // namespace armature::server

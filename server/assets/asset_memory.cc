@@ -1,0 +1,89 @@
+#include "server/assets/asset_memory.h"
+
+#include <set>
+
+#include "armature/engine/mesh/mesh.h"
+
+namespace armature::server {
+namespace {
+
+// Element storage of vectors, summed.
+template <class... V>
+size_t ElementBytes(const V&... v) {
+  return (size_t{0} + ... + (v.size() * sizeof(typename V::value_type)));
+}
+
+template <class V>
+size_t TrackBytes(const Track<V>& t) {
+  return ElementBytes(t.times, t.values, t.in_tangents, t.out_tangents);
+}
+
+size_t SkeletonBytes(const Skeleton& s) {
+  size_t bytes = sizeof(Skeleton);
+  for (const std::string& name : s.names) bytes += sizeof(std::string) + name.size();
+  for (const auto& c : s.channels) bytes += sizeof(c) + ElementBytes(c);
+  bytes += ElementBytes(s.parents, s.rest, s.end_sites);
+  return bytes;
+}
+
+size_t ClipBytes(const Clip& c) {
+  size_t bytes = sizeof(Clip);
+  for (const JointTrack& j : c.joints)
+    bytes += sizeof(JointTrack) + TrackBytes(j.translation) + TrackBytes(j.rotation) + TrackBytes(j.scale);
+  for (const WeightsTrack& w : c.weights)
+    bytes += sizeof(WeightsTrack) + w.mesh.size() + ElementBytes(w.times, w.values);
+  return bytes;
+}
+
+size_t MeshBytes(const Mesh& m) {
+  size_t bytes = sizeof(Mesh) + m.name.size();  // sizeof(Mesh) covers the layout's own struct
+  bytes += ElementBytes(m.positions, m.normals, m.triangles);
+  bytes += ElementBytes(m.joints, m.inverse_bind, m.influence_offsets, m.influence_joints, m.influence_weights);
+  for (const MorphTarget& t : m.targets)
+    bytes += sizeof(MorphTarget) + t.name.size() + ElementBytes(t.vertices, t.position_deltas, t.normal_deltas);
+  bytes += ElementBytes(m.default_weights);
+  const SkinningLayout& l = m.layout;
+  bytes += ElementBytes(l.order, l.x, l.y, l.z, l.nx, l.ny, l.nz, l.groups, l.joints, l.weights, l.pair_offsets, l.pairs);
+  for (const SkinningLayout::Target& t : l.targets)
+    bytes += sizeof(SkinningLayout::Target) + ElementBytes(t.vertices, t.dx, t.dy, t.dz, t.nx, t.ny, t.nz);
+  return bytes;
+}
+
+}  // namespace
+
+size_t EstimateAssetBytes(const AssetContents& contents) {
+  std::set<const Skeleton*> skeletons;
+  for (const NamedSkeleton& s : contents.skeletons) skeletons.insert(s.skeleton.get());
+  size_t bytes = 0;
+  for (const NamedClip& c : contents.clips) {
+    skeletons.insert(c.clip->skeleton.get());
+    bytes += ClipBytes(*c.clip);
+  }
+  for (const Skeleton* s : skeletons)
+    if (s != nullptr) bytes += SkeletonBytes(*s);
+  std::set<const Mesh*> meshes;
+  for (const NamedMesh& m : contents.meshes) meshes.insert(m.mesh.get());
+  for (const Mesh* m : meshes)
+    if (m != nullptr) bytes += MeshBytes(*m);
+  return bytes;
+}
+
+void CollectAssetMetrics(const Catalog& catalog, PrometheusText& out) {
+  out.Family("armature_assets_loaded", "gauge", "Loaded assets (imported files) and the parts they provide.");
+  out.Sample("armature_assets_loaded", {{"kind", "asset"}}, static_cast<double>(catalog.assets.size()));
+  out.Sample("armature_assets_loaded", {{"kind", "skeleton"}}, static_cast<double>(catalog.skeletons.size()));
+  out.Sample("armature_assets_loaded", {{"kind", "clip"}}, static_cast<double>(catalog.clips.size()));
+  out.Sample("armature_assets_loaded", {{"kind", "mesh"}}, static_cast<double>(catalog.meshes.size()));
+  double memory = 0, source = 0;
+  for (const auto& [name, asset] : catalog.assets) {
+    memory += static_cast<double>(EstimateAssetBytes(asset->contents));
+    source += static_cast<double>(asset->record.size_bytes);
+  }
+  out.Family("armature_assets_memory_bytes", "gauge",
+             "Estimated memory of the parsed assets: skeletons, clip tracks and meshes.");
+  out.Sample("armature_assets_memory_bytes", {}, memory);
+  out.Family("armature_assets_source_bytes", "gauge", "Size of the imported files as stored in the data dir.");
+  out.Sample("armature_assets_source_bytes", {}, source);
+}
+
+}  // namespace armature::server

@@ -1,0 +1,168 @@
+// The asset store: every imported file, parsed, named and persisted.
+//
+// Reads take an immutable Catalog snapshot (shared_ptr, lock-free for the
+// caller), so a delete or replace never breaks an in-flight call: the call
+// keeps the parts it already holds. Writes are serialized, persisted first
+// (source file + manifest, each written to a temporary file, fsynced and
+// renamed) and published second, so a crash mid-import leaves no half asset.
+//
+// Several servers may share one data dir (replicas on a ReadWriteMany
+// volume). Each write is a read-modify-write of the manifest under an
+// exclusive DataDirLock, re-reading the manifest first, so concurrent
+// writers never lose each other's entries. Each server watches the manifest
+// and reloads it when another one changed it: unchanged entries keep their
+// parsed assets, only new ones are parsed. Files are written before the
+// manifest names them, so no server ever sees a half-written asset.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "armature/engine/io/asset.h"
+#include "armature/base/status.h"
+#include "server/rpc/limits.h"
+
+namespace armature::server {
+
+// What the manifest records of one imported file.
+struct AssetRecord {
+  std::string name;
+  AssetFormat format = AssetFormat::kBvh;
+  std::string filename;  // as uploaded
+  std::string file;      // stored source, relative to the data dir
+  int64_t size_bytes = 0;
+  std::string imported_at;  // RFC 3339, UTC
+  std::map<std::string, std::string> resources;  // uri → stored file, relative to the data dir
+};
+
+struct StoredAsset {
+  AssetRecord record;
+  AssetContents contents;
+};
+
+// A named part and the asset that owns it.
+template <class Part>
+struct PartRef {
+  std::shared_ptr<const StoredAsset> asset;
+  const Part* part = nullptr;  // points into asset->contents
+};
+
+// An immutable view of everything loaded.
+struct Catalog {
+  std::map<std::string, std::shared_ptr<const StoredAsset>> assets;
+  std::map<std::string, PartRef<NamedClip>> clips;
+  std::map<std::string, PartRef<NamedSkeleton>> skeletons;
+  std::map<std::string, PartRef<NamedMesh>> meshes;
+
+  StatusOr<PartRef<NamedClip>> FindClip(std::string_view name) const;
+  StatusOr<PartRef<NamedSkeleton>> FindSkeleton(std::string_view name) const;
+  StatusOr<PartRef<NamedMesh>> FindMesh(std::string_view name) const;
+  // The asset named `name`, or the one owning a clip, skeleton or mesh of that name.
+  StatusOr<std::shared_ptr<const StoredAsset>> FindOwner(std::string_view name) const;
+};
+
+struct ImportRequest {
+  std::string name;      // empty: the filename's stem
+  std::string filename;
+  std::string format;    // empty: detect
+  bool replace = false;
+  std::string bytes;
+  ResourceMap resources;  // further files by uri (a .gltf's .bin buffers)
+};
+
+struct StoreOptions {
+  Limits limits;  // what an import may contain (CheckAssetLimits)
+  // How often the manifest is checked for other servers' writes; 0: never.
+  std::chrono::milliseconds watch_interval{500};
+};
+
+class AssetStore {
+ public:
+  // Opens (creating if needed) a data dir and loads every asset in its
+  // manifest. Assets that no longer parse are logged and skipped, never deleted.
+  static StatusOr<std::unique_ptr<AssetStore>> Open(const std::filesystem::path& data_dir, StoreOptions options = {});
+  ~AssetStore();
+
+  std::shared_ptr<const Catalog> Snapshot() const;
+
+  // Parses, persists, then publishes. INVALID_ARGUMENT for bad files or
+  // names, ALREADY_EXISTS for a taken name (unless replace),
+  // RESOURCE_EXHAUSTED over a limit or on a full disk ("data dir <dir>: no
+  // space left on device"; then nothing of the import is left on disk).
+  StatusOr<std::shared_ptr<const StoredAsset>> Import(ImportRequest request);
+  // Removes the asset owning `name` from the manifest, then its file. Works
+  // on a full disk (see KeepReserve).
+  StatusOr<std::shared_ptr<const StoredAsset>> Delete(std::string_view name);
+
+  // True when the data dir had no manifest when opened (a first start).
+  bool fresh() const { return fresh_; }
+  const std::filesystem::path& data_dir() const { return dir_; }
+
+ private:
+  // What identifies one version of the manifest file: every write renames a
+  // new file over it, so the inode changes with each.
+  struct ManifestStamp {
+    bool exists = false;
+    uint64_t device = 0, inode = 0;
+    int64_t size = 0, mtime_ns = 0;
+    bool operator==(const ManifestStamp&) const = default;
+  };
+
+  AssetStore(std::filesystem::path dir, StoreOptions options) : dir_(std::move(dir)), options_(std::move(options)) {}
+  Status Load();
+  // Brings the published catalog up to date with the manifest on disk.
+  // Call with write_mu_ and a DataDirLock held. `referenced`, when given,
+  // receives every file the manifest names (loadable or not).
+  Status SyncLocked(std::set<std::filesystem::path>* referenced = nullptr);
+  // Call with the exclusive DataDirLock held.
+  void RemoveLeftovers(const std::set<std::filesystem::path>& referenced) const;
+  // The reserve: space (a preallocated file) that only a delete may use, so
+  // that a disk filled by imports never blocks the delete that frees it.
+  void KeepReserve() const;
+  bool ReleaseReserve() const;  // true if there was one to release
+  ManifestStamp StampOfManifest() const;
+  Status WriteManifest(const Catalog& catalog);
+  void Publish(std::shared_ptr<const Catalog> catalog);
+  // Reloads the manifest if another server changed it since this one last
+  // read or wrote it. The watcher calls it every watch_interval.
+  void Refresh();
+  void Watch();
+
+  std::filesystem::path dir_;
+  StoreOptions options_;
+  bool fresh_ = false;
+  std::mutex write_mu_;   // one writer or reload at a time in this process
+  ManifestStamp stamp_;   // of the manifest the catalog reflects; guarded by write_mu_
+  std::string last_refresh_error_;  // logged once, not every poll; guarded by write_mu_
+  // Manifest entries (name, JSON text) that could not be loaded: written back
+  // with every new manifest, so an asset that does not load here (a newer
+  // replica's format, a file being repaired) is never dropped; guarded by write_mu_.
+  std::vector<std::pair<std::string, std::string>> unloaded_entries_;
+  mutable std::mutex snapshot_mu_;
+  std::shared_ptr<const Catalog> catalog_;
+
+  std::mutex watch_mu_;
+  std::condition_variable watch_cv_;
+  bool stopping_ = false;
+  std::thread watcher_;
+};
+
+// Asset names become file names: letters, digits, '.', '_' and '-', not
+// starting with '.', at most 128 characters.
+Status ValidateAssetName(std::string_view name);
+
+// Builds a Catalog's part indexes from its assets.
+StatusOr<std::shared_ptr<Catalog>> BuildCatalog(std::map<std::string, std::shared_ptr<const StoredAsset>> assets);
+
+}  // namespace armature::server

@@ -1,0 +1,177 @@
+#include "server/host/armature_server.h"
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+
+#include "grpc/health/v1/health.pb.h"
+#include "server/host/gateway/http_rule.h"
+#include "server/assets/asset_memory.h"
+#include "server/host/auth_gate.h"
+#include "server/assets/demo_assets.h"
+#include "server/host/metrics_http.h"
+#include "server/host/rpc_observer.h"
+#include "server/host/server_credentials.h"
+#include "server/host/services.h"
+
+namespace armature::server {
+namespace {
+// How long past --shutdown-grace the process waits for handlers to return.
+constexpr std::chrono::seconds kShutdownMargin{3};
+}  // namespace
+
+StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConfig& config) {
+  std::unique_ptr<ArmatureServer> s(new ArmatureServer());
+  s->config_ = config;
+
+  if (!config.auth_token_file.empty()) {
+    auto tokens = BearerTokens::FromFile(config.auth_token_file);
+    if (!tokens.ok()) return tokens.status();
+    s->tokens_ = std::move(*tokens);
+  }
+  auto credentials = MakeServerCredentials(config);
+  if (!credentials.ok()) return credentials.status();
+
+  auto store = AssetStore::Open(config.data_dir, {.limits = config.limits});
+  if (!store.ok()) return store.status();
+  s->store_ = std::move(*store);
+  if (s->store_->fresh() && config.demo) {
+    if (Status st = SeedDemoAssets(*s->store_); !st.ok())
+      spdlog::error("could not seed the demo assets: {}", st.message());
+    else
+      spdlog::info("seeded demo assets into {}", s->store_->data_dir().string());
+  }
+
+  grpc::EnableDefaultHealthCheckService(true);
+  // Links health.proto's descriptor in, so reflection can describe the health service.
+  (void)grpc::health::v1::HealthCheckRequest::descriptor();
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(config.host + ":" + std::to_string(config.grpc_port), *credentials, &s->grpc_port_);
+  builder.SetMaxReceiveMessageSize(static_cast<int>(config.limits.max_message_bytes));
+  builder.SetMaxSendMessageSize(static_cast<int>(config.limits.max_message_bytes));
+  // Every call, REST ones through the in-process channel included, passes the observer (metrics, request log).
+  s->metrics_ = std::make_unique<Metrics>();
+  s->metrics_->AddCollector([store = s->store_.get()](PrometheusText& out) { CollectAssetMetrics(*store->Snapshot(), out); });
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(std::make_unique<RpcObserverFactory>(*s->metrics_));
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
+  // With a token file, each API service sits behind an auth gate; health and reflection stay open.
+  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_)) {
+    if (s->tokens_) {
+      auto gated = GateService(std::move(entry.service), entry.name, s->tokens_);
+      if (!gated.ok()) return gated.status();
+      entry.service = std::move(*gated);
+    }
+    s->services_.push_back(std::move(entry.service));
+  }
+  for (auto& service : s->services_) builder.RegisterService(service.get());
+  s->grpc_ = builder.BuildAndStart();
+  if (!s->grpc_ || s->grpc_port_ == 0)
+    return Status::Unavailable("cannot listen for gRPC on " + config.host + ":" + std::to_string(config.grpc_port));
+  s->grpc_->GetHealthCheckService()->SetServingStatus(true);
+
+  if (config.http_port >= 0) {
+    s->http_ = std::make_unique<HttpServer>(config.limits.max_http_threads, config.tls_cert_file, config.tls_key_file);
+    ServeMetrics(s->http_->routes(), *s->metrics_, s->tokens_);
+    if (Status st = s->StartGateway(); !st.ok()) return st;
+    s->http_port_ = s->http_->Start(config.host, config.http_port);
+    if (s->http_port_ < 0)
+      return Status::Unavailable("cannot listen for HTTP on " + config.host + ":" + std::to_string(config.http_port));
+    s->http_->SetReady(true);
+  }
+  spdlog::info("serving gRPC on {}:{} and HTTP on {}:{}{}{}", config.host, s->grpc_port_, config.host, s->http_port_,
+               config.tls_cert_file.empty() ? "" : " (TLS)", s->tokens_ ? ", bearer token required" : "");
+
+  if (!config.port_file.empty()) {
+    const std::string tmp = config.port_file + ".tmp";
+    std::ofstream(tmp) << "{\"grpc\":" << s->grpc_port_ << ",\"http\":" << s->http_port_ << "}\n";
+    std::rename(tmp.c_str(), config.port_file.c_str());
+  }
+  return s;
+}
+
+Status ArmatureServer::StartGateway() {
+  const Limits& limits = config_.limits;
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(static_cast<int>(limits.max_message_bytes));
+  args.SetMaxSendMessageSize(static_cast<int>(limits.max_message_bytes));
+  gateway::GatewayOptions options;
+  options.cors_origins = config_.cors_origins;
+  options.tokens = tokens_;
+  options.max_request_bytes = static_cast<size_t>(limits.max_request_bytes);
+  options.max_upload_bytes = static_cast<size_t>(limits.max_upload_bytes);
+  // Keep threads free for ordinary requests however many streams are open.
+  options.max_streams = limits.max_http_threads - std::min<size_t>(limits.max_http_threads / 4, 64);
+  auto gw = gateway::Gateway::Create(gateway::GeneratedServicesIn("armature.v1"),
+                                     google::protobuf::MessageFactory::generated_factory(),
+                                     grpc_->InProcessChannel(args), options);
+  if (!gw.ok()) return gw.status();
+  gateway_ = std::move(*gw);
+  httplib::Server& routes = http_->routes();
+  routes.set_payload_max_length(static_cast<size_t>(std::max(limits.max_upload_bytes, limits.max_request_bytes)));
+  gateway_->Register(routes);
+  spdlog::info("REST gateway: {} routes; OpenAPI at /openapi.json", gateway_->bindings().size());
+
+  const std::string web_dir = config_.web_dir.empty() ? DefaultWebDir() : config_.web_dir;
+  if (web_dir.empty())
+    spdlog::warn("viewer: no built viewer found (build the armature_web target or pass --web-dir)");
+  else if (!http_->ServeDirectory(web_dir))
+    return Status::InvalidArgument("--web-dir " + web_dir + ": not a directory");
+  else
+    spdlog::info("viewer: serving {} at /", web_dir);
+  return Status::Ok();
+}
+
+void ArmatureServer::Shutdown() {
+  if (stopped_) return;
+  stopped_ = true;
+  if (!grpc_) return;  // Start failed before serving
+  spdlog::info("shutting down: finishing in-flight calls (up to {} s)", config_.shutdown_grace_seconds);
+  const auto deadline = std::chrono::system_clock::now() +
+                        std::chrono::milliseconds(static_cast<int64_t>(config_.shutdown_grace_seconds * 1000));
+  if (gateway_) gateway_->BeginDrain();  // before readiness drops, so /readyz 503 means REST refuses too
+  if (http_) http_->SetReady(false);
+  grpc_->GetHealthCheckService()->SetServingStatus(false);
+  // REST calls ride the in-process channel, which the gRPC shutdown drops at
+  // once: they get their grace period first.
+  if (gateway_) gateway_->Drain(deadline);
+  // Past the grace period gRPC cancels what is still in flight; a handler
+  // that still does not return (stuck in work that checks no cancellation)
+  // must not keep the process alive: the watchdog ends it.
+  std::mutex mu;
+  std::condition_variable cv;
+  bool done = false;
+  std::thread watchdog([&] {
+    std::unique_lock lock(mu);
+    if (cv.wait_until(lock, deadline + kShutdownMargin, [&] { return done; })) return;
+    spdlog::error("shutdown: calls still running {} s after the grace period; exiting anyway",
+                  std::chrono::duration_cast<std::chrono::seconds>(kShutdownMargin).count());
+    spdlog::shutdown();
+    std::_Exit(0);
+  });
+  grpc_->Shutdown(deadline);
+  spdlog::debug("gRPC shut down");
+  if (http_) http_->Stop();
+  spdlog::debug("HTTP stopped");
+  grpc_->Wait();
+  {
+    std::lock_guard lock(mu);
+    done = true;
+  }
+  cv.notify_one();
+  watchdog.join();
+  spdlog::info("stopped");
+}
+
+ArmatureServer::~ArmatureServer() { Shutdown(); }
+
+}  // namespace armature::server

@@ -1,0 +1,69 @@
+#include "server/host/bearer_tokens.h"
+
+#include <openssl/crypto.h>
+#include <openssl/sha.h>
+
+#include <sstream>
+
+#include "server/assets/file_io.h"
+
+namespace armature::server {
+namespace {
+
+std::string_view Trim(std::string_view s) {
+  const auto first = s.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return {};
+  const auto last = s.find_last_not_of(" \t\r\n");
+  return s.substr(first, last - first + 1);
+}
+
+bool StartsWithIgnoringCase(std::string_view s, std::string_view prefix) {
+  if (s.size() < prefix.size()) return false;
+  for (size_t i = 0; i < prefix.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(s[i])) != std::tolower(static_cast<unsigned char>(prefix[i])))
+      return false;
+  return true;
+}
+
+Status Unauthenticated(std::string message) { return {StatusCode::kUnauthenticated, std::move(message)}; }
+
+}  // namespace
+
+StatusOr<std::shared_ptr<const BearerTokens>> BearerTokens::FromFile(const std::filesystem::path& file) {
+  auto text = ReadFile(file);
+  if (!text.ok()) return Status::FailedPrecondition("cannot read the auth token file " + file.string());
+  return FromText(*text, file.string());
+}
+
+StatusOr<std::shared_ptr<const BearerTokens>> BearerTokens::FromText(std::string_view text,
+                                                                      std::string_view source) {
+  auto tokens = std::shared_ptr<BearerTokens>(new BearerTokens());
+  std::istringstream lines{std::string(text)};
+  for (std::string line; std::getline(lines, line);) {
+    const std::string_view token = Trim(line);
+    if (token.empty()) continue;
+    Digest d;
+    SHA256(reinterpret_cast<const unsigned char*>(token.data()), token.size(), d.data());
+    tokens->accepted_.push_back(d);
+  }
+  if (tokens->accepted_.empty())
+    return Status::FailedPrecondition("the auth token file " + std::string(source) + " holds no token");
+  return std::shared_ptr<const BearerTokens>(std::move(tokens));
+}
+
+Status BearerTokens::Check(std::string_view authorization) const {
+  authorization = Trim(authorization);
+  if (authorization.empty())
+    return Unauthenticated("missing credentials: send the header 'authorization: Bearer <token>'");
+  if (!StartsWithIgnoringCase(authorization, "bearer "))
+    return Unauthenticated("the authorization header must be 'Bearer <token>'");
+  const std::string_view token = Trim(authorization.substr(7));
+  Digest presented;
+  SHA256(reinterpret_cast<const unsigned char*>(token.data()), token.size(), presented.data());
+  // Every accepted token is compared, whatever matches, so timing tells nothing.
+  int matches = 0;
+  for (const Digest& d : accepted_) matches |= CRYPTO_memcmp(d.data(), presented.data(), d.size()) == 0;
+  return matches ? Status::Ok() : Unauthenticated("invalid bearer token");
+}
+
+}  // namespace armature::server

@@ -1,0 +1,105 @@
+#include "server/host/config.h"
+
+#include <filesystem>
+
+#include <CLI/CLI.hpp>
+
+namespace armature::server {
+
+int ParseConfig(int argc, char** argv, ServerConfig& c) {
+  CLI::App app{"armature-server: an animation server (pose evaluation, IK, skinning, deformation) over gRPC and HTTP"};
+  app.option_defaults()->always_capture_default();
+  app.add_option("--host", c.host, "Address to listen on")->envname("ARMATURE_HOST");
+  app.add_option("--grpc-port", c.grpc_port, "gRPC port (0: any free port)")
+      ->envname("ARMATURE_GRPC_PORT")->check(CLI::Range(0, 65535));
+  app.add_option("--http-port", c.http_port, "HTTP port for health, gateway and viewer (0: any free port, -1: off)")
+      ->envname("ARMATURE_HTTP_PORT")->check(CLI::Range(-1, 65535));
+  app.add_option("--data-dir", c.data_dir, "Where imported assets are persisted")->envname("ARMATURE_DATA_DIR");
+  app.add_option("--log-level", c.log_level, "trace, debug, info, warn or error")
+      ->envname("ARMATURE_LOG_LEVEL")->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+  app.add_option("--log-format", c.log_format, "text or json")
+      ->envname("ARMATURE_LOG_FORMAT")->check(CLI::IsMember({"text", "json"}));
+  double upload_mb = static_cast<double>(c.limits.max_upload_bytes) / (1 << 20);
+  app.add_option("--max-upload-mb", upload_mb, "Largest accepted upload, in MiB")
+      ->envname("ARMATURE_MAX_UPLOAD_MB")->check(CLI::PositiveNumber);
+  double message_mb = static_cast<double>(c.limits.max_message_bytes) / (1 << 20);
+  app.add_option("--max-message-mb", message_mb, "Largest gRPC message sent or received, in MiB")
+      ->envname("ARMATURE_MAX_MESSAGE_MB")->check(CLI::PositiveNumber);
+  bool no_demo = !c.demo;
+  app.add_flag("--no-demo", no_demo, "Do not seed demo assets into an empty data dir")->envname("ARMATURE_NO_DEMO");
+  app.add_option("--shutdown-grace", c.shutdown_grace_seconds,
+                 "Seconds in-flight calls get to finish on SIGTERM/SIGINT")
+      ->envname("ARMATURE_SHUTDOWN_GRACE")->check(CLI::NonNegativeNumber);
+  app.add_option("--port-file", c.port_file, "Write the bound ports as JSON here once serving")
+      ->envname("ARMATURE_PORT_FILE");
+  app.add_option("--cors-origin", c.cors_origins,
+                 "Origin allowed to call the REST API from a browser, e.g. http://localhost:5173 (repeatable; * = any)")
+      ->envname("ARMATURE_CORS_ORIGIN")->delimiter(',');
+  double request_kb = static_cast<double>(c.limits.max_request_bytes) / 1024;
+  app.add_option("--max-request-kb", request_kb, "Largest REST JSON request body, in KiB (imports: --max-upload-mb)")
+      ->envname("ARMATURE_MAX_REQUEST_KB")->check(CLI::PositiveNumber);
+  app.add_option("--http-threads", c.limits.max_http_threads,
+                 "Most HTTP connections served at once (each open SSE stream holds one)")
+      ->envname("ARMATURE_HTTP_THREADS")->check(CLI::Range(16, 10000));
+  app.add_option("--web-dir", c.web_dir, "The viewer's files, served at / (default: the installed or built viewer)")
+      ->envname("ARMATURE_WEB_DIR");
+  app.add_option("--auth-token-file", c.auth_token_file,
+                 "Require 'authorization: Bearer <token>' on API calls; one accepted token per line "
+                 "(health checks and reflection stay open)")
+      ->envname("ARMATURE_AUTH_TOKEN_FILE")->check(CLI::ExistingFile);
+  auto* cert = app.add_option("--tls-cert", c.tls_cert_file, "PEM certificate chain: serve gRPC and HTTP over TLS")
+                   ->envname("ARMATURE_TLS_CERT")->check(CLI::ExistingFile);
+  auto* key = app.add_option("--tls-key", c.tls_key_file, "PEM private key of --tls-cert")
+                  ->envname("ARMATURE_TLS_KEY")->check(CLI::ExistingFile);
+  cert->needs(key);
+  key->needs(cert);
+  app.add_option("--max-clip-frames", c.limits.max_clip_frames, "Most frames an imported clip may have")
+      ->envname("ARMATURE_MAX_CLIP_FRAMES")->check(CLI::PositiveNumber);
+  app.add_option("--max-mesh-vertices", c.limits.max_mesh_vertices, "Most vertices an imported mesh may have")
+      ->envname("ARMATURE_MAX_MESH_VERTICES")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-iterations", c.limits.max_ik_iterations, "Most solver iterations an IK request may ask for")
+      ->envname("ARMATURE_MAX_IK_ITERATIONS")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-effectors", c.limits.max_ik_effectors, "Most effectors one IK request may have")
+      ->envname("ARMATURE_MAX_IK_EFFECTORS")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-work", c.limits.max_ik_work,
+                 "Most work one IK request may ask for: the sum over its effectors of the joints in each "
+                 "effector's chain, times max_iterations")
+      ->envname("ARMATURE_MAX_IK_WORK")->check(CLI::PositiveNumber);
+  app.add_option("--max-sessions-per-client", c.limits.max_sessions_per_client,
+                 "Most IK/deformation sessions one client may hold open")
+      ->envname("ARMATURE_MAX_SESSIONS_PER_CLIENT")->check(CLI::PositiveNumber);
+  app.add_option("--max-streams-per-client", c.limits.max_streams_per_client,
+                 "Most streams (StreamClip, StreamSkinnedMesh, IkSession, DeformSession) one client may hold open")
+      ->envname("ARMATURE_MAX_STREAMS_PER_CLIENT")->check(CLI::PositiveNumber);
+  app.add_option("--max-sessions", c.limits.max_sessions, "Most IK/deformation sessions open at once in all")
+      ->envname("ARMATURE_MAX_SESSIONS")->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most IK sessions open at once, all clients together")
+      ->envname("ARMATURE_MAX_IK_SESSIONS")->check(CLI::NonNegativeNumber);
+  double deform_cache_mb = static_cast<double>(c.limits.deform_cache_bytes) / (1 << 20);
+  app.add_option("--deform-cache-mb", deform_cache_mb,
+                 "Memory for factorizations kept between unary Deform calls with the same mesh, setup and "
+                 "handle indices, in MiB (0: none)")
+      ->envname("ARMATURE_DEFORM_CACHE_MB")->check(CLI::NonNegativeNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  c.demo = !no_demo;
+  c.limits.max_upload_bytes = static_cast<int64_t>(upload_mb * (1 << 20));
+  c.limits.max_message_bytes = static_cast<int64_t>(message_mb * (1 << 20));
+  c.limits.max_request_bytes = static_cast<int64_t>(request_kb * 1024);
+  c.limits.deform_cache_bytes = static_cast<int64_t>(deform_cache_mb * (1 << 20));
+  return -1;
+}
+
+std::string DefaultWebDir() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return "";
+  const fs::path dir = exe.parent_path().parent_path() / "share" / "armature" / "web";
+  return fs::exists(dir / "index.html", ec) ? dir.string() : "";
+}
+
+}  // namespace armature::server

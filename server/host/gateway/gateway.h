@@ -1,0 +1,112 @@
+// The REST/JSON gateway: one generic transcoder over every RPC that carries a
+// (google.api.http) rule. Each HTTP request is matched against the compiled
+// path templates, turned into request messages (transcoder.h) and sent to the
+// server's own gRPC services through an in-process channel, so whatever the
+// gRPC side checks (validation, limits, later auth and metrics) applies to
+// REST as well. A new annotated RPC needs no code here.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/message.h>
+#include <grpcpp/generic/generic_stub.h>
+#include <grpcpp/grpcpp.h>
+
+#include "armature/base/status.h"
+#include "server/host/bearer_tokens.h"
+#include "server/host/gateway/call_registry.h"
+#include "server/host/gateway/cors.h"
+#include "server/host/gateway/http_rule.h"
+#include "server/host/gateway/transcoder.h"
+
+namespace httplib {
+class Server;
+struct Request;
+struct Response;
+class ContentReader;
+}  // namespace httplib
+
+namespace armature::server::gateway {
+
+struct GatewayOptions {
+  std::vector<std::string> cors_origins;  // --cors-origin
+  size_t max_request_bytes = 4u << 20;    // JSON bodies (--max-request-kb)
+  size_t max_upload_bytes = 256u << 20;   // raw bytes bodies, i.e. imports (--max-upload-mb)
+  size_t upload_chunk_bytes = 1u << 20;   // raw bodies reach client-streaming RPCs in chunks of this size
+  // Deadline of calls that do not stream responses, unless the request sends
+  // `grpc-timeout`. Response streams have none: they end with the client.
+  std::chrono::milliseconds default_timeout{30000};
+  // A response stream whose first response comes this fast answers errors
+  // with a plain HTTP error; later ones arrive as the final SSE status event.
+  std::chrono::milliseconds first_response_wait{2000};
+  std::chrono::milliseconds sse_heartbeat{15000};
+  size_t max_streams = 200;  // open SSE streams; more get 429 (each holds an HTTP thread)
+  // --auth-token-file: checked before a request body is read, so token-less
+  // uploads cost no memory (the gRPC auth gate checks again).
+  std::shared_ptr<const BearerTokens> tokens;
+};
+
+class Gateway {
+ public:
+  // Compiles the bindings of every method of `services`. INVALID_ARGUMENT for
+  // a malformed rule or two methods claiming the same HTTP method and path.
+  // `factory` makes the request and response messages (generated or dynamic).
+  static StatusOr<std::unique_ptr<Gateway>> Create(const std::vector<const google::protobuf::ServiceDescriptor*>& services,
+                                                   google::protobuf::MessageFactory* factory,
+                                                   std::shared_ptr<grpc::Channel> channel, GatewayOptions options);
+
+  // Adds CORS, OPTIONS, /openapi.json and the REST routes to `http`. Routes
+  // registered before stay first; static files still win for GET.
+  void Register(httplib::Server& http);
+
+  // Shutdown, first step: new REST calls get 503 from now on.
+  void BeginDrain() { calls_.BeginDrain(); }
+  // Lets the calls in flight finish until `deadline`, then cancels the rest.
+  // Call before shutting the gRPC server down, which drops in-process calls.
+  void Drain(std::chrono::system_clock::time_point deadline) { calls_.Drain(deadline); }
+
+  const std::vector<HttpBinding>& bindings() const { return bindings_; }
+  const std::string& openapi_json() const { return openapi_; }
+
+ private:
+  struct Route {
+    const HttpBinding* binding = nullptr;
+    PathBindings variables;
+  };
+
+  Gateway(GatewayOptions options, google::protobuf::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel);
+  std::vector<Route> BestMatches(const RequestPath& path) const;
+  std::optional<Route> Match(const std::string& http_method, const RequestPath& path) const;
+  std::string AllowedMethods(const RequestPath& path) const;  // "GET, DELETE" or ""
+  size_t BodyLimit(const HttpBinding& binding, const std::string& content_type) const;
+  grpc::Status MakeContext(const httplib::Request& req, const HttpBinding& binding,
+                           std::unique_ptr<grpc::ClientContext>* context) const;
+
+  void Handle(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader* reader);
+  void CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
+                 std::vector<std::string> requests, httplib::Response& res);
+  void CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
+                     std::vector<std::string> requests, httplib::Response& res);
+
+  const google::protobuf::Message& Prototype(const google::protobuf::Descriptor* type) const {
+    return *factory_->GetPrototype(type);
+  }
+
+  GatewayOptions options_;
+  google::protobuf::MessageFactory* factory_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<grpc::GenericStub> stub_;
+  CorsPolicy cors_;
+  std::vector<HttpBinding> bindings_;
+  std::string openapi_;
+  std::atomic<size_t> open_streams_{0};
+  CallRegistry calls_;
+};
+
+}  // namespace armature::server::gateway

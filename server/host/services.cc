@@ -1,0 +1,30 @@
+#include "server/host/services.h"
+
+#include "server/assets/asset_service.h"
+#include "server/deform/deform_service.h"
+#include "server/ik/ik_service.h"
+#include "server/mesh/mesh_service.h"
+#include "server/pose/pose_service.h"
+#include "server/rpc/session_admission.h"
+#include "server/rpc/stream_admission.h"
+
+namespace armature::server {
+
+std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics) {
+  // Sessions of every kind share one admission (per-client and total limits, the gauge).
+  auto sessions = std::make_shared<SessionAdmission>(limits);
+  metrics.AddCollector([sessions](PrometheusText& out) { sessions->Collect(out); });
+  // Streams of every RPC share one per-client admission (--max-streams-per-client).
+  auto streams = std::make_shared<StreamAdmission>(limits);
+  std::vector<ServiceEntry> services;
+  services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
+  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits, streams));
+  auto deform_cache = std::make_shared<DeformerCache>(static_cast<size_t>(limits.deform_cache_bytes));
+  metrics.AddCollector([deform_cache](PrometheusText& out) { deform_cache->Collect(out); });
+  services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits, sessions, streams, deform_cache));
+  services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions, streams));
+  services.push_back(MakeService<v1::MeshService, MeshServiceImpl>(store, limits, streams));
+  return services;
+}
+
+}  // namespace armature::server

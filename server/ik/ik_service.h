@@ -1,0 +1,40 @@
+// IkService: one-shot inverse kinematics solves and interactive sessions.
+#pragma once
+
+#include <memory>
+
+#include "armature/engine/kinematics/ik_workspace.h"
+#include "armature/v1/ik.grpc.pb.h"
+#include "server/assets/asset_store.h"
+#include "server/ik/ik_convert.h"
+#include "server/rpc/limits.h"
+#include "server/rpc/session_admission.h"
+#include "server/rpc/stream_admission.h"
+
+namespace armature::server {
+
+class IkServiceImpl final : public v1::IkService::CallbackService {
+ public:
+  IkServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
+                std::shared_ptr<StreamAdmission> streams)
+      : store_(store), limits_(limits), sessions_(std::move(sessions)), streams_(std::move(streams)) {}
+
+  grpc::ServerUnaryReactor* SolveIk(grpc::CallbackServerContext* context, const v1::SolveIkRequest* request,
+                                    v1::SolveIkResponse* response) override;
+  grpc::ServerBidiReactor<v1::IkSessionRequest, v1::SolveIkResponse>* IkSession(
+      grpc::CallbackServerContext* context) override;
+
+ private:
+  AssetStore& store_;
+  const Limits& limits_;
+  std::shared_ptr<SessionAdmission> sessions_;  // shared with the other session kinds
+  std::shared_ptr<StreamAdmission> streams_;    // shared with the other streaming RPCs
+};
+
+// Solves `call` (its request carrying any deadline and cancel check) and
+// writes the answer. INVALID_ARGUMENT naming the API field for bad input;
+// DEADLINE_EXCEEDED or CANCELLED when interrupted; an unreachable target is OK.
+Status RunIk(const IkCall& call, IkWorkspace& workspace, IkResult& result, PoseWorkspace& pose,
+             v1::SolveIkResponse* response);
+
+}  // namespace armature::server

@@ -1,0 +1,106 @@
+#include "server/pose/pose_service.h"
+
+#include "armature/engine/anim/clip.h"
+#include "armature/engine/kinematics/fk.h"
+#include "server/rpc/call_guard.h"
+#include "server/rpc/grpc_status.h"
+#include "server/rpc/proto_convert.h"
+#include "server/rpc/request_validation.h"
+#include "server/pose/stream_clip_reactor.h"
+
+namespace armature::server {
+
+Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
+                    v1::EvaluateClipResponse* response) {
+  auto ref = catalog.FindClip(request.clip());
+  if (!ref.ok()) return ref.status();
+  ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
+  const Clip& clip = *ref->part->clip;
+  auto joints = ResolveJoints(*clip.skeleton, request.joints(), "joints");
+  if (!joints.ok()) return joints.status();
+  // Each pose carries 7 floats per listed joint (a repeated joint counts
+  // again); refused before any pose is computed.
+  constexpr double kBytesPerJoint = 7 * sizeof(float);
+  const double times = request.times_size(), listed = static_cast<double>(joints->size());
+  ARMATURE_RETURN_IF_ERROR(ValidateReplySize(
+      times * (listed * kBytesPerJoint + 16), limits, "EvaluateClip",
+      std::to_string(request.times_size()) + " times x " + std::to_string(joints->size()) + " joints x 28 bytes"));
+
+  SampleOptions options;
+  options.interpolation = FromProto(request.interpolation());
+  options.wrap = FromProto(request.wrap());
+  const v1::Space space = request.space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
+
+  thread_local PoseWorkspace ws;  // reused across calls on this thread: no allocation per pose
+  ws.Resize(clip.skeleton->size());
+  response->set_clip(ref->part->name);
+  response->set_skeleton(ref->part->skeleton);
+  response->set_space(space);
+  for (int j : *joints) response->add_joints(j);
+  response->mutable_times()->CopyFrom(request.times());
+  response->mutable_poses()->Reserve(request.times_size());
+  for (double t : request.times()) {
+    ARMATURE_RETURN_IF_ERROR(SampleClip(clip, t, options, ws.local));
+    PackPose(*clip.skeleton, space, *joints, ws, response->add_poses());
+  }
+  return Status::Ok();
+}
+
+Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1::ComputeFkResponse* response) {
+  auto ref = catalog.FindSkeleton(request.skeleton());
+  if (!ref.ok()) return ref.status();
+  const Skeleton& skeleton = *ref->part->skeleton;
+  if (request.pose().rotations().empty())
+    return Status::InvalidArgument("pose.rotations: required (4 values per joint: w, x, y, z)");
+  auto joints = ResolveJoints(skeleton, request.joints(), "joints");
+  if (!joints.ok()) return joints.status();
+  thread_local PoseWorkspace ws;
+  ws.Resize(skeleton.size());
+  ARMATURE_RETURN_IF_ERROR(PoseFromArrays(skeleton, AsSpan(request.pose().rotations()),
+                                          AsSpan(request.pose().translations()), ws.local));
+  response->set_skeleton(ref->part->name);
+  for (int j : *joints) response->add_joints(j);
+  PackPose(skeleton, v1::WORLD, *joints, ws, response->mutable_world());
+  return Status::Ok();
+}
+
+grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateClip(grpc::CallbackServerContext* context,
+                                                        const v1::EvaluateClipRequest* request,
+                                                        v1::EvaluateClipResponse* response) {
+  return RunUnary(context, "EvaluateClip", [&]() -> Status {
+    return server::EvaluateClip(*store_.Snapshot(), limits_, *request, response);
+  });
+}
+
+grpc::ServerUnaryReactor* PoseServiceImpl::ComputeFk(grpc::CallbackServerContext* context,
+                                                     const v1::ComputeFkRequest* request,
+                                                     v1::ComputeFkResponse* response) {
+  return RunUnary(context, "ComputeFk", [&]() -> Status {
+    return server::ComputeFk(*store_.Snapshot(), *request, response);
+  });
+}
+
+grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext* context,
+                                                                     const v1::StreamClipRequest* request) {
+  return MakeReactor<grpc::ServerWriteReactor<v1::PoseFrame>>(context, "StreamClip", [&]() -> grpc::ServerWriteReactor<v1::PoseFrame>* {
+    auto stream = streams_->Admit(*context, "StreamClip");
+    if (!stream.ok()) return new FailedStream<v1::PoseFrame>(stream.status());
+    auto ref = store_.Snapshot()->FindClip(request->clip());
+    if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
+    StreamPacing pacing = PacingOf(*request);
+    if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new FailedStream<v1::PoseFrame>(st);
+    for (const Status& st : {ValidateEnum(request->interpolation(), v1::Interpolation_descriptor(), "interpolation"),
+                             ValidateEnum(request->space(), v1::Space_descriptor(), "space")})
+      if (!st.ok()) return new FailedStream<v1::PoseFrame>(st);
+    auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
+    if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
+    auto* reactor = new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
+    reactor->HoldUntilDone(std::move(*stream));
+    return reactor;
+  });
+}
+
+}  // namespace armature::server

@@ -1,0 +1,39 @@
+// PoseService: clip evaluation, real-time pose streams and forward kinematics.
+#pragma once
+
+#include <memory>
+
+#include "armature/v1/poses.grpc.pb.h"
+#include "server/assets/asset_store.h"
+#include "server/rpc/frame_scheduler.h"
+#include "server/rpc/limits.h"
+#include "server/rpc/stream_admission.h"
+
+namespace armature::server {
+
+class PoseServiceImpl final : public v1::PoseService::CallbackService {
+ public:
+  PoseServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<StreamAdmission> streams)
+      : store_(store), limits_(limits), streams_(std::move(streams)) {}
+
+  grpc::ServerUnaryReactor* EvaluateClip(grpc::CallbackServerContext* context,
+                                         const v1::EvaluateClipRequest* request,
+                                         v1::EvaluateClipResponse* response) override;
+  grpc::ServerWriteReactor<v1::PoseFrame>* StreamClip(grpc::CallbackServerContext* context,
+                                                      const v1::StreamClipRequest* request) override;
+  grpc::ServerUnaryReactor* ComputeFk(grpc::CallbackServerContext* context, const v1::ComputeFkRequest* request,
+                                      v1::ComputeFkResponse* response) override;
+
+ private:
+  AssetStore& store_;
+  const Limits& limits_;
+  std::shared_ptr<StreamAdmission> streams_;  // shared with the other streaming RPCs
+  FrameScheduler scheduler_;  // paces StreamClip
+};
+
+// The handlers' work, callable without gRPC (benchmarks, tests).
+Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
+                    v1::EvaluateClipResponse* response);
+Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1::ComputeFkResponse* response);
+
+}  // namespace armature::server

@@ -1,0 +1,140 @@
+#include "server/rpc/request_validation.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <google/protobuf/descriptor.h>
+
+namespace armature::server {
+
+Status ValidateFinite(double value, const std::string& field) {
+  if (!std::isfinite(value)) return Status::InvalidArgument(field + ": must be a finite number");
+  return Status::Ok();
+}
+
+Status ValidateTimes(std::span<const double> times, const Limits& limits, const std::string& field) {
+  if (times.empty()) return Status::InvalidArgument(field + ": at least one time is required");
+  if (times.size() > limits.max_times_per_request)
+    return Status::ResourceExhausted(field + ": " + std::to_string(times.size()) + " times exceed the limit of " +
+                                     std::to_string(limits.max_times_per_request) + " per request");
+  for (size_t i = 0; i < times.size(); ++i) {
+    const std::string name = field + "[" + std::to_string(i) + "]";
+    if (std::isnan(times[i]) || std::isinf(times[i])) return Status::InvalidArgument(name + ": must be finite");
+    if (times[i] < 0) return Status::InvalidArgument(name + ": must not be negative");
+  }
+  return Status::Ok();
+}
+
+StatusOr<std::vector<int>> ResolveJoints(const Skeleton& skeleton,
+                                         const google::protobuf::RepeatedPtrField<std::string>& names,
+                                         const std::string& field) {
+  std::vector<int> joints;
+  if (names.empty()) {
+    joints.resize(skeleton.size());
+    for (size_t i = 0; i < joints.size(); ++i) joints[i] = static_cast<int>(i);
+    return joints;
+  }
+  joints.reserve(names.size());
+  for (int i = 0; i < names.size(); ++i) {
+    const int j = skeleton.Find(names[i]);
+    if (j < 0)
+      return Status::NotFound(field + "[" + std::to_string(i) + "]: unknown joint '" + names[i] + "'");
+    joints.push_back(j);
+  }
+  return joints;
+}
+
+Status ValidatePacing(StreamPacing& p, const Limits& limits) {
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(p.fps, "fps"));
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(p.speed, "speed"));
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(p.start_time, "start_time"));
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(p.duration, "duration"));
+  if (p.fps == 0) p.fps = 30;
+  if (p.speed == 0) p.speed = 1;
+  if (p.fps < 0) return Status::InvalidArgument("fps: must be positive");
+  if (p.fps > limits.max_stream_fps)
+    return Status::InvalidArgument("fps: " + std::to_string(p.fps) + " is above the maximum of " +
+                                   std::to_string(limits.max_stream_fps));
+  if (p.start_time < 0) return Status::InvalidArgument("start_time: must not be negative");
+  if (p.duration < 0) return Status::InvalidArgument("duration: must not be negative");
+  return Status::Ok();
+}
+
+Status ValidateClipTime(double time, const std::string& field) {
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(time, field));
+  if (time < 0) return Status::InvalidArgument(field + ": must not be negative");
+  return Status::Ok();
+}
+
+Status ValidateWeights(std::span<const float> weights, size_t targets, const std::string& field) {
+  if (weights.empty()) return Status::Ok();
+  if (weights.size() != targets)
+    return Status::InvalidArgument(field + ": " + std::to_string(weights.size()) + " values for " +
+                                   std::to_string(targets) + " morph targets (give one per target, or none)");
+  for (size_t i = 0; i < weights.size(); ++i)
+    if (!std::isfinite(weights[i]))
+      return Status::InvalidArgument(field + "[" + std::to_string(i) + "]: must be a finite number");
+  return Status::Ok();
+}
+
+Status ValidateDeformSetup(const v1::DeformSetup& setup) {
+  if (setup.soft() && setup.soft_weight() != 0 && !(std::isfinite(setup.soft_weight()) && setup.soft_weight() > 0))
+    return Status::InvalidArgument("soft_weight: must be finite and > 0");
+  if (setup.arap_iterations() < 0 || setup.arap_iterations() > 1000)
+    return Status::InvalidArgument("arap_iterations: must be in [0, 1000] (0 = default 10)");
+  return Status::Ok();
+}
+
+Status ValidateHandlePositions(std::span<const double> positions, size_t handles, const std::string& field) {
+  if (positions.size() != 3 * handles)
+    return Status::InvalidArgument(field + ": needs " + std::to_string(3 * handles) + " values (x, y, z per handle), got " +
+                                   std::to_string(positions.size()));
+  for (size_t i = 0; i < positions.size(); ++i)
+    if (!std::isfinite(positions[i]))
+      return Status::InvalidArgument(field + ": handle " + std::to_string(i / 3) + " has a non-finite coordinate");
+  return Status::Ok();
+}
+
+Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::DeformHandle>& handles) {
+  for (int k = 0; k < handles.size(); ++k)
+    if (handles[k].position_size() != 3)
+      return Status::InvalidArgument("handles[" + std::to_string(k) + "].position: needs 3 values (x, y, z), got " +
+                                     std::to_string(handles[k].position_size()));
+  return Status::Ok();
+}
+
+Status ValidateSkinSource(const v1::SkinMeshRequest& request) {
+  if (request.clip().empty() && request.pose().rotations().empty())
+    return Status::InvalidArgument("clip or pose.rotations: one is required (pose: 4 rotation values per joint)");
+  return Status::Ok();
+}
+
+Status ValidateMaxInfluences(int max_influences) {
+  if (max_influences < 0 || max_influences > 8) return Status::InvalidArgument("max_influences: must be between 1 and 8");
+  return Status::Ok();
+}
+
+Status ValidateReplySize(double bytes, const Limits& limits, const std::string& rpc, const std::string& how) {
+  if (bytes <= static_cast<double>(limits.max_message_bytes)) return Status::Ok();
+  char size[64];
+  std::snprintf(size, sizeof size, "%.1f MiB", bytes / (1 << 20));
+  char limit[64];
+  std::snprintf(limit, sizeof limit, "%.1f MiB", static_cast<double>(limits.max_message_bytes) / (1 << 20));
+  return Status::ResourceExhausted(rpc + ": the answer would take at least " + size + " (" + how +
+                                   "), over the message limit of " + limit + " (--max-message-mb); ask for less");
+}
+
+Status ValidateEnum(int value, const google::protobuf::EnumDescriptor* type, const std::string& field) {
+  if (type->FindValueByNumber(value) != nullptr) return Status::Ok();
+  std::string allowed;
+  for (int i = 0; i < type->value_count(); ++i)
+    allowed += (i ? ", " : "") + type->value(i)->name() + " (" + std::to_string(type->value(i)->number()) + ")";
+  return Status::InvalidArgument(field + ": unknown value " + std::to_string(value) + "; allowed: " + allowed);
+}
+
+Status ValidateRequired(const std::string& value, const std::string& field) {
+  if (value.empty()) return Status::InvalidArgument(field + ": required");
+  return Status::Ok();
+}
+
+}  // namespace armature::server

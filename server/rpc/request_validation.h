@@ -1,0 +1,70 @@
+// Validation of request fields, in one place. Each failure is
+// INVALID_ARGUMENT (or NOT_FOUND / RESOURCE_EXHAUSTED) naming the field.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <google/protobuf/repeated_field.h>
+
+#include "armature/engine/anim/skeleton.h"
+#include "armature/base/status.h"
+#include "armature/v1/deform.pb.h"
+#include "armature/v1/meshes.pb.h"
+#include "server/rpc/limits.h"
+#include "server/rpc/stream_pacing.h"
+
+namespace armature::server {
+
+// Every time finite and >= 0, at most `limits.max_times_per_request`, at least one.
+Status ValidateTimes(std::span<const double> times, const Limits& limits, const std::string& field);
+
+// A finite number, with the field named in the error.
+Status ValidateFinite(double value, const std::string& field);
+
+// Joint names → indices into the skeleton; empty names = every joint.
+// NOT_FOUND names the unknown joint and the field.
+StatusOr<std::vector<int>> ResolveJoints(const Skeleton& skeleton,
+                                         const google::protobuf::RepeatedPtrField<std::string>& names,
+                                         const std::string& field);
+
+// Normalizes stream pacing in place (defaults: 30 fps, speed 1) and checks it.
+Status ValidatePacing(StreamPacing& pacing, const Limits& limits);
+
+// A clip time: finite and >= 0.
+Status ValidateClipTime(double time, const std::string& field);
+
+// Morph weights: empty, or one finite value per target.
+Status ValidateWeights(std::span<const float> weights, size_t targets, const std::string& field);
+
+// A deformation setup's own numbers: soft_weight (soft only; 0 = default)
+// finite and > 0, arap_iterations in [0, 1000].
+Status ValidateDeformSetup(const v1::DeformSetup& setup);
+
+// x, y, z for each of `handles` handles, every value finite; errors name `field`.
+Status ValidateHandlePositions(std::span<const double> positions, size_t handles, const std::string& field);
+
+// A unary Deform's handles: each position has 3 values (x, y, z).
+Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::DeformHandle>& handles);
+
+// A skin request's pose source: a clip, or else pose rotations.
+Status ValidateSkinSource(const v1::SkinMeshRequest& request);
+
+// BindMeshRequest.max_influences: 0 (the default) or 1 to 8.
+Status ValidateMaxInfluences(int max_influences);
+
+// An answer of about `bytes` (computed before any work: `how` says from
+// what, e.g. "100000 times × 31 joints × 28 bytes") fits in one message:
+// RESOURCE_EXHAUSTED naming --max-message-mb and the size otherwise.
+Status ValidateReplySize(double bytes, const Limits& limits, const std::string& rpc, const std::string& how);
+
+// An enum field's number is one the API defines (proto3 keeps unknown
+// numbers, which would otherwise silently act as the default):
+// INVALID_ARGUMENT naming the field and listing the allowed values.
+Status ValidateEnum(int value, const google::protobuf::EnumDescriptor* type, const std::string& field);
+
+// A required string field (a name) is given.
+Status ValidateRequired(const std::string& value, const std::string& field);
+
+}  // namespace armature::server

@@ -1,0 +1,84 @@
+#include "server/rpc/session_admission.h"
+
+#include "server/host/auth_gate.h"
+
+namespace armature::server {
+
+// "ipv4:10.0.0.7:51234" → "peer:ipv4:10.0.0.7"; "unix:/run/a.sock" has no port and stays whole.
+std::string ClientIdentityOf(const grpc::ServerContextBase& context) {
+  if (std::string auth = AuthorizationOf(context); !auth.empty()) return "token:" + auth;
+  std::string peer = context.peer();
+  // The REST gateway calls in-process for every HTTP client: it names the
+  // real one in metadata that only the in-process channel can carry.
+  // (gRPC names the in-process peer "unknown"; network peers are ipv4:, ipv6: or unix:).
+  if (peer == "unknown" || peer.rfind("inproc", 0) == 0) {
+    const auto& metadata = context.client_metadata();
+    if (auto it = metadata.find(kRestPeerMetadata); it != metadata.end())
+      return "rest:" + std::string(it->second.data(), it->second.size());
+  }
+  const size_t colon = peer.rfind(':');
+  if (colon != std::string::npos && colon > peer.find(':')) peer.resize(colon);
+  return "peer:" + peer;
+}
+
+namespace {
+
+const char* RpcOf(SessionKind kind) { return kind == SessionKind::kIk ? "IkSession" : "DeformSession"; }
+const char* LabelOf(SessionKind kind) { return kind == SessionKind::kIk ? "ik" : "deform"; }
+int IndexOf(SessionKind kind) { return static_cast<int>(kind); }
+
+Status Refused(SessionKind kind, const std::string& what, const char* flag, int limit, const char* advice) {
+  return Status::ResourceExhausted(std::string(RpcOf(kind)) + ": " + what + ", the limit " + flag + " (" +
+                                   std::to_string(limit) + "); " + advice);
+}
+
+}  // namespace
+
+StatusOr<SessionAdmission::Ticket> SessionAdmission::Admit(const grpc::ServerContextBase& context, SessionKind kind) {
+  std::string client = ClientIdentityOf(context);
+  {
+    std::lock_guard lock(mu_);
+    int& of_kind = per_kind_[IndexOf(kind)];
+    if (kind == SessionKind::kIk && of_kind >= limits_.max_ik_sessions) {
+      if (limits_.max_ik_sessions == 0)
+        return Refused(kind, "IK sessions are turned off on this server", "--max-ik-sessions", 0, "use SolveIk");
+      return Refused(kind, std::to_string(of_kind) + " IK sessions are open on this server", "--max-ik-sessions",
+                     limits_.max_ik_sessions, "close one and retry");
+    }
+    if (total_ >= limits_.max_sessions)
+      return Refused(kind, std::to_string(total_) + " sessions (IK and deformation) are open on this server",
+                     "--max-sessions", limits_.max_sessions, "close one or retry later");
+    int& mine = per_client_[client];
+    if (mine >= limits_.max_sessions_per_client) {
+      const int held = mine;
+      if (held == 0) per_client_.erase(client);
+      return Refused(kind, "this client already has " + std::to_string(held) + " sessions (IK and deformation) open",
+                     "--max-sessions-per-client", limits_.max_sessions_per_client, "close one and retry");
+    }
+    ++mine;
+    ++of_kind;
+    ++total_;
+  }
+  return Ticket([this, client = std::move(client), kind] { Release(client, kind); });
+}
+
+void SessionAdmission::Release(const std::string& client, SessionKind kind) {
+  std::lock_guard lock(mu_);
+  auto it = per_client_.find(client);
+  if (it != per_client_.end() && --it->second <= 0) per_client_.erase(it);
+  --per_kind_[IndexOf(kind)];
+  --total_;
+}
+
+int SessionAdmission::open(SessionKind kind) const {
+  std::lock_guard lock(mu_);
+  return per_kind_[IndexOf(kind)];
+}
+
+void SessionAdmission::Collect(PrometheusText& out) const {
+  out.Family("armature_sessions_active", "gauge", "IK and deformation sessions now open, by kind.");
+  for (SessionKind kind : {SessionKind::kIk, SessionKind::kDeform})
+    out.Sample("armature_sessions_active", {{"kind", LabelOf(kind)}}, static_cast<double>(open(kind)));
+}
+
+}  // namespace armature::server

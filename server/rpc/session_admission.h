@@ -1,0 +1,65 @@
+// Admission of long-lived sessions (IK and deformation): one place per open
+// session, held by a Ticket until the session ends, so a reactor cannot leak
+// one. Limits, each RESOURCE_EXHAUSTED naming its flag:
+//   --max-sessions-per-client  every kind together, per client
+//   --max-sessions             every kind together, all clients
+//   --max-ik-sessions          IK sessions, all clients (0 turns them off)
+// A client is its bearer token when it sends one, else its address without
+// the port (calls through the REST gateway arrive in-process and count as one
+// client unless they carry tokens). Open sessions are the
+// armature_sessions_active{kind} gauge.
+#pragma once
+
+#include <array>
+#include <map>
+#include <mutex>
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "armature/base/status.h"
+#include "server/rpc/admission_ticket.h"
+#include "server/rpc/limits.h"
+#include "server/rpc/metrics.h"
+
+namespace armature::server {
+
+// The client a call comes from, for per-client limits: "token:<authorization>"
+// when it sends a bearer token, else "peer:<address without the port>".
+// Metadata the REST gateway sets on its in-process calls: the HTTP client's address.
+inline constexpr char kRestPeerMetadata[] = "x-armature-rest-peer";
+
+std::string ClientIdentityOf(const grpc::ServerContextBase& context);
+
+enum class SessionKind { kIk, kDeform };
+inline constexpr int kSessionKindCount = 2;
+
+class SessionAdmission {
+ public:
+  explicit SessionAdmission(const Limits& limits) : limits_(limits) {}
+  SessionAdmission(const SessionAdmission&) = delete;
+  SessionAdmission& operator=(const SessionAdmission&) = delete;
+
+  // One open session's place. The admission must outlive its tickets.
+  using Ticket = AdmissionTicket;
+
+  // A place for a `kind` session of the caller of `context`, or
+  // RESOURCE_EXHAUSTED naming the limit it would go over.
+  StatusOr<Ticket> Admit(const grpc::ServerContextBase& context, SessionKind kind);
+
+  int open(SessionKind kind) const;
+
+  // armature_sessions_active{kind="ik"|"deform"}.
+  void Collect(PrometheusText& out) const;
+
+ private:
+  void Release(const std::string& client, SessionKind kind);
+
+  const Limits limits_;
+  mutable std::mutex mu_;
+  std::map<std::string, int> per_client_;
+  std::array<int, kSessionKindCount> per_kind_{};
+  int total_ = 0;
+};
+
+}  // namespace armature::server

@@ -1,0 +1,35 @@
+#include "server/rpc/stream_admission.h"
+
+#include "server/rpc/session_admission.h"
+
+namespace armature::server {
+
+StatusOr<StreamAdmission::Ticket> StreamAdmission::Admit(const grpc::ServerContextBase& context,
+                                                         std::string_view rpc) {
+  std::string client = ClientIdentityOf(context);
+  {
+    std::lock_guard lock(mu_);
+    auto it = per_client_.find(client);
+    const int held = it == per_client_.end() ? 0 : it->second;
+    if (held >= limit_)
+      return Status::ResourceExhausted(std::string(rpc) + ": this client already has " + std::to_string(held) +
+                                       " streams open, the limit --max-streams-per-client (" +
+                                       std::to_string(limit_) + "); close one and retry");
+    ++per_client_[client];
+  }
+  return Ticket([this, client = std::move(client)] { Release(client); });
+}
+
+int StreamAdmission::open(const grpc::ServerContextBase& context) const {
+  std::lock_guard lock(mu_);
+  auto it = per_client_.find(ClientIdentityOf(context));
+  return it == per_client_.end() ? 0 : it->second;
+}
+
+void StreamAdmission::Release(const std::string& client) {
+  std::lock_guard lock(mu_);
+  auto it = per_client_.find(client);
+  if (it != per_client_.end() && --it->second <= 0) per_client_.erase(it);
+}
+
+}  // namespace armature::server

@@ -1,0 +1,46 @@
+// Admission of streams (server-streaming and bidirectional calls: StreamClip,
+// StreamSkinnedMesh, IkSession, DeformSession): one place per open stream,
+// held by a Ticket until the call is done, at most --max-streams-per-client
+// per client (the client as SessionAdmission sees it: its bearer token, else
+// its address). Over the limit: RESOURCE_EXHAUSTED naming the flag. Sessions
+// also count against the session limits (session_admission.h).
+#pragma once
+
+#include <map>
+#include <mutex>
+#include <string>
+#include <string_view>
+
+#include <grpcpp/grpcpp.h>
+
+#include "armature/base/status.h"
+#include "server/rpc/admission_ticket.h"
+#include "server/rpc/limits.h"
+
+namespace armature::server {
+
+class StreamAdmission {
+ public:
+  explicit StreamAdmission(const Limits& limits) : limit_(limits.max_streams_per_client) {}
+  StreamAdmission(const StreamAdmission&) = delete;
+  StreamAdmission& operator=(const StreamAdmission&) = delete;
+
+  // One open stream's place. The admission must outlive its tickets.
+  using Ticket = AdmissionTicket;
+
+  // A place for a stream of `rpc` (named in the refusal) for the caller of
+  // `context`, or RESOURCE_EXHAUSTED naming --max-streams-per-client.
+  StatusOr<Ticket> Admit(const grpc::ServerContextBase& context, std::string_view rpc);
+
+  // Streams the client of `context` holds open now.
+  int open(const grpc::ServerContextBase& context) const;
+
+ private:
+  void Release(const std::string& client);
+
+  const int limit_;
+  mutable std::mutex mu_;
+  std::map<std::string, int> per_client_;
+};
+
+}  // namespace armature::server
