@@ -7,7 +7,8 @@
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
 #include "server/assets/import_reactor.h"
-#include "server/rpc/proto_convert.h"
+#include "server/assets/asset_convert.h"
+#include "server/rpc/pose_convert.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {

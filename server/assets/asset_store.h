@@ -29,48 +29,12 @@
 #include <utility>
 #include <vector>
 
-#include "armature/engine/io/asset.h"
 #include "armature/base/status.h"
+#include "armature/engine/io/asset.h"
+#include "server/assets/catalog.h"
 #include "server/rpc/limits.h"
 
 namespace armature::server {
-
-// What the manifest records of one imported file.
-struct AssetRecord {
-  std::string name;
-  AssetFormat format = AssetFormat::kBvh;
-  std::string filename;  // as uploaded
-  std::string file;      // stored source, relative to the data dir
-  int64_t size_bytes = 0;
-  std::string imported_at;  // RFC 3339, UTC
-  std::map<std::string, std::string> resources;  // uri → stored file, relative to the data dir
-};
-
-struct StoredAsset {
-  AssetRecord record;
-  AssetContents contents;
-};
-
-// A named part and the asset that owns it.
-template <class Part>
-struct PartRef {
-  std::shared_ptr<const StoredAsset> asset;
-  const Part* part = nullptr;  // points into asset->contents
-};
-
-// An immutable view of everything loaded.
-struct Catalog {
-  std::map<std::string, std::shared_ptr<const StoredAsset>> assets;
-  std::map<std::string, PartRef<NamedClip>> clips;
-  std::map<std::string, PartRef<NamedSkeleton>> skeletons;
-  std::map<std::string, PartRef<NamedMesh>> meshes;
-
-  StatusOr<PartRef<NamedClip>> FindClip(std::string_view name) const;
-  StatusOr<PartRef<NamedSkeleton>> FindSkeleton(std::string_view name) const;
-  StatusOr<PartRef<NamedMesh>> FindMesh(std::string_view name) const;
-  // The asset named `name`, or the one owning a clip, skeleton or mesh of that name.
-  StatusOr<std::shared_ptr<const StoredAsset>> FindOwner(std::string_view name) const;
-};
 
 struct ImportRequest {
   std::string name;      // empty: the filename's stem
@@ -161,8 +125,5 @@ class AssetStore {
 // Asset names become file names: letters, digits, '.', '_' and '-', not
 // starting with '.', at most 128 characters.
 Status ValidateAssetName(std::string_view name);
-
-// Builds a Catalog's part indexes from its assets.
-StatusOr<std::shared_ptr<Catalog>> BuildCatalog(std::map<std::string, std::shared_ptr<const StoredAsset>> assets);
 
 }  // namespace armature::server

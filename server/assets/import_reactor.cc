@@ -3,7 +3,8 @@
 #include "armature/base/utf8.h"
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
-#include "server/rpc/proto_convert.h"
+#include "server/assets/asset_convert.h"
+#include "server/rpc/pose_convert.h"
 
 namespace armature::server {
 

@@ -7,6 +7,7 @@
 #include <grpcpp/impl/rpc_service_method.h>
 #include <grpcpp/impl/service_type.h>
 
+#include "server/rpc/caller_identity.h"
 #include "server/rpc/grpc_status.h"
 
 namespace armature::server {
@@ -128,12 +129,6 @@ class GatedService final : public grpc::Service {
 };
 
 }  // namespace
-
-std::string AuthorizationOf(const grpc::ServerContextBase& context) {
-  const auto& metadata = context.client_metadata();
-  const auto it = metadata.find("authorization");
-  return it == metadata.end() ? std::string() : std::string(it->second.data(), it->second.size());
-}
 
 StatusOr<std::unique_ptr<grpc::Service>> GateService(std::unique_ptr<grpc::Service> inner,
                                                      const std::string& full_name,

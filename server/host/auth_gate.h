@@ -30,7 +30,4 @@ StatusOr<std::unique_ptr<grpc::Service>> GateService(std::unique_ptr<grpc::Servi
                                                      const std::string& full_name,
                                                      std::shared_ptr<const BearerTokens> tokens);
 
-// The `authorization` metadata of a call ("" when absent).
-std::string AuthorizationOf(const grpc::ServerContextBase& context);
-
 }  // namespace armature::server

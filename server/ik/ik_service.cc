@@ -4,17 +4,9 @@
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
 #include "server/ik/ik_session_reactor.h"
+#include "server/ik/ik_solve.h"
 
 namespace armature::server {
-
-Status RunIk(const IkCall& call, IkWorkspace& workspace, IkResult& result, PoseWorkspace& pose,
-             v1::SolveIkResponse* response) {
-  ARMATURE_RETURN_IF_ERROR(
-      ApiFieldNames(armature::SolveIk(*call.skeleton.part->skeleton, call.request, workspace, result)));
-  ARMATURE_RETURN_IF_ERROR(IkStopStatus(result));
-  IkResponseToProto(call, result, pose, response);
-  return Status::Ok();
-}
 
 // The per-thread workspace keeps its buffers' capacity between calls; one
 // large request must not pin them (3,000 effectors left 1.3 GB per thread).

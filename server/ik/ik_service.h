@@ -31,10 +31,4 @@ class IkServiceImpl final : public v1::IkService::CallbackService {
   std::shared_ptr<StreamAdmission> streams_;    // shared with the other streaming RPCs
 };
 
-// Solves `call` (its request carrying any deadline and cancel check) and
-// writes the answer. INVALID_ARGUMENT naming the API field for bad input;
-// DEADLINE_EXCEEDED or CANCELLED when interrupted; an unreachable target is OK.
-Status RunIk(const IkCall& call, IkWorkspace& workspace, IkResult& result, PoseWorkspace& pose,
-             v1::SolveIkResponse* response);
-
 }  // namespace armature::server

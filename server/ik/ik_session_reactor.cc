@@ -4,7 +4,7 @@
 
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
-#include "server/ik/ik_service.h"
+#include "server/ik/ik_solve.h"
 
 namespace armature::server {
 

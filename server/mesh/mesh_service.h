@@ -6,6 +6,7 @@
 
 #include "armature/v1/meshes.grpc.pb.h"
 #include "server/assets/asset_store.h"
+#include "server/mesh/mesh_handlers.h"
 #include "server/rpc/frame_scheduler.h"
 #include "server/rpc/limits.h"
 #include "server/rpc/stream_admission.h"
@@ -40,13 +41,5 @@ class MeshServiceImpl final : public v1::MeshService::CallbackService {
   std::shared_ptr<StreamAdmission> streams_;  // shared with the other streaming RPCs
   FrameScheduler scheduler_;  // paces StreamSkinnedMesh
 };
-
-// The handlers' work, callable without gRPC (benchmarks, tests).
-Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request,
-                       v1::MeshGeometry* response);
-Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response);
-Status EvaluateBlendshapes(const Catalog& catalog, const v1::EvaluateBlendshapesRequest& request,
-                           v1::EvaluateBlendshapesResponse* response);
-Status BindMesh(const Catalog& catalog, const v1::BindMeshRequest& request, v1::BindMeshResponse* response);
 
 }  // namespace armature::server

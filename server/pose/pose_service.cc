@@ -4,7 +4,7 @@
 #include "armature/engine/kinematics/fk.h"
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
-#include "server/rpc/proto_convert.h"
+#include "server/rpc/pose_convert.h"
 #include "server/rpc/request_validation.h"
 #include "server/pose/stream_clip_reactor.h"
 

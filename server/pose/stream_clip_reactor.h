@@ -6,7 +6,7 @@
 #include "armature/v1/poses.grpc.pb.h"
 #include "server/assets/asset_store.h"
 #include "server/rpc/paced_stream_reactor.h"
-#include "server/rpc/proto_convert.h"
+#include "server/rpc/pose_convert.h"
 
 namespace armature::server {
 

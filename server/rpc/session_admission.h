@@ -19,17 +19,11 @@
 
 #include "armature/base/status.h"
 #include "server/rpc/admission_ticket.h"
+#include "server/rpc/caller_identity.h"
 #include "server/rpc/limits.h"
 #include "server/rpc/metrics.h"
 
 namespace armature::server {
-
-// The client a call comes from, for per-client limits: "token:<authorization>"
-// when it sends a bearer token, else "peer:<address without the port>".
-// Metadata the REST gateway sets on its in-process calls: the HTTP client's address.
-inline constexpr char kRestPeerMetadata[] = "x-armature-rest-peer";
-
-std::string ClientIdentityOf(const grpc::ServerContextBase& context);
 
 enum class SessionKind { kIk, kDeform };
 inline constexpr int kSessionKindCount = 2;

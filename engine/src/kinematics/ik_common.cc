@@ -1,7 +1,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "armature/engine/kinematics/ik_limits.h"
+#include "armature/engine/kinematics/joint_limits.h"
 #include "armature/engine/math/rotation.h"
 #include "ik_internal.h"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "armature/engine/kinematics/ik_limits.h"
+#include "armature/engine/kinematics/joint_limits.h"
 #include "ik_internal.h"
 
 namespace armature {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <Eigen/Eigenvalues>
+
 namespace armature {
 namespace {
 
@@ -188,6 +190,25 @@ void SquadControlPoints(const Eigen::Quaterniond& prev, const Eigen::Quaterniond
   // solve both for the velocity w scaled by the segment's duration.
   if (s_out) *s_out = has_next ? (q * ExpQuaternion(0.5 * (dt_next * w - ln))).normalized() : q;
   if (s_in) *s_in = has_prev ? (q * ExpQuaternion(-0.5 * (dt_prev * w + lp))).normalized() : q;
+}
+
+Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& s) {
+  // With S = UΣVᵀ the answer is R = V·Uᵀ, its last axis flipped if that
+  // reflects. V and Σ² come from the symmetric eigenproblem of SᵀS (about
+  // twice as fast as a 3×3 SVD, and this runs once per vertex per round),
+  // uᵢ = S·vᵢ/σᵢ for the two largest σ, and the third axes as cross products,
+  // which makes R a proper rotation by construction.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(s.transpose() * s);
+  const Eigen::Vector3d v1 = eigen.eigenvectors().col(2), v2 = eigen.eigenvectors().col(1);
+  Eigen::Vector3d u1 = s * v1;
+  const double n1 = u1.norm();
+  if (!(n1 > 0)) return Eigen::Matrix3d::Identity();  // S = 0: every rotation is as good
+  u1 /= n1;
+  Eigen::Vector3d u2 = s * v2;
+  u2 -= u2.dot(u1) * u1;
+  const double n2 = u2.norm();
+  u2 = n2 > 1e-12 * n1 ? Eigen::Vector3d(u2 / n2) : u1.unitOrthogonal();  // rank 1: any perpendicular
+  return v1 * u1.transpose() + v2 * u2.transpose() + v1.cross(v2) * u1.cross(u2).transpose();
 }
 
 }  // namespace armature

@@ -3,18 +3,18 @@
 #include <string>
 #include <utility>
 
-#include "deform.h"
+#include "vertex_pipeline.h"
 
 namespace armature {
 
 using skinning_internal::CheckOutputs;
-using skinning_internal::RunDeform;
+using skinning_internal::RunVertexPipeline;
 
 Status BlendshapeJob::Validate() const { return CheckOutputs(mesh, weights, positions, normals, workspace); }
 
 Status BlendshapeJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
-  return RunDeform({mesh, {}, weights, SkinningMethod::kLinear, false, parallel, positions, normals, workspace});
+  return RunVertexPipeline({mesh, {}, weights, SkinningMethod::kLinear, false, parallel, positions, normals, workspace});
 }
 
 

@@ -3,13 +3,13 @@
 #include <string>
 
 #include "armature/engine/kinematics/fk.h"
-#include "deform.h"
+#include "vertex_pipeline.h"
 
 namespace armature {
 
 using skinning_internal::CheckOutputs;
 using skinning_internal::Grow;
-using skinning_internal::RunDeform;
+using skinning_internal::RunVertexPipeline;
 
 
 Status SkinningJob::Validate() const {
@@ -24,7 +24,7 @@ Status SkinningJob::Validate() const {
 
 Status SkinningJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
-  return RunDeform({mesh, joint_world, morph_weights, method, true, parallel, positions, normals, workspace});
+  return RunVertexPipeline({mesh, joint_world, morph_weights, method, true, parallel, positions, normals, workspace});
 }
 
 Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs> local,

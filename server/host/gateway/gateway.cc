@@ -13,6 +13,7 @@
 #include "server/host/gateway/generic_call.h"
 #include "server/host/gateway/openapi.h"
 #include "server/host/gateway/sse.h"
+#include "server/rpc/caller_identity.h"  // kRestPeerMetadata
 #include "server/rpc/session_admission.h"
 
 namespace armature::server::gateway {

@@ -16,7 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "armature/engine/kinematics/fk.h"
-#include "armature/engine/kinematics/ik_limits.h"
+#include "armature/engine/kinematics/joint_limits.h"
 #include "armature/engine/kinematics/ik_types.h"
 #include "armature/engine/anim/skeleton.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "../../engine/testing/generated_meshes.h"
+#include "engine/testing/generated_meshes.h"
 #include "armature/v1/deform.pb.h"
 
 namespace armature::testing {

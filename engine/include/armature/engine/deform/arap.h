@@ -14,6 +14,7 @@
 
 #include "armature/engine/deform/deformation_constraints.h"
 #include "armature/engine/deform/laplacian_operator.h"
+#include "armature/engine/math/rotation.h"  // NearestRotation, the local step
 #include "armature/base/status.h"
 
 namespace armature {
@@ -68,9 +69,5 @@ class ArapSolver {
   explicit ArapSolver(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
-
-// ARAP's local step: the rotation R maximizing tr(R·S) for a covariance
-// S = Σ_j w_ij e_ij e′_ijᵀ (orthogonal Procrustes; never a reflection).
-Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& covariance);
 
 }  // namespace armature

@@ -61,4 +61,9 @@ void SquadControlPoints(const Eigen::Quaterniond& prev, const Eigen::Quaterniond
 // Flips `q` to the hemisphere of `reference` (q and −q are the same rotation).
 Eigen::Quaterniond SameHemisphere(const Eigen::Quaterniond& q, const Eigen::Quaterniond& reference);
 
+// The rotation R maximizing tr(R·S) (orthogonal Procrustes; never a
+// reflection): ARAP's local step, and the rotation of a polar decomposition
+// L = R·S when called with Lᵀ.
+Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& covariance);
+
 }  // namespace armature

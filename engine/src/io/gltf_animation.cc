@@ -1,0 +1,179 @@
+// glTF animations → clips: samplers become joint tracks (STEP, LINEAR,
+// CUBICSPLINE) and morph-weight tracks.
+#include "gltf_importer.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace armature::gltf_internal {
+
+Status Importer::ImportAnimation(size_t a) {
+  const tinygltf::Animation& anim = model_.animations[a];
+  const std::string where = "animations[" + std::to_string(a) + "]";
+  if (!skeleton_) return Status::InvalidArgument(where + ": the file has no nodes to animate");
+  auto clip = std::make_shared<Clip>();
+  clip_keys_ = 0;
+  clip->skeleton = skeleton_;
+  clip->joints.resize(skeleton_->size());
+  clip->default_interpolation = Interpolation::kLinear;
+  std::set<std::pair<int, std::string>> animated;
+  for (size_t c = 0; c < anim.channels.size(); ++c) {
+    const tinygltf::AnimationChannel& channel = anim.channels[c];
+    const std::string cwhere = where + ".channels[" + std::to_string(c) + "]";
+    if (channel.target_node < 0) {
+      warnings_.push_back(cwhere + " has no target node; ignored");
+      continue;
+    }
+    if (static_cast<size_t>(channel.target_node) >= model_.nodes.size())
+      return Status::InvalidArgument(cwhere + ".target.node: node " + std::to_string(channel.target_node) +
+                                     " does not exist (file has " + std::to_string(model_.nodes.size()) + ")");
+    const std::string& path = channel.target_path;
+    if (path != "translation" && path != "rotation" && path != "scale" && path != "weights") {
+      warnings_.push_back(cwhere + ".target.path '" + path + "' is not supported; ignored");
+      continue;
+    }
+    if (channel.sampler < 0 || static_cast<size_t>(channel.sampler) >= anim.samplers.size())
+      return Status::InvalidArgument(cwhere + ".sampler: sampler " + std::to_string(channel.sampler) +
+                                     " does not exist (animation has " + std::to_string(anim.samplers.size()) + ")");
+    if (!animated.insert({channel.target_node, path}).second)
+      warnings_.push_back(cwhere + " animates node " + std::to_string(channel.target_node) + " " + path +
+                          " again; the later channel wins");
+    ARMATURE_RETURN_IF_ERROR(ImportChannel(anim, channel, where + ".samplers[" + std::to_string(channel.sampler) + "]",
+                                           *clip));
+  }
+  ARMATURE_RETURN_IF_ERROR(clip->Validate().WithContext(where + ": "));
+  ARMATURE_RETURN_IF_ERROR(CheckName(anim.name, where + ".name"));
+  const std::string local = Unique(anim.name.empty() ? std::to_string(a) : anim.name, used_clip_names_);
+  contents_.clips.push_back({name_ + "." + local, name_, clip});
+  return Status::Ok();
+}
+
+Status Importer::ImportChannel(const tinygltf::Animation& anim, const tinygltf::AnimationChannel& channel,
+                               const std::string& swhere, Clip& clip) {
+  const tinygltf::AnimationSampler& sampler = anim.samplers[static_cast<size_t>(channel.sampler)];
+  Interpolation interpolation;
+  if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty()) interpolation = Interpolation::kLinear;
+  else if (sampler.interpolation == "STEP") interpolation = Interpolation::kStep;
+  else if (sampler.interpolation == "CUBICSPLINE") interpolation = Interpolation::kCubic;
+  else
+    return Status::InvalidArgument(swhere + ".interpolation '" + sampler.interpolation +
+                                   "' is not LINEAR, STEP or CUBICSPLINE");
+  const bool cubic = interpolation == Interpolation::kCubic;
+
+  // Keys before decoding: per sampler, and summed over the clip's tracks.
+  auto declared = reader_.Count(sampler.input, swhere + ".input");
+  if (!declared.ok()) return declared.status();
+  if (*declared > limits_.max_clip_frames)
+    return Status::ResourceExhausted(swhere + ".input: accessor " + std::to_string(sampler.input) + ": " +
+                                     OverImportLimit("key count", *declared, "max_clip_frames",
+                                                     limits_.max_clip_frames));
+  if (__builtin_add_overflow(clip_keys_, *declared, &clip_keys_)) clip_keys_ = UINT64_MAX;
+  if (clip_keys_ > limits_.max_clip_keys)
+    return Status::ResourceExhausted(swhere + ".input: " + OverImportLimit("keys of the clip's tracks", clip_keys_,
+                                                                           "max_clip_keys", limits_.max_clip_keys));
+  std::vector<float> input;
+  auto in = reader_.ReadFloats(sampler.input, swhere + ".input", AccessorType::kScalar, {}, &input);
+  if (!in.ok()) return in.status();
+  std::vector<double> times(input.begin(), input.end());
+  for (size_t k = 1; k < times.size(); ++k)
+    if (!(times[k] > times[k - 1]))
+      return Status::InvalidArgument(swhere + ".input: accessor " + std::to_string(sampler.input) + " key " +
+                                     std::to_string(k) + " time " + std::to_string(times[k]) +
+                                     " does not increase");
+  const size_t keys = times.size();
+
+  const std::string& path = channel.target_path;
+  const size_t node = static_cast<size_t>(channel.target_node);
+  size_t per_key = cubic ? 3 : 1;
+  AccessorType type = AccessorType::kVec3;
+  std::initializer_list<int> normalized = {};
+  static constexpr std::initializer_list<int> kNormalizedInts = {kByte, kUnsignedByte, kShort, kUnsignedShort};
+  int mesh = -1;
+  if (path == "rotation") {
+    type = AccessorType::kVec4;
+    normalized = kNormalizedInts;
+  } else if (path == "weights") {
+    type = AccessorType::kScalar;
+    normalized = kNormalizedInts;
+    mesh = model_.nodes[node].mesh;
+    if (mesh < 0)
+      return Status::InvalidArgument(swhere + ": weights channel targets node " + std::to_string(node) +
+                                     ", which has no mesh");
+    if (instance_[static_cast<size_t>(mesh)] != static_cast<int>(node)) {
+      warnings_.push_back(swhere + ": weights of a second instance of mesh " + std::to_string(mesh) + "; ignored");
+      return Status::Ok();
+    }
+    per_key *= ImportedMesh(mesh).targets.size();
+  }
+  std::vector<float> output;
+  auto out = reader_.ReadFloats(sampler.output, swhere + ".output", type, normalized, &output);
+  if (!out.ok()) return out.status();
+  if (out->count != keys * per_key)
+    return Status::InvalidArgument(swhere + ".output: accessor " + std::to_string(sampler.output) + " has " +
+                                   std::to_string(out->count) + " elements, expected " +
+                                   std::to_string(keys * per_key) + " (" + std::to_string(keys) + " keys" +
+                                   (cubic ? " × 3 for CUBICSPLINE" : "") +
+                                   (mesh >= 0 ? " × " + std::to_string(ImportedMesh(mesh).targets.size()) + " targets"
+                                              : std::string()) +
+                                   ")");
+  clip.duration = std::max(clip.duration, times.back());
+  clip.frame_count = std::max(clip.frame_count, keys);
+
+  if (mesh >= 0) {
+    WeightsTrack track;
+    track.mesh = ImportedMesh(mesh).name;
+    track.targets = ImportedMesh(mesh).targets.size();
+    track.times = times;
+    track.values.assign(output.begin(), output.end());
+    track.interpolation = interpolation;
+    auto same = std::find_if(clip.weights.begin(), clip.weights.end(),
+                             [&](const WeightsTrack& w) { return w.mesh == track.mesh; });
+    if (same != clip.weights.end()) *same = std::move(track);
+    else clip.weights.push_back(std::move(track));
+    return Status::Ok();
+  }
+
+  JointTrack& joint = clip.joints[static_cast<size_t>(joint_of_[node])];
+  // Element e of key k: CUBICSPLINE stores (in-tangent, value, out-tangent) per key.
+  auto element = [&](size_t k, size_t part) { return output.data() + (k * (cubic ? 3 : 1) + part) * out->components; };
+  if (path == "rotation") {
+    QuatTrack& track = joint.rotation;
+    track = QuatTrack{};
+    track.times = times;
+    track.interpolation = interpolation;
+    auto quat = [](const float* p) { return Eigen::Quaterniond(p[3], p[0], p[1], p[2]); };
+    for (size_t k = 0; k < keys; ++k) {
+      Eigen::Quaterniond q = quat(element(k, cubic ? 1 : 0));
+      if (q.norm() < 1e-6)
+        return Status::InvalidArgument(swhere + ".output: accessor " + std::to_string(sampler.output) + " key " +
+                                       std::to_string(k) + " is a zero quaternion");
+      track.values.push_back(q.normalized());
+      if (cubic) {
+        track.in_tangents.push_back(quat(element(k, 0)));
+        track.out_tangents.push_back(quat(element(k, 2)));
+      }
+    }
+  } else {
+    Vec3Track& track = path == "translation" ? joint.translation : joint.scale;
+    track = Vec3Track{};
+    track.times = times;
+    track.interpolation = interpolation;
+    auto vec = [](const float* p) { return Eigen::Vector3d(p[0], p[1], p[2]); };
+    for (size_t k = 0; k < keys; ++k) {
+      track.values.push_back(vec(element(k, cubic ? 1 : 0)));
+      if (cubic) {
+        track.in_tangents.push_back(vec(element(k, 0)));
+        track.out_tangents.push_back(vec(element(k, 2)));
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace armature::gltf_internal

@@ -1,0 +1,85 @@
+// The glTF importer's state, shared by the files that read its parts:
+// gltf_import.cc (nodes, skins → skeleton), gltf_mesh.cc (meshes, skin
+// influences, morph targets) and gltf_animation.cc (samplers → clip tracks).
+// Private to engine/src/io.
+#pragma once
+
+#include <set>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "armature/engine/io/asset.h"
+#include "armature/engine/io/import_limits.h"
+#include "armature/engine/mesh/mesh.h"
+#include "gltf_accessor.h"
+
+namespace armature::gltf_internal {
+
+constexpr int kUnsignedByte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+constexpr int kUnsignedShort = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+constexpr int kUnsignedInt = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+constexpr int kByte = TINYGLTF_COMPONENT_TYPE_BYTE;
+constexpr int kShort = TINYGLTF_COMPONENT_TYPE_SHORT;
+
+// Names travel in protobuf strings, which must be UTF-8.
+Status CheckName(const std::string& name, const std::string& where);
+// `base`, or `base_1`, `base_2`, … : the first not in `used` (then added).
+std::string Unique(std::string base, std::set<std::string>& used);
+Status CheckNumbers(const std::vector<double>& v, std::initializer_list<size_t> sizes, const std::string& where);
+
+// Parses the glTF JSON (or GLB container), reading external buffers from `resources`.
+StatusOr<tinygltf::Model> Load(std::string_view bytes, bool binary, const ResourceMap& resources);
+
+class Importer {
+ public:
+  Importer(const tinygltf::Model& model, std::string_view name, const ImportLimits& limits)
+      : model_(model), limits_(limits), reader_(model, limits), name_(name) {}
+
+  StatusOr<AssetContents> Run();
+
+ private:
+  struct SkinBinding {
+    std::vector<int> joints;
+    std::vector<Eigen::Affine3d> inverse_bind;
+    int root = -1;
+  };
+  // Per-mesh morph data while primitives are appended: only the vertices a
+  // target moves, so memory follows the deltas the file holds.
+  struct SparseTarget {
+    std::vector<uint32_t> vertices;
+    std::vector<Eigen::Vector3f> positions, normals;
+    bool has_normals = false;
+  };
+  Status BuildSkeleton();
+  StatusOr<Trs> NodeTrs(const tinygltf::Node& node, const std::string& where);
+  StatusOr<SkinBinding> ReadSkin(int s);
+  Status ImportMesh(size_t m);
+  Status AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin, Mesh& mesh,
+                         std::vector<SparseTarget>& targets, bool& any_normals,
+                         std::vector<std::pair<size_t, size_t>>& missing_normals,
+                         size_t& zero_weight_vertices);
+  // glTF mesh `m` as imported: ImportMesh appends one entry per mesh, in
+  // order, or fails the import, and all meshes are imported before animations.
+  const Mesh& ImportedMesh(int m) const { return *contents_.meshes[static_cast<size_t>(m)].mesh; }
+  Status ImportAnimation(size_t a);
+  Status ImportChannel(const tinygltf::Animation& anim, const tinygltf::AnimationChannel& channel,
+                       const std::string& swhere, Clip& clip);
+
+  const tinygltf::Model& model_;
+  const ImportLimits& limits_;
+  AccessorReader reader_;
+  std::string name_;
+  AssetContents contents_;
+  std::vector<std::string> warnings_;
+  std::shared_ptr<const Skeleton> skeleton_;
+  std::vector<int> joint_of_;            // node → skeleton joint
+  std::vector<int> instance_;            // mesh → first node using it, or -1
+  std::set<std::string> used_mesh_names_, used_clip_names_;
+  uint64_t clip_keys_ = 0;  // keys of the clip being imported, all tracks
+};
+
+}  // namespace armature::gltf_internal

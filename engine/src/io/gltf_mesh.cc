@@ -1,0 +1,296 @@
+// glTF meshes → Mesh: primitives merged per mesh, skin influences, morph
+// targets (kept sparse while read).
+#include "gltf_importer.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "armature/engine/mesh/mesh.h"
+
+namespace armature::gltf_internal {
+
+Status Importer::ImportMesh(size_t m) {
+  const tinygltf::Mesh& gm = model_.meshes[m];
+  const std::string where = "meshes[" + std::to_string(m) + "]";
+  ARMATURE_RETURN_IF_ERROR(CheckName(gm.name, where + ".name"));
+  auto mesh = std::make_shared<Mesh>();
+  mesh->name = Unique(gm.name.empty() ? std::to_string(m) : gm.name, used_mesh_names_);
+  const int node = instance_[m];
+  const int skin = node >= 0 ? model_.nodes[static_cast<size_t>(node)].skin : -1;
+  if (skin >= 0) {
+    auto binding = ReadSkin(skin);
+    if (!binding.ok()) return binding.status().WithContext("nodes[" + std::to_string(node) + "].skin: ");
+    mesh->joints = std::move(binding->joints);
+    mesh->inverse_bind = std::move(binding->inverse_bind);
+    mesh->skeleton_root = binding->root;
+  } else if (node >= 0) {
+    // No skin: the mesh follows its node rigidly.
+    mesh->joints = {joint_of_[static_cast<size_t>(node)]};
+    mesh->inverse_bind = {Eigen::Affine3d::Identity()};
+  } else {
+    warnings_.push_back(where + " is not used by any node; imported unbound, in its own space");
+  }
+  if (gm.primitives.empty()) return Status::InvalidArgument(where + ".primitives is empty");
+
+  std::vector<SparseTarget> targets;
+  bool any_normals = false;
+  std::vector<std::pair<size_t, size_t>> missing_normals;  // vertex ranges of primitives without NORMAL
+  size_t zero_weight_vertices = 0;
+  for (size_t p = 0; p < gm.primitives.size(); ++p) {
+    ARMATURE_RETURN_IF_ERROR(AppendPrimitive(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
+                                             p == 0, skin, *mesh, targets, any_normals, missing_normals,
+                                             zero_weight_vertices));
+  }
+  if (!any_normals) mesh->normals.clear();
+  if (any_normals && !missing_normals.empty()) {
+    // A primitive's triangles only reference its own vertices, so the whole
+    // mesh's vertex normals are each primitive's own.
+    const auto computed = ComputeVertexNormals(mesh->positions, mesh->triangles);
+    for (const auto& [begin, end] : missing_normals)
+      std::copy(computed.begin() + static_cast<ptrdiff_t>(begin), computed.begin() + static_cast<ptrdiff_t>(end),
+                mesh->normals.begin() + static_cast<ptrdiff_t>(begin));
+    warnings_.push_back(where + ": some primitives have no NORMAL; computed from their triangles");
+  }
+  if (zero_weight_vertices > 0)
+    warnings_.push_back(where + ": " + std::to_string(zero_weight_vertices) +
+                        " vertices have all-zero weights; bound to their first listed joint");
+
+  // Morph targets: sparse deltas, names, default weights (the node's override the mesh's).
+  std::vector<std::string> names(targets.size());
+  for (size_t t = 0; t < targets.size(); ++t) names[t] = std::to_string(t);
+  if (gm.extras.Has("targetNames")) {
+    const tinygltf::Value& list = gm.extras.Get("targetNames");
+    if (!list.IsArray() || list.ArrayLen() != targets.size())
+      warnings_.push_back(where + ".extras.targetNames is not an array of " + std::to_string(targets.size()) +
+                          " names; targets are named by index");
+    else
+      for (size_t t = 0; t < targets.size(); ++t)
+        if (list.Get(static_cast<int>(t)).IsString()) {
+          names[t] = list.Get(static_cast<int>(t)).Get<std::string>();
+          ARMATURE_RETURN_IF_ERROR(CheckName(names[t], where + ".extras.targetNames[" + std::to_string(t) + "]"));
+        }
+  }
+  for (size_t t = 0; t < targets.size(); ++t) {
+    MorphTarget target;
+    target.name = names[t];
+    target.vertices = std::move(targets[t].vertices);
+    target.position_deltas = std::move(targets[t].positions);
+    if (targets[t].has_normals && any_normals) target.normal_deltas = std::move(targets[t].normals);
+    mesh->targets.push_back(std::move(target));
+  }
+  std::vector<double> weights = gm.weights;
+  if (node >= 0 && !model_.nodes[static_cast<size_t>(node)].weights.empty())
+    weights = model_.nodes[static_cast<size_t>(node)].weights;
+  if (!weights.empty() && weights.size() != targets.size())
+    return Status::InvalidArgument(where + ".weights: " + std::to_string(weights.size()) + " weights for " +
+                                   std::to_string(targets.size()) + " morph targets");
+  mesh->default_weights.assign(targets.size(), 0.f);
+  for (size_t t = 0; t < weights.size(); ++t) {
+    if (!std::isfinite(weights[t])) return Status::InvalidArgument(where + ".weights is not finite");
+    mesh->default_weights[t] = static_cast<float>(weights[t]);
+  }
+
+  std::vector<std::string> mesh_warnings;
+  ARMATURE_RETURN_IF_ERROR(FinalizeMesh(*mesh, &mesh_warnings).WithContext(where + ": "));
+  for (const std::string& w : mesh_warnings) warnings_.push_back(where + ": " + w);
+  contents_.meshes.push_back({name_ + "." + mesh->name, node >= 0 ? name_ : "", mesh});
+  return Status::Ok();
+}
+
+Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin, Mesh& mesh,
+                                 std::vector<SparseTarget>& targets, bool& any_normals,
+                                 std::vector<std::pair<size_t, size_t>>& missing_normals,
+                                 size_t& zero_weight_vertices) {
+  const size_t base = mesh.positions.size();
+  auto attribute = [&](const char* semantic) {
+    auto it = prim.attributes.find(semantic);
+    return it == prim.attributes.end() ? -1 : it->second;
+  };
+  const std::string attrs = where + ".attributes.";
+  const int position_accessor = attribute("POSITION");
+  if (position_accessor < 0) return Status::InvalidArgument(where + ".attributes has no POSITION");
+  // Sizes before decoding: the mesh's vertices, and morph targets × vertices.
+  auto declared = reader_.Count(position_accessor, attrs + "POSITION");
+  if (!declared.ok()) return declared.status();
+  const uint64_t vertices = static_cast<uint64_t>(base) + std::min<uint64_t>(*declared, UINT64_MAX / 2);
+  if (vertices > limits_.max_mesh_vertices)
+    return Status::ResourceExhausted(attrs + "POSITION: " + OverImportLimitCount(vertices, "vertices", "max_mesh_vertices",
+                                                                                 limits_.max_mesh_vertices));
+  uint64_t morph = 0;
+  if (__builtin_mul_overflow(vertices, prim.targets.size(), &morph)) morph = UINT64_MAX;
+  if (morph > limits_.max_morph_target_vertices)
+    return Status::ResourceExhausted(where + ".targets: " +
+                                     OverImportLimit(std::to_string(prim.targets.size()) + " morph targets × " +
+                                                         std::to_string(vertices) + " vertices =",
+                                                     morph, "max_morph_target_vertices",
+                                                     limits_.max_morph_target_vertices));
+  std::vector<float> positions;
+  auto pos = reader_.ReadFloats(position_accessor, attrs + "POSITION", AccessorType::kVec3, {}, &positions);
+  if (!pos.ok()) return pos.status();
+  const size_t count = pos->count;
+  auto check_count = [&](const gltf_internal::AccessorData& d, const std::string& field, int accessor) -> Status {
+    if (d.count != count)
+      return Status::InvalidArgument(field + ": accessor " + std::to_string(accessor) + " has " +
+                                     std::to_string(d.count) + " elements, POSITION has " + std::to_string(count));
+    return Status::Ok();
+  };
+  for (size_t v = 0; v < count; ++v)
+    mesh.positions.emplace_back(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+
+  // Triangles.
+  std::vector<uint32_t> indices;
+  if (prim.indices >= 0) {
+    auto idx = reader_.ReadUints(prim.indices, where + ".indices", AccessorType::kScalar,
+                                 {kUnsignedByte, kUnsignedShort, kUnsignedInt}, &indices);
+    if (!idx.ok()) return idx.status();
+    for (size_t i = 0; i < indices.size(); ++i)
+      if (indices[i] >= count)
+        return Status::InvalidArgument(where + ".indices: accessor " + std::to_string(prim.indices) + " element " +
+                                       std::to_string(i) + " = " + std::to_string(indices[i]) +
+                                       " is out of range (" + std::to_string(count) + " vertices)");
+  } else {
+    indices.resize(count);
+    for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
+  }
+  const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+  auto tri = [&](uint32_t a, uint32_t b, uint32_t c) {
+    mesh.triangles.insert(mesh.triangles.end(), {uint32_t(base + a), uint32_t(base + b), uint32_t(base + c)});
+  };
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    for (size_t i = 0; i + 2 < indices.size(); i += 3) tri(indices[i], indices[i + 1], indices[i + 2]);
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (size_t i = 0; i + 2 < indices.size(); ++i)
+      i % 2 == 0 ? tri(indices[i], indices[i + 1], indices[i + 2]) : tri(indices[i + 1], indices[i], indices[i + 2]);
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+    for (size_t i = 1; i + 1 < indices.size(); ++i) tri(indices[0], indices[i], indices[i + 1]);
+  } else if (mode >= 0 && mode <= 3) {
+    warnings_.push_back(where + ": points/lines primitive; its vertices are kept without triangles");
+  } else {
+    return Status::InvalidArgument(where + ".mode " + std::to_string(mode) + " is not a glTF primitive mode");
+  }
+
+  // Normals.
+  const int normal_accessor = attribute("NORMAL");
+  if (normal_accessor >= 0) {
+    std::vector<float> normals;
+    auto nrm = reader_.ReadFloats(normal_accessor, attrs + "NORMAL", AccessorType::kVec3, {}, &normals);
+    if (!nrm.ok()) return nrm.status();
+    ARMATURE_RETURN_IF_ERROR(check_count(*nrm, attrs + "NORMAL", normal_accessor));
+    mesh.normals.resize(base);
+    for (size_t v = 0; v < count; ++v) mesh.normals.emplace_back(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+    any_normals = true;
+  } else {
+    // Computed from the triangles once all primitives are in, if another
+    // primitive has NORMAL.
+    missing_normals.emplace_back(base, base + count);
+    mesh.normals.resize(base + count, Eigen::Vector3f::Zero());
+  }
+
+  // Skin influences: every JOINTS_n/WEIGHTS_n pair.
+  if (skin >= 0) {
+    const size_t joint_count = model_.skins[static_cast<size_t>(skin)].joints.size();
+    std::vector<std::vector<uint32_t>> joint_sets;
+    std::vector<std::vector<float>> weight_sets;
+    for (int set = 0;; ++set) {
+      const std::string js = "JOINTS_" + std::to_string(set), ws = "WEIGHTS_" + std::to_string(set);
+      const int ja = attribute(js.c_str()), wa = attribute(ws.c_str());
+      if (ja < 0 && wa < 0) break;
+      if (ja < 0 || wa < 0)
+        return Status::InvalidArgument(attrs + (ja < 0 ? ws : js) + " has no matching " + (ja < 0 ? js : ws));
+      joint_sets.emplace_back();
+      weight_sets.emplace_back();
+      auto jd = reader_.ReadUints(ja, attrs + js, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort},
+                                  &joint_sets.back());
+      if (!jd.ok()) return jd.status();
+      ARMATURE_RETURN_IF_ERROR(check_count(*jd, attrs + js, ja));
+      auto wd = reader_.ReadFloats(wa, attrs + ws, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort},
+                                   &weight_sets.back());
+      if (!wd.ok()) return wd.status();
+      ARMATURE_RETURN_IF_ERROR(check_count(*wd, attrs + ws, wa));
+      for (size_t i = 0; i < joint_sets.back().size(); ++i) {
+        const float w = weight_sets.back()[i];
+        if (w < 0)
+          return Status::InvalidArgument(attrs + ws + ": accessor " + std::to_string(wa) + " element " +
+                                         std::to_string(i / 4) + " has a negative weight");
+        if (w > 0 && joint_sets.back()[i] >= joint_count)
+          return Status::InvalidArgument(attrs + js + ": accessor " + std::to_string(ja) + " element " +
+                                         std::to_string(i / 4) + " uses joint " +
+                                         std::to_string(joint_sets.back()[i]) + " but skin " +
+                                         std::to_string(skin) + " has " + std::to_string(joint_count) + " joints");
+      }
+    }
+    if (joint_sets.empty())
+      return Status::InvalidArgument(where + ": the node's skin " + std::to_string(skin) +
+                                     " needs JOINTS_0 and WEIGHTS_0 attributes");
+    if (mesh.influence_offsets.empty()) mesh.influence_offsets.push_back(0);
+    for (size_t v = 0; v < count; ++v) {
+      const size_t before = mesh.influence_joints.size();
+      for (size_t s = 0; s < joint_sets.size(); ++s)
+        for (size_t c = 0; c < 4; ++c)
+          if (weight_sets[s][4 * v + c] > 0) {
+            mesh.influence_joints.push_back(joint_sets[s][4 * v + c]);
+            mesh.influence_weights.push_back(weight_sets[s][4 * v + c]);
+          }
+      if (mesh.influence_joints.size() == before) {
+        // As three.js's normalizeSkinWeights: all weight on the first listed joint.
+        ++zero_weight_vertices;
+        const uint32_t j = joint_sets[0][4 * v];
+        if (j >= joint_count)
+          return Status::InvalidArgument(attrs + "JOINTS_0: element " + std::to_string(v) + " uses joint " +
+                                         std::to_string(j) + " but skin " + std::to_string(skin) + " has " +
+                                         std::to_string(joint_count) + " joints");
+        mesh.influence_joints.push_back(j);
+        mesh.influence_weights.push_back(1.f);
+      }
+      mesh.influence_offsets.push_back(static_cast<uint32_t>(mesh.influence_joints.size()));
+    }
+  } else if (!mesh.joints.empty()) {
+    if (attribute("JOINTS_0") >= 0) warnings_.push_back(where + ": JOINTS_0 without a skin on the node; ignored");
+    if (mesh.influence_offsets.empty()) mesh.influence_offsets.push_back(0);
+    for (size_t v = 0; v < count; ++v) {
+      mesh.influence_joints.push_back(0);
+      mesh.influence_weights.push_back(1.f);
+      mesh.influence_offsets.push_back(static_cast<uint32_t>(mesh.influence_joints.size()));
+    }
+  }
+
+  // Morph targets.
+  if (first) targets.resize(prim.targets.size());
+  if (prim.targets.size() != targets.size())
+    return Status::InvalidArgument(where + ".targets: " + std::to_string(prim.targets.size()) +
+                                   " targets, the first primitive has " + std::to_string(targets.size()));
+  for (size_t t = 0; t < targets.size(); ++t) {
+    SparseTarget& sparse = targets[t];
+    const std::string twhere = where + ".targets[" + std::to_string(t) + "].";
+    std::vector<float> deltas[2];  // POSITION, NORMAL; empty when the target has none
+    for (int k = 0; k < 2; ++k) {
+      const char* semantic = k == 0 ? "POSITION" : "NORMAL";
+      auto it = prim.targets[t].find(semantic);
+      if (it == prim.targets[t].end()) continue;
+      auto d = reader_.ReadFloats(it->second, twhere + semantic, AccessorType::kVec3, {}, &deltas[k]);
+      if (!d.ok()) return d.status();
+      ARMATURE_RETURN_IF_ERROR(check_count(*d, twhere + semantic, it->second));
+      if (k == 1) sparse.has_normals = true;
+    }
+    auto delta = [&](int k, size_t v) {
+      return deltas[k].empty() ? Eigen::Vector3f::Zero().eval()
+                               : Eigen::Vector3f(deltas[k][3 * v], deltas[k][3 * v + 1], deltas[k][3 * v + 2]);
+    };
+    for (size_t v = 0; v < count; ++v) {
+      const Eigen::Vector3f p = delta(0, v), n = delta(1, v);
+      if (p.isZero(0) && n.isZero(0)) continue;
+      sparse.vertices.push_back(static_cast<uint32_t>(base + v));
+      sparse.positions.push_back(p);
+      sparse.normals.push_back(n);
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace armature::gltf_internal

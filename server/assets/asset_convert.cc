@@ -1,0 +1,58 @@
+#include "server/assets/asset_convert.h"
+
+#include "armature/engine/mesh/mesh.h"
+#include "server/rpc/pose_convert.h"
+
+namespace armature::server {
+
+v1::SkeletonInfo SkeletonInfoOf(const StoredAsset& asset, const NamedSkeleton& s) {
+  v1::SkeletonInfo info;
+  info.set_name(s.name);
+  info.set_asset(asset.record.name);
+  info.set_joint_count(static_cast<int32_t>(s.skeleton->size()));
+  return info;
+}
+
+v1::ClipInfo ClipInfoOf(const StoredAsset& asset, const NamedClip& c, bool with_joints) {
+  v1::ClipInfo info;
+  info.set_name(c.name);
+  info.set_skeleton(c.skeleton);
+  info.set_asset(asset.record.name);
+  info.set_duration(c.clip->duration);
+  info.set_frames(static_cast<int32_t>(c.clip->frame_count));
+  info.set_frame_time(c.clip->frame_time);
+  info.set_interpolation(ToProto(c.clip->default_interpolation));
+  if (with_joints && c.clip->skeleton)
+    for (const std::string& name : c.clip->skeleton->names) info.add_joints(name);
+  return info;
+}
+
+v1::AssetInfo AssetInfoOf(const StoredAsset& asset) {
+  v1::AssetInfo info;
+  const AssetRecord& r = asset.record;
+  info.set_name(r.name);
+  info.set_format(std::string(FormatName(r.format)));
+  info.set_filename(r.filename);
+  info.set_size_bytes(r.size_bytes);
+  info.set_imported_at(r.imported_at);
+  for (const auto& s : asset.contents.skeletons) *info.add_skeletons() = SkeletonInfoOf(asset, s);
+  for (const auto& c : asset.contents.clips) *info.add_clips() = ClipInfoOf(asset, c, false);
+  for (const auto& m : asset.contents.meshes) *info.add_meshes() = MeshInfoOf(asset, m);
+  return info;
+}
+
+v1::MeshInfo MeshInfoOf(const StoredAsset& asset, const NamedMesh& m) {
+  v1::MeshInfo info;
+  info.set_name(m.name);
+  info.set_asset(asset.record.name);
+  info.set_skeleton(m.skeleton);
+  if (m.mesh) {
+    info.set_vertex_count(static_cast<int32_t>(m.mesh->vertex_count()));
+    info.set_triangle_count(static_cast<int32_t>(m.mesh->triangle_count()));
+    info.set_max_influences(static_cast<int32_t>(m.mesh->max_influences()));
+    for (const auto& t : m.mesh->targets) info.add_target_names(t.name);
+  }
+  return info;
+}
+
+}  // namespace armature::server

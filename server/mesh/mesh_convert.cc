@@ -1,0 +1,44 @@
+#include "server/mesh/mesh_convert.h"
+
+#include <google/protobuf/io/coded_stream.h>
+
+#include "server/rpc/request_validation.h"
+
+namespace armature::server {
+
+StatusOr<SkinningMethod> FromProto(v1::SkinningMethod method) {
+  switch (method) {
+    case v1::SKINNING_METHOD_UNSPECIFIED:
+    case v1::LBS: return SkinningMethod::kLinear;
+    case v1::DQS: return SkinningMethod::kDualQuaternion;
+    default: return Status::InvalidArgument("method: unknown skinning method " + std::to_string(method));
+  }
+}
+
+StatusOr<PartRef<NamedClip>> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name) {
+  auto clip = catalog.FindClip(name);
+  if (!clip.ok()) return clip.status().WithContext("clip: ");
+  if (!mesh.skeleton.empty() && clip->part->skeleton != mesh.skeleton)
+    return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + clip->part->skeleton +
+                                   "', not the mesh's skeleton '" + mesh.skeleton + "'");
+  return clip;
+}
+
+Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc) {
+  const double n = static_cast<double>(mesh.vertex_count());
+  double bytes = n * 12 * (mesh.normals.empty() ? 1 : 2);
+  if (triangles)
+    for (uint32_t index : mesh.triangles) bytes += google::protobuf::io::CodedOutputStream::VarintSize32(index);
+  const std::string how = std::to_string(mesh.vertex_count()) + " vertices" +
+                          (triangles ? " and " + std::to_string(mesh.triangles.size() / 3) + " triangles" : "");
+  return ValidateReplySize(bytes, limits, rpc, how + "; imports are capped by --max-mesh-vertices");
+}
+
+Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool triangles, const Limits& limits,
+                         const std::string& rpc) {
+  auto ref = catalog.FindMesh(name);
+  if (!ref.ok()) return Status::Ok();  // the RPC itself reports it
+  return ValidateMeshReply(*ref->part->mesh, triangles, limits, rpc);
+}
+
+}  // namespace armature::server

@@ -1,0 +1,42 @@
+// The mesh slice's conversions and checks shared by its unary handlers and its
+// stream reactor: skinning method, the clip that poses a mesh, reply sizing.
+#pragma once
+
+#include <span>
+#include <string>
+#include <utility>
+
+#include "armature/engine/mesh/mesh.h"
+#include "armature/engine/mesh/skinning.h"
+#include "armature/v1/meshes.pb.h"
+#include "server/assets/asset_store.h"
+#include "server/rpc/limits.h"
+
+namespace armature::server {
+
+StatusOr<SkinningMethod> FromProto(v1::SkinningMethod method);
+
+// The clip that poses `mesh`: it must animate the mesh's skeleton (any
+// clip for an unbound mesh, which only its morph weights track moves).
+StatusOr<PartRef<NamedClip>> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name);
+
+// Output arrays sized in the response (its only allocation) and viewed as spans.
+template <class Response>
+std::pair<std::span<float>, std::span<float>> OutputsOf(const Mesh& mesh, Response* response) {
+  const int n = static_cast<int>(mesh.vertex_count());
+  response->mutable_positions()->Resize(3 * n, 0.f);
+  if (!mesh.normals.empty()) response->mutable_normals()->Resize(3 * n, 0.f);
+  return {{response->mutable_positions()->mutable_data(), static_cast<size_t>(response->positions_size())},
+          {response->mutable_normals()->mutable_data(), static_cast<size_t>(response->normals_size())}};
+}
+
+// The bytes of a reply carrying `mesh`'s positions and normals (3 floats per
+// vertex each), and with `triangles` its indices (varints), computed before
+// any work so an oversized reply is refused naming the flags instead of
+// failing in gRPC after the work. The second form looks the mesh up by name
+// (OK when it is unknown: the RPC itself reports that).
+Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc);
+Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool triangles, const Limits& limits,
+                         const std::string& rpc);
+
+}  // namespace armature::server

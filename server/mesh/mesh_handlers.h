@@ -1,0 +1,18 @@
+// The mesh slice's handlers: the work of each unary MeshService RPC over a
+// catalog snapshot, callable without gRPC (benchmarks, tests).
+#pragma once
+
+#include "armature/base/status.h"
+#include "armature/v1/meshes.pb.h"
+#include "server/assets/asset_store.h"
+
+namespace armature::server {
+
+Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request,
+                       v1::MeshGeometry* response);
+Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response);
+Status EvaluateBlendshapes(const Catalog& catalog, const v1::EvaluateBlendshapesRequest& request,
+                           v1::EvaluateBlendshapesResponse* response);
+Status BindMesh(const Catalog& catalog, const v1::BindMeshRequest& request, v1::BindMeshResponse* response);
+
+}  // namespace armature::server

@@ -1,0 +1,42 @@
+// A catalog built in memory from the engine's demo assets, the way the store
+// builds one after an import, for unit tests of each slice's pure handlers.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/demo_character.h"
+#include "armature/engine/io/demo_walk.h"
+#include "server/assets/catalog.h"
+
+namespace armature::server::test_util {
+
+inline std::shared_ptr<const StoredAsset> ParsedAsset(const std::string& name, AssetFormat format,
+                                                      const std::string& bytes) {
+  auto contents = ParseAsset(format, bytes, name);
+  EXPECT_TRUE(contents.ok()) << contents.status().message();
+  auto asset = std::make_shared<StoredAsset>();
+  asset->record.name = name;
+  asset->record.format = format;
+  asset->contents = std::move(*contents);
+  return asset;
+}
+
+// "demo_character" (mesh demo_character.body, clip demo_character.walk) and
+// "demo_walk" (skeleton and clip demo_walk).
+inline std::shared_ptr<const Catalog> DemoCatalog() {
+  auto glb = MakeDemoCharacterGlb();
+  EXPECT_TRUE(glb.ok()) << glb.status().message();
+  std::map<std::string, std::shared_ptr<const StoredAsset>> assets;
+  assets["demo_character"] = ParsedAsset("demo_character", AssetFormat::kGlb, *glb);
+  assets["demo_walk"] = ParsedAsset("demo_walk", AssetFormat::kBvh, WriteBvh(*MakeDemoWalk().clip));
+  auto catalog = BuildCatalog(std::move(assets));
+  EXPECT_TRUE(catalog.ok()) << catalog.status().message();
+  return std::move(*catalog);
+}
+
+}  // namespace armature::server::test_util
