@@ -4,12 +4,23 @@
 #include <cstdlib>
 #include <vector>
 
+#include "armature/v1/assets.pb.h"
+#include "armature/v1/deform.pb.h"
+#include "armature/v1/ik.pb.h"
+#include "armature/v1/meshes.pb.h"
+#include "armature/v1/poses.pb.h"
 #include "server/host/gateway/http_rule.h"
 
 namespace armature::fuzz {
 
 inline const std::vector<server::gateway::HttpBinding>& ApiBindings() {
   static const auto* bindings = [] {
+    // The generated files register themselves only when linked in: name one
+    // message of each file with services.
+    for (const auto* d : {v1::ImportAssetRequest::descriptor(), v1::DeformRequest::descriptor(),
+                          v1::SolveIkRequest::descriptor(), v1::GetMeshRequest::descriptor(),
+                          v1::EvaluateClipRequest::descriptor()})
+      if (d->file()->service_count() == 0) std::abort();
     auto* out = new std::vector<server::gateway::HttpBinding>();
     for (const auto* service : server::gateway::GeneratedServicesIn("armature"))
       for (int i = 0; i < service->method_count(); ++i) {
