@@ -10,7 +10,7 @@ namespace armature::server {
 
 ImportReactor::ImportReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
                              v1::ImportAssetResponse* response)
-    : context_(context), store_(store), limits_(limits), response_(response), current_(&import_.bytes) {
+    : context_(context), store_(store), response_(response), upload_(limits.max_upload_bytes) {
   StartRead(&chunk_);
 }
 
@@ -23,21 +23,10 @@ void ImportReactor::ReadDone(bool ok) {
     Complete();
     return;
   }
-  if (first_) {
-    import_.filename = chunk_.filename();
-    import_.name = chunk_.name();
-    import_.format = chunk_.format();
-    import_.replace = chunk_.replace();
-    first_ = false;
-  }
-  if (!chunk_.resource().empty()) current_ = &import_.resources[chunk_.resource()];
-  received_ += static_cast<int64_t>(chunk_.data().size());
-  if (received_ > limits_.max_upload_bytes) {
-    Finish(ToGrpcStatus(Status::ResourceExhausted(
-        "upload exceeds the limit of " + std::to_string(limits_.max_upload_bytes) + " bytes (--max-upload-mb)")));
+  if (Status st = upload_.Add(chunk_); !st.ok()) {
+    Finish(ToGrpcStatus(st));
     return;
   }
-  current_->append(chunk_.data());
   StartRead(&chunk_);
 }
 
@@ -48,11 +37,12 @@ void ImportReactor::Complete() {
     Finish(grpc::Status(grpc::StatusCode::CANCELLED, "the upload was cancelled"));
     return;
   }
-  if (first_) {
-    Finish(ToGrpcStatus(Status::InvalidArgument("no data: the upload had no messages")));
+  auto import = std::move(upload_).Finish();
+  if (!import.ok()) {
+    Finish(ToGrpcStatus(import.status()));
     return;
   }
-  auto stored = store_.Import(std::move(import_));
+  auto stored = store_.Import(std::move(*import));
   if (stored.ok()) {
     *response_->mutable_asset() = AssetInfoOf(**stored);
     for (const std::string& w : (*stored)->contents.warnings) response_->add_warnings(IsValidUtf8(w) ? w : EscapeForMessage(w, 4096));

@@ -1,10 +1,12 @@
-// Receives an ImportAsset upload chunk by chunk, then hands it to the store.
+// Receives an ImportAsset upload chunk by chunk (ImportUpload assembles it),
+// then hands it to the store.
 #pragma once
 
 #include <string>
 
 #include "armature/v1/assets.grpc.pb.h"
 #include "server/assets/asset_store.h"
+#include "server/assets/import_upload.h"
 #include "server/rpc/limits.h"
 
 namespace armature::server {
@@ -23,13 +25,9 @@ class ImportReactor final : public grpc::ServerReadReactor<v1::ImportAssetReques
 
   grpc::CallbackServerContext* context_;
   AssetStore& store_;
-  const Limits& limits_;
   v1::ImportAssetResponse* response_;
   v1::ImportAssetRequest chunk_;
-  ImportRequest import_;
-  std::string* current_ = nullptr;  // the file the chunks go to: import_.bytes or a resource
-  int64_t received_ = 0;
-  bool first_ = true;
+  ImportUpload upload_;
 };
 
 }  // namespace armature::server

@@ -2,13 +2,17 @@
 """Writes small seed inputs for a fuzz target's format into a directory:
 hand-made files covering each format's features, plus copies of small real
 files from ../shared/data when it is present (never committed).
-    make_seeds.py <bvh|gltf|obj|detect|other> <out dir> [shared data dir]"""
+    make_seeds.py <bvh|gltf|obj|detect|transcode|path_template|import_upload|other> <out dir> [shared data dir]"""
 import base64
+import glob
 import json
 import os
+import re
 import shutil
 import struct
 import sys
+
+PROTO_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "proto", "armature")
 
 BVH = """HIERARCHY
 ROOT Hips
@@ -142,6 +146,107 @@ def glb(doc, data):
             b"JSON" + text + struct.pack("<I", len(data)) + b"BIN\0" + data)
 
 
+def api_routes():
+    """(method, template) of every google.api.http rule in the repo's protos."""
+    routes = []
+    for path in sorted(glob.glob(os.path.join(PROTO_DIR, "**", "*.proto"), recursive=True)):
+        with open(path) as f:
+            text = f.read()
+        routes += [(m.upper(), t) for m, t in re.findall(r'\b(get|post|put|delete|patch): "([^"]+)"', text)]
+    return routes
+
+
+def concrete(template, value="walk"):
+    """A request path for a template: each variable and wildcard becomes `value`."""
+    return re.sub(r"\{[^}]*\}|\*\*|\*", value, template)
+
+
+# REST requests for the transcoder: "<METHOD> <target>\n<content type>\n<body>".
+TRANSCODE = {
+    "evaluate": 'POST /v1/clips/walk:evaluate\napplication/json\n'
+                '{"times":[0,0.5,1e3],"space":"SPACE_WORLD","interpolation":1,"joints":["Hips","Chest"]}',
+    "stream_query": "GET /v1/clips/walk:stream?fps=30&speed=-1.5&loop=true&joints=Hips&joints=Chest"
+                    "&space=SPACE_LOCAL&start_time=0.25\n\n",
+    "fk": 'POST /v1/skeletons/arm:fk\napplication/json\n'
+          '{"pose":{"rotations":[{"w":1,"x":0,"y":0,"z":0}]},"joints":["a"]}',
+    "ik": 'POST /v1/skeletons/arm:solveIk\napplication/json\n'
+          '{"solver":"DLS","effectors":[{"joint":"hand","position":{"x":1,"y":2,"z":3}}],'
+          '"options":{"maxIterations":50},"free_joints":["elbow"],"maxChainDepth":2}',
+    "ik_session": 'POST /v1/skeletons/arm:ikSession\napplication/x-ndjson\n'
+                  '{"start":{"solver":"CCD"}}\n{"targets":[{"joint":"hand"}]}\n',
+    "deform": 'POST /v1/meshes/m:deform\napplication/json\n'
+              '{"weights":"COTANGENT","method":"ARAP","fixed":[0,1],"soft":true,"arapIterations":3}',
+    "import_raw": "POST /v1/assets:import?filename=x.bvh&name=x&replace=true\napplication/octet-stream\n" + BVH,
+    "import_json": 'POST /v1/assets:import?format=bvh\napplication/json\n"SElFUkFSQ0hZ"',
+    "import_ndjson": 'POST /v1/assets:import\napplication/x-ndjson\n{"filename":"a.gltf","data":"e30="}\n'
+                     '{"resource":"a.bin","data":"AAAA"}\n',
+    "get_asset": "GET /v1/assets/a%20b\n\n",
+    "delete_clip": "DELETE /v1/clips/walk?x=1\n\n",
+    "skin_query": "POST /v1/meshes/m:skin\napplication/json\n"
+                  '{"clip":"walk","time":0.5,"method":"DQS","morphWeights":[0.5,1]}',
+    "blendshapes": 'POST /v1/meshes/m:blendshapes\ntext/plain\n{"weights":[1,2,3]}',
+    "bind": 'POST /v1/meshes/m:bind\napplication/json\n{"skeleton":"s","method":"HEAT","maxInfluences":4}',
+}
+
+
+def path_template_seeds():
+    """Each API template with paths that match it and some that nearly do."""
+    seeds = {}
+    for i, (_, t) in enumerate(api_routes()):
+        paths = [concrete(t), concrete(t, "a%2Fb"), concrete(t, "x:y"), concrete(t).replace("/v1", "/v2"),
+                 concrete(t) + "/extra?q=1#f"]
+        seeds["api_%d" % i] = (t + "\n" + "\n".join(paths)).encode()
+    seeds["nested"] = b"/v1/{name=assets/*/parts/**}:get\n/v1/assets/a/parts/b/c:get\n/v1/assets/a/parts:get"
+    seeds["dotted"] = b"/v1/{start.skeleton}/{x=*}/lit/*:verb\n/v1/s/x/lit/y:verb\n/v1/s/x/lit/y"
+    return seeds
+
+
+def varint(n):
+    out = bytearray()
+    while True:
+        b = n & 0x7F
+        n >>= 7
+        out.append(b | (0x80 if n else 0))
+        if not n:
+            return bytes(out)
+
+
+def import_message(filename="", name="", fmt="", replace=False, data=b"", resource=""):
+    """An ImportAssetRequest in the protobuf wire format, length-delimited."""
+    m = bytearray()
+    for field, value in ((1, filename), (2, name), (3, fmt)):
+        if value:
+            m += bytes([field << 3 | 2]) + varint(len(value.encode())) + value.encode()
+    if replace:
+        m += bytes([4 << 3, 1])
+    if data:
+        m += bytes([5 << 3 | 2]) + varint(len(data)) + data
+    if resource:
+        m += bytes([6 << 3 | 2]) + varint(len(resource.encode())) + resource.encode()
+    return varint(len(m)) + bytes(m)
+
+
+def import_upload_seeds():
+    doc, data = gltf_model()
+    external = dict(doc)
+    external["buffers"] = [{"byteLength": len(data), "uri": "scene.bin"}]
+    text = json.dumps(external, separators=(",", ":")).encode()
+    bvh = BVH.encode()
+    return {
+        # first byte: the upload limit, 256 B << (byte % 8)
+        "bvh_chunks": b"\x07" + import_message("walk.bvh", "walk", data=bvh[:100]) +
+                      import_message(data=bvh[100:200]) + import_message(data=bvh[200:]),
+        "gltf_resource": b"\x07" + import_message("scene.gltf", replace=True, data=text) +
+                         import_message(resource="scene.bin", data=data),
+        "obj_format": b"\x03" + import_message("m", fmt="obj", data=OBJ.encode()),
+        "over_limit": b"\x00" + import_message("big.bvh", data=bvh),
+        "late_header": b"\x07" + import_message("a.bvh", data=bvh[:50]) + import_message("b.bvh", data=bvh[50:]),
+        "resource_twice": b"\x07" + import_message("a.gltf", data=text) + import_message(resource="r", data=b"1") +
+                          import_message(resource="r", data=b"2"),
+        "empty": b"\x01",
+    }
+
+
 def write(out, name, data):
     with open(os.path.join(out, name), "wb") as f:
         f.write(data)
@@ -163,6 +268,11 @@ def main():
         "glb": b"/x.bin\n" + glb(doc, data),
         "obj": b"/\n" + OBJ.encode(),
     }
+    seeds["transcode"] = {k: v.encode() for k, v in TRANSCODE.items()}
+    for i, (method, template) in enumerate(api_routes()):  # every route, with an empty JSON body
+        seeds["transcode"]["route_%d" % i] = ("%s %s\napplication/json\n{}" % (method, concrete(template))).encode()
+    seeds["path_template"] = path_template_seeds()
+    seeds["import_upload"] = import_upload_seeds()
     for name, blob in seeds.get(kind, {}).items():
         write(out, name, blob)
     # Small real files, when the shared data is beside the clone.

@@ -15,6 +15,9 @@ case $target in
   engine_gltf_fuzz|engine_gltf_writer_fuzz) format=gltf ;;
   engine_obj_fuzz) format=obj ;;
   engine_detect_fuzz) format=detect ;;
+  server_transcode_fuzz) format=transcode ;;
+  server_path_template_fuzz) format=path_template ;;
+  server_import_upload_fuzz) format=import_upload ;;
   *) format=$target ;;
 esac
 dir=$work/$target

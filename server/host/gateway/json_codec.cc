@@ -15,10 +15,7 @@ std::string NameTheField(const std::string& message, const std::string& where, c
 
 }  // namespace
 
-grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* message, const std::string& where,
-                           const std::string& field_label) {
-  // protobuf's parser shows an excerpt but no position; nlohmann's gives the
-  // line and column, so it checks the syntax first.
+grpc::Status CheckJsonSyntax(std::string_view json, const std::string& where) {
   try {
     [[maybe_unused]] const auto parsed = nlohmann::json::parse(json);
   } catch (const nlohmann::json::parse_error& e) {
@@ -30,6 +27,14 @@ grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* mes
   } catch (const nlohmann::json::exception& e) {
     return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, where + ": " + e.what());
   }
+  return grpc::Status::OK;
+}
+
+grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* message, const std::string& where,
+                           const std::string& field_label) {
+  // protobuf's parser shows an excerpt but no position; nlohmann's gives the
+  // line and column, so it checks the syntax first.
+  if (auto st = CheckJsonSyntax(json, where); !st.ok()) return st;
   google::protobuf::util::JsonParseOptions options;
   options.ignore_unknown_fields = false;
   options.case_insensitive_enum_parsing = false;

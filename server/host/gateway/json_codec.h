@@ -17,6 +17,10 @@ namespace armature::server::gateway {
 grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* message, const std::string& where,
                            const std::string& field_label);
 
+// OK when `json` is one JSON value (whitespace around it allowed), else
+// INVALID_ARGUMENT "<where>: malformed JSON (byte N): …".
+grpc::Status CheckJsonSyntax(std::string_view json, const std::string& where);
+
 // lowerCamelCase names, enums by name, default values printed.
 std::string MessageToJson(const google::protobuf::Message& message);
 

@@ -95,7 +95,9 @@ grpc::Status BodyInto(const HttpBinding& binding, std::string_view body, const s
   const pb::FieldDescriptor* field = binding.body_field.front();
   if (field->type() == pb::FieldDescriptor::TYPE_MESSAGE && !field->is_repeated())
     return JsonToMessage(body, message->GetReflection()->MutableMessage(message, field), where, label);
-  // A scalar or repeated field: parse it as {"field": <body>}.
+  // A scalar or repeated field: parse it as {"field": <body>}, once the body
+  // is known to be one JSON value: '"x","name":"y"' would set other fields.
+  if (auto st = CheckJsonSyntax(body, where); !st.ok()) return st;
   std::string wrapped = "{\"" + field->name() + "\":";
   wrapped.append(body.data(), body.size());
   wrapped += "}";
