@@ -95,11 +95,11 @@ int ChooseRoot(const Skeleton& sk, const BoundLayer& layer) {
 Status BindRoot(const Motion& motion, MotionPlan& plan) {
   const Skeleton& sk = *plan.skeleton;
   if (!motion.up.allFinite() || motion.up.norm() < 1e-12)
-    return Status::InvalidArgument("up axis is not a finite non-zero vector");
-  if (plan.phase_layer < 0) return Status::InvalidArgument("root motion needs an OVERRIDE layer");
+    return Status::InvalidArgument("up: not a finite non-zero vector");
+  if (plan.phase_layer < 0) return Status::InvalidArgument("rootMotion: needs an OVERRIDE layer");
   if (!motion.root_joint.empty()) {
     plan.root = sk.Find(motion.root_joint);
-    if (plan.root < 0) return Status::NotFound("root joint '" + motion.root_joint + "' is not in the skeleton");
+    if (plan.root < 0) return Status::NotFound("rootJoint: '" + motion.root_joint + "' is not in the skeleton");
   } else {
     plan.root = ChooseRoot(sk, plan.layers[plan.phase_layer]);
   }
@@ -111,7 +111,7 @@ Status BindRoot(const Motion& motion, MotionPlan& plan) {
   }
   plan.parent_linear = parent.linear();
   if (std::abs(plan.parent_linear.determinant()) < 1e-300)
-    return Status::InvalidArgument("the root joint's parents have a degenerate rest transform");
+    return Status::InvalidArgument("rootJoint: its parents have a degenerate rest transform");
   plan.parent_inverse = plan.parent_linear.inverse();
   plan.parent_rotation = parent_rotation;
   plan.up_world = motion.up.normalized();
@@ -136,11 +136,11 @@ Status BindRoot(const Motion& motion, MotionPlan& plan) {
 StatusOr<MotionPlan> BindMotion(const Motion& motion) {
   if (motion.layers.empty()) return Status::InvalidArgument("layers: the motion is empty (give at least one layer)");
   if (motion.sync != TimeSync::kNone && motion.sync != TimeSync::kPhase)
-    return Status::InvalidArgument("sync " + std::to_string(static_cast<int>(motion.sync)) + " is not NONE or PHASE");
+    return Status::InvalidArgument("sync: " + std::to_string(static_cast<int>(motion.sync)) + " is not NONE or PHASE");
   const RootMotion rm = motion.root_motion;
   if (rm != RootMotion::kKeep && rm != RootMotion::kInPlace && rm != RootMotion::kAccumulate &&
       rm != RootMotion::kExtract)
-    return Status::InvalidArgument("rootMotion " + std::to_string(static_cast<int>(rm)) +
+    return Status::InvalidArgument("rootMotion: " + std::to_string(static_cast<int>(rm)) +
                                    " is not KEEP, IN_PLACE, ACCUMULATE or EXTRACT");
   MotionPlan plan;
   plan.sync = motion.sync;
