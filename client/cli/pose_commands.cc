@@ -4,6 +4,7 @@
 #include <map>
 
 #include "cli_context.h"
+#include "motion_file.h"
 #include "pose_output.h"
 
 namespace armature::cli {
@@ -19,10 +20,19 @@ struct PoseFlags {
   std::string interpolation;
   std::vector<std::string> joints;
   bool json = false;
+  std::string motion;  // FILE.json: a motion instead of CLIP
 };
 
-void AddPoseFlags(CLI::App* cmd, PoseFlags& f) {
-  cmd->add_option("CLIP", f.clip, "Clip name")->required();
+// `pose` takes CLIP or --motion FILE.json; `stream` a CLIP.
+void AddPoseFlags(CLI::App* cmd, PoseFlags& f, bool motion = false) {
+  auto* clip = cmd->add_option("CLIP", f.clip, "Clip name");
+  if (motion) {
+    cmd->add_option("--motion", f.motion, "A motion (clips in layers) as proto3 JSON, instead of CLIP")
+        ->excludes(clip)
+        ->check(CLI::ExistingFile);
+  } else {
+    clip->required();
+  }
   cmd->add_option("--space", f.space, "local or world")->capture_default_str()->check(CLI::IsMember({"local", "world"}));
   cmd->add_option("--interpolation", f.interpolation, "step, linear or cubic (default: the clip's own)")
       ->check(CLI::IsMember({"step", "linear", "cubic"}));
@@ -38,6 +48,32 @@ void FillPoseRequest(const PoseFlags& f, Request& r) {
   for (const auto& j : f.joints) r.add_joints(j);
 }
 
+// `pose --motion FILE.json`: the same output as `pose CLIP`, with "motion"
+// (the file) and "skeleton" in place of "clip", and EXTRACT's "rootMotion".
+int PrintMotionPose(Client& client, const PoseFlags& f, double time) {
+  v1::EvaluateMotionRequest request;
+  *request.mutable_motion() = ReadMotionFile(f.motion);
+  request.add_times(time);
+  request.set_space(kSpaces.at(f.space));
+  for (const auto& j : f.joints) request.add_joints(j);
+  const auto response = client.EvaluateMotion(request);
+  const auto skeleton = client.GetSkeleton(response.skeleton());
+  if (f.json) {
+    nlohmann::json out = {{"motion", f.motion},
+                          {"skeleton", response.skeleton()},
+                          {"time", time},
+                          {"space", f.space},
+                          {"joints", PoseJointsJson(skeleton, response.joints(), response.poses(0))}};
+    if (response.root_motion_size() > 0) out["rootMotion"] = RootMotionJson(response.root_motion(0));
+    PrintJson(out);
+  } else {
+    std::printf("motion %s (skeleton %s) at %.6f s (%s space)\n", f.motion.c_str(), response.skeleton().c_str(), time,
+                f.space.c_str());
+    PrintPoseTable(skeleton, response.joints(), response.poses(0));
+  }
+  return 0;
+}
+
 }  // namespace
 
 void AddPoseCommand(CLI::App& app, CliContext& ctx) {
@@ -45,12 +81,14 @@ void AddPoseCommand(CLI::App& app, CliContext& ctx) {
   auto flags = std::make_shared<PoseFlags>();
   auto time = std::make_shared<double>(0);
   auto loop = std::make_shared<bool>(false);
-  AddPoseFlags(cmd, *flags);
-  cmd->add_option("--time,-t", *time, "Clip time in seconds")->required();
-  cmd->add_flag("--loop", *loop, "Wrap times past the end (default: clamp)");
-  cmd->callback([&ctx, flags, time, loop] {
+  AddPoseFlags(cmd, *flags, true);
+  cmd->add_option("--time,-t", *time, "Clip (or motion) time in seconds")->required();
+  cmd->add_flag("--loop", *loop, "Wrap times past the end (default: clamp; motion layers loop unless told)");
+  cmd->callback([&ctx, cmd, flags, time, loop] {
+    if (cmd->count("CLIP") + cmd->count("--motion") == 0) throw CLI::RequiredError("CLIP or --motion");
     ctx.run = [&ctx, flags, time, loop] {
       Client client = ctx.MakeClient();
+      if (!flags->motion.empty()) return PrintMotionPose(client, *flags, *time);
       v1::EvaluateClipRequest request;
       FillPoseRequest(*flags, request);
       request.add_times(*time);

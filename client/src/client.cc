@@ -160,6 +160,9 @@ v1::ExportClipResponse Client::ExportClip(const std::string& clip) {
 v1::EvaluateClipResponse Client::EvaluateClip(const v1::EvaluateClipRequest& r) {
   return Call(&v1::PoseService::Stub::EvaluateClip, *poses_, r);
 }
+v1::EvaluateMotionResponse Client::EvaluateMotion(const v1::EvaluateMotionRequest& r) {
+  return Call(&v1::PoseService::Stub::EvaluateMotion, *poses_, r);
+}
 v1::ComputeFkResponse Client::ComputeFk(const v1::ComputeFkRequest& r) {
   return Call(&v1::PoseService::Stub::ComputeFk, *poses_, r);
 }

@@ -6,9 +6,21 @@
 #include "server/rpc/grpc_status.h"
 #include "server/rpc/pose_convert.h"
 #include "server/rpc/request_validation.h"
+#include "server/pose/motion_convert.h"
 #include "server/pose/stream_clip_reactor.h"
 
 namespace armature::server {
+namespace {
+
+// Each pose carries 7 floats per listed joint (a repeated joint counts
+// again); refused before any pose is computed.
+Status ValidatePosesReplySize(int times, size_t joints, const Limits& limits, const std::string& rpc) {
+  constexpr double kBytesPerJoint = 7 * sizeof(float);
+  return ValidateReplySize(static_cast<double>(times) * (static_cast<double>(joints) * kBytesPerJoint + 16), limits,
+                           rpc, std::to_string(times) + " times x " + std::to_string(joints) + " joints x 28 bytes");
+}
+
+}  // namespace
 
 Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
                     v1::EvaluateClipResponse* response) {
@@ -21,13 +33,7 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   const Clip& clip = *ref->part->clip;
   auto joints = ResolveJoints(*clip.skeleton, request.joints(), "joints");
   if (!joints.ok()) return joints.status();
-  // Each pose carries 7 floats per listed joint (a repeated joint counts
-  // again); refused before any pose is computed.
-  constexpr double kBytesPerJoint = 7 * sizeof(float);
-  const double times = request.times_size(), listed = static_cast<double>(joints->size());
-  ARMATURE_RETURN_IF_ERROR(ValidateReplySize(
-      times * (listed * kBytesPerJoint + 16), limits, "EvaluateClip",
-      std::to_string(request.times_size()) + " times x " + std::to_string(joints->size()) + " joints x 28 bytes"));
+  ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, "EvaluateClip"));
 
   SampleOptions options;
   options.interpolation = FromProto(request.interpolation());
@@ -45,6 +51,44 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   for (double t : request.times()) {
     ARMATURE_RETURN_IF_ERROR(SampleClip(clip, t, options, ws.local));
     PackPose(*clip.skeleton, space, *joints, ws, response->add_poses());
+  }
+  return Status::Ok();
+}
+
+Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::EvaluateMotionRequest& request,
+                      v1::EvaluateMotionResponse* response) {
+  ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
+  if (!request.has_motion()) return Status::InvalidArgument("motion: required (give at least one layer)");
+  auto plan = BindMotionProto(catalog, request.motion(), limits, "motion");
+  if (!plan.ok()) return plan.status();
+  const Skeleton& skeleton = *plan->skeleton;
+  auto joints = ResolveJoints(skeleton, request.joints(), "joints");
+  if (!joints.ok()) return joints.status();
+  ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, "EvaluateMotion"));
+  const v1::Space space = request.space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
+  const bool extract = plan->root_motion == RootMotion::kExtract;
+
+  thread_local PoseWorkspace ws;
+  thread_local MotionWorkspace motion_ws;
+  ws.Resize(skeleton.size());
+  motion_ws.Resize(*plan);
+  response->set_skeleton(catalog.FindClip(request.motion().layers(0).clip())->part->skeleton);
+  response->set_space(space);
+  for (int j : *joints) response->add_joints(j);
+  response->mutable_times()->CopyFrom(request.times());
+  response->mutable_poses()->Reserve(request.times_size());
+  for (double t : request.times()) {
+    RootDelta delta;
+    const BlendMotionJob job{&*plan, t, &motion_ws, ws.local, extract ? &delta : nullptr};
+    ARMATURE_RETURN_IF_ERROR(job.Run());
+    PackPose(skeleton, space, *joints, ws, response->add_poses());
+    if (extract) {
+      v1::Pose* root = response->add_root_motion();
+      for (double v : delta.translation) root->add_translations(static_cast<float>(v));
+      for (double v : {delta.rotation.w(), delta.rotation.x(), delta.rotation.y(), delta.rotation.z()})
+        root->add_rotations(static_cast<float>(v));
+    }
   }
   return Status::Ok();
 }
@@ -72,6 +116,14 @@ grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateClip(grpc::CallbackServerCont
                                                         v1::EvaluateClipResponse* response) {
   return RunUnary(context, "EvaluateClip", [&]() -> Status {
     return server::EvaluateClip(*store_.Snapshot(), limits_, *request, response);
+  });
+}
+
+grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateMotion(grpc::CallbackServerContext* context,
+                                                          const v1::EvaluateMotionRequest* request,
+                                                          v1::EvaluateMotionResponse* response) {
+  return RunUnary(context, "EvaluateMotion", [&]() -> Status {
+    return server::EvaluateMotion(*store_.Snapshot(), limits_, *request, response);
   });
 }
 

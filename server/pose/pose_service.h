@@ -19,6 +19,9 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
   grpc::ServerUnaryReactor* EvaluateClip(grpc::CallbackServerContext* context,
                                          const v1::EvaluateClipRequest* request,
                                          v1::EvaluateClipResponse* response) override;
+  grpc::ServerUnaryReactor* EvaluateMotion(grpc::CallbackServerContext* context,
+                                           const v1::EvaluateMotionRequest* request,
+                                           v1::EvaluateMotionResponse* response) override;
   grpc::ServerWriteReactor<v1::PoseFrame>* StreamClip(grpc::CallbackServerContext* context,
                                                       const v1::StreamClipRequest* request) override;
   grpc::ServerUnaryReactor* ComputeFk(grpc::CallbackServerContext* context, const v1::ComputeFkRequest* request,
@@ -34,6 +37,8 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
 // The handlers' work, callable without gRPC (benchmarks, tests).
 Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
                     v1::EvaluateClipResponse* response);
+Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::EvaluateMotionRequest& request,
+                      v1::EvaluateMotionResponse* response);
 Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1::ComputeFkResponse* response);
 
 }  // namespace armature::server

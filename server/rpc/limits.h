@@ -13,6 +13,8 @@ struct Limits {
   size_t max_http_threads = 256;           // --http-threads: HTTP connections served at once
   size_t max_times_per_request = 100000;   // EvaluateClip.times
   double max_stream_fps = 240;
+  int max_motion_layers = 32;              // layers of one motion
+  int max_motion_mask_joints = 4096;       // mask entries of one motion layer
   int64_t max_clip_frames = 1000000;       // --max-clip-frames: frames of one imported clip
   int64_t max_mesh_vertices = 5000000;     // --max-mesh-vertices: vertices of one imported mesh
   int max_ik_iterations = 1000;            // --max-ik-iterations: solver iterations one IK request may ask for

@@ -109,6 +109,42 @@ Status ValidateSkinSource(const v1::SkinMeshRequest& request) {
   return Status::Ok();
 }
 
+Status ValidateMotion(const v1::Motion& motion, const Limits& limits, const std::string& field) {
+  if (motion.layers().empty())
+    return Status::InvalidArgument(field + ".layers: the motion is empty (give at least one layer)");
+  if (motion.layers_size() > limits.max_motion_layers)
+    return Status::InvalidArgument(field + ".layers: " + std::to_string(motion.layers_size()) +
+                                   " layers, at most " + std::to_string(limits.max_motion_layers));
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(motion.sync(), v1::Motion::Sync_descriptor(), field + ".sync"));
+  ARMATURE_RETURN_IF_ERROR(
+      ValidateEnum(motion.root_motion(), v1::Motion::RootMotion_descriptor(), field + ".rootMotion"));
+  for (int i = 0; i < motion.layers_size(); ++i) {
+    const v1::MotionLayer& l = motion.layers(i);
+    const std::string where = field + ".layers[" + std::to_string(i) + "]" +
+                              (l.clip().empty() ? "" : " (clip '" + l.clip() + "')");
+    ARMATURE_RETURN_IF_ERROR(ValidateRequired(l.clip(), where + ".clip"));
+    if (l.has_weight() && !(l.weight() >= 0 && l.weight() <= 1))
+      return Status::InvalidArgument(where + ": weight " + std::to_string(l.weight()) + " is outside [0, 1]");
+    if (l.has_speed()) ARMATURE_RETURN_IF_ERROR(ValidateFinite(l.speed(), where + ".speed"));
+    ARMATURE_RETURN_IF_ERROR(ValidateFinite(l.time_offset(), where + ".timeOffset"));
+    ARMATURE_RETURN_IF_ERROR(ValidateClipTime(l.reference_time(), where + ".referenceTime"));
+    ARMATURE_RETURN_IF_ERROR(ValidateEnum(l.mode(), v1::MotionLayer::Mode_descriptor(), where + ".mode"));
+    ARMATURE_RETURN_IF_ERROR(ValidateEnum(l.wrap(), v1::WrapMode_descriptor(), where + ".wrap"));
+    if (l.mask_size() > limits.max_motion_mask_joints)
+      return Status::InvalidArgument(where + ".mask: " + std::to_string(l.mask_size()) + " joints, at most " +
+                                     std::to_string(limits.max_motion_mask_joints));
+    if (!l.mask_weights().empty() && l.mask_weights_size() != l.mask_size())
+      return Status::InvalidArgument(where + ".maskWeights: " + std::to_string(l.mask_weights_size()) +
+                                     " weights for " + std::to_string(l.mask_size()) +
+                                     " mask joints (give one per joint, or none)");
+    for (int k = 0; k < l.mask_weights_size(); ++k)
+      if (!(l.mask_weights(k) >= 0 && l.mask_weights(k) <= 1))
+        return Status::InvalidArgument(where + ".maskWeights[" + std::to_string(k) + "]: " +
+                                       std::to_string(l.mask_weights(k)) + " is outside [0, 1]");
+  }
+  return Status::Ok();
+}
+
 Status ValidateMaxInfluences(int max_influences) {
   if (max_influences < 0 || max_influences > 8) return Status::InvalidArgument("max_influences: must be between 1 and 8");
   return Status::Ok();

@@ -12,6 +12,7 @@
 #include "armature/base/status.h"
 #include "armature/v1/deform.pb.h"
 #include "armature/v1/meshes.pb.h"
+#include "armature/v1/motion.pb.h"
 #include "server/rpc/limits.h"
 #include "server/rpc/stream_pacing.h"
 
@@ -50,6 +51,13 @@ Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::Deform
 
 // A skin request's pose source: a clip, or else pose rotations.
 Status ValidateSkinSource(const v1::SkinMeshRequest& request);
+
+// A motion's own numbers, before any clip is looked up: at least one layer
+// (at most limits.max_motion_layers), each layer's clip named, weight in
+// [0, 1], speed, timeOffset finite, referenceTime finite and >= 0, mask
+// weights one per mask joint (or none) in [0, 1], enums known. Errors are
+// INVALID_ARGUMENT naming `field` and the layer ("motion.layers[1] (clip 'Wave'): weight …").
+Status ValidateMotion(const v1::Motion& motion, const Limits& limits, const std::string& field);
 
 // BindMeshRequest.max_influences: 0 (the default) or 1 to 8.
 Status ValidateMaxInfluences(int max_influences);

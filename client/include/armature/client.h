@@ -129,6 +129,8 @@ class Client {
   v1::ExportClipResponse ExportClip(const std::string& clip);
 
   v1::EvaluateClipResponse EvaluateClip(const v1::EvaluateClipRequest& request);
+  // A motion (clips composed in layers) at one or many times.
+  v1::EvaluateMotionResponse EvaluateMotion(const v1::EvaluateMotionRequest& request);
   // Calls `on_frame` for each frame until the stream ends or it returns false
   // (which cancels the stream).
   void StreamClip(const v1::StreamClipRequest& request, const std::function<bool(const v1::PoseFrame&)>& on_frame);

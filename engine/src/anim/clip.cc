@@ -208,16 +208,18 @@ Status SampleClip(const Clip& clip, double time, const SampleOptions& options, s
                                    " is not CLAMP or LOOP");
   const double t = WrapTime(time, clip.duration, options.wrap);
   for (size_t i = 0; i < sk.size(); ++i) {
-    const JointTrack& jt = clip.joints[i];
-    Trs& o = out[i];
-    o = sk.rest[i];
-    if (!jt.translation.empty())
-      o.translation = SampleVec3(jt.translation, t, options.interpolation.value_or(jt.translation.interpolation));
-    if (!jt.rotation.empty())
-      o.rotation = SampleRotation(jt.rotation, t, options.interpolation.value_or(jt.rotation.interpolation));
-    if (!jt.scale.empty()) o.scale = SampleVec3(jt.scale, t, options.interpolation.value_or(jt.scale.interpolation));
+    out[i] = sk.rest[i];
+    SampleJoint(clip.joints[i], t, options.interpolation, out[i]);
   }
   return Status::Ok();
+}
+
+void SampleJoint(const JointTrack& jt, double t, const std::optional<Interpolation>& interpolation, Trs& o) {
+  if (!jt.translation.empty())
+    o.translation = SampleVec3(jt.translation, t, interpolation.value_or(jt.translation.interpolation));
+  if (!jt.rotation.empty())
+    o.rotation = SampleRotation(jt.rotation, t, interpolation.value_or(jt.rotation.interpolation));
+  if (!jt.scale.empty()) o.scale = SampleVec3(jt.scale, t, interpolation.value_or(jt.scale.interpolation));
 }
 
 void SampleWeights(const WeightsTrack& track, double time, const SampleOptions& options, std::span<double> out) {

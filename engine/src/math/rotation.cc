@@ -147,6 +147,22 @@ Eigen::Quaterniond Slerp(const Eigen::Quaterniond& a, const Eigen::Quaterniond& 
   return SlerpNoFlip(a, SameHemisphere(b, a), t);
 }
 
+Eigen::Quaterniond SlerpFlat(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b_in, double t) {
+  if (a.coeffs() == b_in.coeffs()) return a;
+  Eigen::Vector4d b = b_in.coeffs();
+  double dot = a.coeffs().dot(b);
+  if (dot < 0) {
+    b = -b;
+    dot = -dot;
+  }
+  if (dot < 0.9995) {
+    const double theta = std::acos(dot), sin = std::sin(theta);
+    return Eigen::Quaterniond(Eigen::Vector4d(std::sin((1 - t) * theta) / sin * a.coeffs() +
+                                              std::sin(t * theta) / sin * b));
+  }
+  return Eigen::Quaterniond(((1 - t) * a.coeffs() + t * b).normalized());
+}
+
 Eigen::Matrix3d SlerpMatrix(const Eigen::Matrix3d& r1, const Eigen::Matrix3d& r2, double t) {
   return r1 * ExpMatrix(t * LogMatrix(r1.transpose() * r2));
 }

@@ -78,6 +78,11 @@ double WrapTime(double time, double duration, WrapMode wrap);
 // No allocation. Rotations are slerped / squad-interpolated, never lerped.
 Status SampleClip(const Clip& clip, double time, const SampleOptions& options, std::span<Trs> out);
 
+// Samples one joint's tracks at clip time `t` (already wrapped) into `out`,
+// which holds the joint's rest transform: empty tracks leave it as it is.
+// No allocation; SampleClip's per-joint step, for callers that sample a few joints.
+void SampleJoint(const JointTrack& track, double t, const std::optional<Interpolation>& interpolation, Trs& out);
+
 // Samples the morph weights of `track` at `time` into `out` (size = targets).
 void SampleWeights(const WeightsTrack& track, double time, const SampleOptions& options, std::span<double> out);
 

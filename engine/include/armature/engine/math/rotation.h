@@ -38,6 +38,11 @@ Eigen::Vector3d LogMatrix(const Eigen::Matrix3d& r);
 // Spherical linear interpolation along the shortest arc, constant angular
 // speed in t.
 Eigen::Quaterniond Slerp(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b, double t);
+// three.js's Quaternion.slerpFlat, the flavour its AnimationMixer blends
+// with: shortest arc; below a 0.9995 cosine the textbook sin formula (not
+// renormalized), above it lerp then normalize; equal inputs return `a`.
+// Blending uses it so a browser mixing locally shows the server's pose.
+Eigen::Quaterniond SlerpFlat(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b, double t);
 // The matrix form R1·exp(t·log(R1ᵀR2)); agrees with Slerp.
 Eigen::Matrix3d SlerpMatrix(const Eigen::Matrix3d& r1, const Eigen::Matrix3d& r2, double t);
 

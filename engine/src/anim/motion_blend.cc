@@ -1,0 +1,184 @@
+// BlendMotionJob: samples a bound motion's layers and blends them per joint,
+// the way three.js's AnimationMixer does (PropertyMixer.accumulate / apply).
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "armature/engine/anim/motion.h"
+#include "armature/engine/math/rotation.h"
+
+namespace armature {
+namespace {
+
+// Completed loops are counted as a double first: a huge time must not
+// overflow the integer.
+constexpr double kMaxLoops = 1e15;
+
+LayerTime Wrapped(double raw, double duration, WrapMode wrap) {
+  if (!(duration > 0)) return {};
+  if (wrap == WrapMode::kClamp) return {std::clamp(raw, 0.0, duration), 0};
+  const double loops = std::clamp(std::floor(raw / duration), -kMaxLoops, kMaxLoops);
+  double t = raw - loops * duration;
+  long long n = static_cast<long long>(loops);
+  if (t >= duration) t -= duration, ++n;  // rounding at the loop point
+  if (t < 0) t = 0;
+  return {t, n};
+}
+
+// PropertyMixer's mix functions: lerp for vectors, slerpFlat for rotations.
+Eigen::Vector3d Mix(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t) { return a * (1 - t) + b * t; }
+Eigen::Quaterniond Mix(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b, double t) {
+  return SlerpFlat(a, b, t);
+}
+
+// One property's weighted accumulation (PropertyMixer.accumulate / apply).
+template <class V>
+struct Accumulator {
+  V value;
+  double weight = 0;
+  void Add(const V& v, double w) {
+    if (weight == 0) {
+      value = v;
+      weight = w;
+      return;
+    }
+    weight += w;
+    value = Mix(value, v, w / weight);
+  }
+  // A total weight below 1 is filled with the rest value.
+  V Finish(const V& rest) const {
+    if (weight == 0) return rest;
+    return weight < 1 ? Mix(value, rest, 1 - weight) : value;
+  }
+};
+
+// A Euclidean motion of the horizontal plane, x ↦ r·x + c (world directions).
+struct Rigid {
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  Rigid Then(const Rigid& next) const { return {next.r * r, next.r * c + next.c}; }
+  Rigid Inverse() const { return {r.transpose(), -(r.transpose() * c)}; }
+};
+
+// `n` loops of layer `l`: the loop's motion composed n times, O(log n).
+Rigid LoopMotion(const MotionPlan& plan, const BoundLayer& l, long long n) {
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(l.loop_yaw, plan.up_world).toRotationMatrix();
+  Rigid one{r, l.loop_origin + l.loop_shift - r * l.loop_origin};
+  if (n < 0) one = one.Inverse(), n = -n;
+  Rigid result;
+  for (Rigid power = one; n > 0; n >>= 1, power = power.Then(power))
+    if (n & 1) result = result.Then(power);
+  return result;
+}
+
+// The root joint's sample of an override layer, with root motion applied.
+void ApplyRootMotion(const MotionPlan& plan, const BoundLayer& l, const LayerTime& lt, RootMotion mode, Trs& v) {
+  if (mode == RootMotion::kInPlace) {
+    v.translation -= plan.horizontal * (v.translation - l.root_first);
+  } else if (mode == RootMotion::kAccumulate && lt.loops != 0) {
+    const Rigid m = LoopMotion(plan, l, lt.loops);
+    v.translation = plan.parent_inverse * (m.r * (plan.parent_linear * v.translation) + m.c);
+    const Eigen::Quaterniond yaw(Eigen::AngleAxisd(static_cast<double>(lt.loops) * l.loop_yaw, plan.up_world));
+    v.rotation = plan.parent_rotation.conjugate() * yaw * plan.parent_rotation * v.rotation;
+  }
+}
+
+// One joint of the blended pose.
+void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t j, RootMotion root_mode, Trs& out) {
+  const Trs& rest = plan.skeleton->rest[j];
+  const bool is_root = static_cast<int>(j) == plan.root;
+  Accumulator<Eigen::Vector3d> t{Eigen::Vector3d::Zero()}, s{Eigen::Vector3d::Zero()};
+  Accumulator<Eigen::Quaterniond> r{Eigen::Quaterniond::Identity()};
+  bool additive = false;
+  for (size_t i = 0; i < plan.layers.size(); ++i) {
+    const BoundLayer& l = plan.layers[i];
+    const double w = l.joint_weight[j];
+    if (!(w > 0)) continue;  // three.js skips actions of weight 0
+    if (l.mode == LayerMode::kAdditive) {
+      additive = true;
+      continue;
+    }
+    const JointTrack& jt = l.clip->joints[l.clip_joint[j]];
+    Trs v = rest;
+    SampleJoint(jt, times[i].time, std::nullopt, v);
+    if (is_root) ApplyRootMotion(plan, l, times[i], root_mode, v);
+    // Only the properties the clip animates take part (three.js binds tracks, not joints).
+    if (!jt.translation.empty()) t.Add(v.translation, w);
+    if (!jt.rotation.empty()) r.Add(v.rotation, w);
+    if (!jt.scale.empty()) s.Add(v.scale, w);
+  }
+  out.translation = t.Finish(rest.translation);
+  out.rotation = r.Finish(rest.rotation);
+  out.scale = s.Finish(rest.scale);
+  if (!additive) return;
+  // Additive layers (PropertyMixer.accumulateAdditive): from identity, each
+  // layer slerps toward add·delta by its weight; apply: q·add, t + add, s + add.
+  Eigen::Vector3d add_t = Eigen::Vector3d::Zero(), add_s = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond add_r = Eigen::Quaterniond::Identity();
+  for (size_t i = 0; i < plan.layers.size(); ++i) {
+    const BoundLayer& l = plan.layers[i];
+    const double w = l.joint_weight[j];
+    if (l.mode != LayerMode::kAdditive || !(w > 0)) continue;
+    const JointTrack& jt = l.clip->joints[l.clip_joint[j]];
+    const Trs& ref = l.reference[j];
+    Trs v = rest;
+    SampleJoint(jt, times[i].time, std::nullopt, v);
+    if (!jt.translation.empty()) {
+      Eigen::Vector3d d = v.translation - ref.translation;
+      if (is_root && root_mode == RootMotion::kInPlace) d -= plan.horizontal * d;
+      add_t += w * d;
+    }
+    if (!jt.rotation.empty()) add_r = SlerpFlat(add_r, add_r * (ref.rotation.conjugate() * v.rotation), w);
+    if (!jt.scale.empty()) add_s += w * (v.scale - ref.scale);
+  }
+  out.translation += add_t;
+  out.rotation = out.rotation * add_r;
+  out.scale += add_s;
+}
+
+}  // namespace
+
+LayerTime LayerTimeAt(const MotionPlan& plan, size_t layer, double time) {
+  const BoundLayer& l = plan.layers[layer];
+  if (plan.sync == TimeSync::kPhase) {
+    const BoundLayer& driver = plan.layers[plan.phase_layer];
+    const double d = driver.clip->duration;
+    if (!(d > 0)) return {};
+    // The driver's normalized time; every layer plays at that fraction of its length.
+    const LayerTime phase = Wrapped((time * driver.speed + driver.time_offset) / d, 1.0, driver.wrap);
+    return {phase.time * l.clip->duration, l.wrap == WrapMode::kLoop ? phase.loops : 0};
+  }
+  return Wrapped(time * l.speed + l.time_offset, l.clip->duration, l.wrap);
+}
+
+Status BlendMotionJob::Validate() const {
+  if (!plan || !plan->skeleton) return Status::InvalidArgument("blend job: no motion plan");
+  if (!workspace || workspace->layer_times.size() != plan->layers.size())
+    return Status::InvalidArgument("blend job: the workspace is not sized for this motion (call Resize)");
+  if (output.size() != plan->skeleton->size())
+    return Status::InvalidArgument("blend job: output has room for " + std::to_string(output.size()) +
+                                   " transforms, the skeleton has " + std::to_string(plan->skeleton->size()) +
+                                   " joints");
+  if (!std::isfinite(time)) return Status::InvalidArgument("time is not finite");
+  return Status::Ok();
+}
+
+Status BlendMotionJob::Run() const {
+  ARMATURE_RETURN_IF_ERROR(Validate());
+  const MotionPlan& p = *plan;
+  std::span<LayerTime> times(workspace->layer_times);
+  for (size_t i = 0; i < p.layers.size(); ++i) times[i] = LayerTimeAt(p, i, time);
+  const bool extract = p.root_motion == RootMotion::kExtract;
+  const RootMotion mode = extract ? RootMotion::kInPlace : p.root_motion;
+  for (size_t j = 0; j < output.size(); ++j) BlendJoint(p, times, j, mode, output[j]);
+  if (extract && root_delta) {
+    Trs accumulated;
+    BlendJoint(p, times, static_cast<size_t>(p.root), RootMotion::kAccumulate, accumulated);
+    const Trs& in_place = output[p.root];
+    root_delta->translation = accumulated.translation - in_place.translation;
+    root_delta->rotation = (accumulated.rotation * in_place.rotation.conjugate()).normalized();
+  }
+  return Status::Ok();
+}
+
+}  // namespace armature
