@@ -18,7 +18,6 @@ struct PoseFlags {
   std::string space = "world";
   std::string interpolation;
   std::vector<std::string> joints;
-  bool json = false;
 };
 
 void AddPoseFlags(CLI::App* cmd, PoseFlags& f) {
@@ -27,7 +26,6 @@ void AddPoseFlags(CLI::App* cmd, PoseFlags& f) {
   cmd->add_option("--interpolation", f.interpolation, "step, linear or cubic (default: the clip's own)")
       ->check(CLI::IsMember({"step", "linear", "cubic"}));
   cmd->add_option("--joints", f.joints, "Only these joints")->delimiter(',');
-  cmd->add_flag("--json", f.json, "Print JSON");
 }
 
 template <class Request>
@@ -57,7 +55,7 @@ void AddPoseCommand(CLI::App& app, CliContext& ctx) {
       request.set_wrap(*loop ? v1::LOOP : v1::CLAMP);
       const auto response = client.EvaluateClip(request);
       const auto skeleton = client.GetSkeleton(response.skeleton());
-      if (flags->json) {
+      if (ctx.json) {
         PrintJson({{"clip", response.clip()},
                    {"time", *time},
                    {"space", flags->space},
@@ -99,7 +97,7 @@ void AddStreamCommand(CLI::App& app, CliContext& ctx) {
           joints = frame.joints();
           skeleton = client.GetSkeleton(frame.skeleton());
         }
-        if (flags->json) {
+        if (ctx.json) {
           PrintJson({{"index", frame.index()},
                      {"time", frame.time()},
                      {"wallTime", frame.wall_time()},
