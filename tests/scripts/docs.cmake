@@ -10,3 +10,6 @@ set_tests_properties(docs.readme_tour PROPERTIES TIMEOUT 300)
 add_test(NAME docs.readme_tour_runner
   COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/docs/readme_tour_selftest.py)
 set_tests_properties(docs.readme_tour_runner PROPERTIES TIMEOUT 60)
+# Relative links and #anchors of README.md, ARCHITECTURE.md and docs/ resolve.
+add_test(NAME docs.links COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/docs/check_links.py ${CMAKE_SOURCE_DIR})
+set_tests_properties(docs.links PROPERTIES TIMEOUT 60)
