@@ -12,11 +12,19 @@ set(ARMATURE_BUILD_INFO_TEMPLATE ${CMAKE_CURRENT_LIST_DIR}/build_info.h.in)
 
 # Sets `out` to the 12-digit commit of the checkout at `dir`, or "unknown";
 # `git_files` to the files whose change means a new commit (HEAD and its ref).
+# ARMATURE_GIT_COMMIT, when set, is taken instead: a build from sources that
+# are not a checkout (the container build) can be told its commit.
 function(armature_git_commit out git_files dir)
   set(commit unknown)
   set(files)
   find_package(Git QUIET)
-  if(GIT_FOUND)
+  if(ARMATURE_GIT_COMMIT)
+    if(ARMATURE_GIT_COMMIT MATCHES "^[0-9a-f]+$")
+      set(commit ${ARMATURE_GIT_COMMIT})
+    else()
+      message(WARNING "ARMATURE_GIT_COMMIT '${ARMATURE_GIT_COMMIT}' is not a hexadecimal commit; using 'unknown'")
+    endif()
+  elseif(GIT_FOUND)
     execute_process(COMMAND ${GIT_EXECUTABLE} rev-parse --show-toplevel
       WORKING_DIRECTORY ${dir} OUTPUT_VARIABLE toplevel RESULT_VARIABLE toplevel_rc
       OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
@@ -62,6 +70,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
   return()
 endif()
 
+set(ARMATURE_GIT_COMMIT "" CACHE STRING "The git commit --version names when the sources are not a git checkout")
 set(ARMATURE_BUILD_INFO_DIR ${CMAKE_BINARY_DIR}/generated)
 armature_write_build_info(${ARMATURE_BUILD_INFO_DIR}/armature/build_info.h ${PROJECT_VERSION} ${CMAKE_SOURCE_DIR})
 # A new commit (or checkout) reruns the configure step, so the commit stays true.

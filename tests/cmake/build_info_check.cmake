@@ -1,11 +1,12 @@
 # cmake/BuildInfo.cmake run in script mode on three directories: the checkout
 # itself (its commit), a folder inside the checkout but not its root (a tarball
 # unpacked inside another repository: "unknown", not that repository's
-# commit) and a folder outside any repository ("unknown").
+# commit) and a folder outside any repository ("unknown", or the commit
+# ARMATURE_GIT_COMMIT names, as the container build does).
 #   cmake -DSOURCE_DIR=<repo> -DWORK_DIR=<scratch> -P build_info_check.cmake
 
-function(write_info header dir)
-  execute_process(COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${dir} -DVERSION=9.8.7 -DHEADER=${header}
+function(write_info header dir)  # further arguments: -D definitions
+  execute_process(COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${dir} -DVERSION=9.8.7 -DHEADER=${header} ${ARGN}
     -P ${SOURCE_DIR}/cmake/BuildInfo.cmake RESULT_VARIABLE rc ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "BuildInfo.cmake failed on ${dir}: ${err}")
@@ -31,8 +32,12 @@ string(RANDOM LENGTH 12 suffix)
 set(outside /tmp/armature-build-info-${suffix})
 file(MAKE_DIRECTORY ${outside})
 write_info(${WORK_DIR}/outside.h ${outside})
-file(REMOVE_RECURSE ${outside})
 expect_commit(${WORK_DIR}/outside.h "unknown" "outside a git repository")
+write_info(${WORK_DIR}/told.h ${outside} -DARMATURE_GIT_COMMIT=00c0ffee1234)
+expect_commit(${WORK_DIR}/told.h "00c0ffee1234" "outside a repository, told the commit")
+write_info(${WORK_DIR}/told_wrong.h ${outside} "-DARMATURE_GIT_COMMIT=main; rm -rf")
+expect_commit(${WORK_DIR}/told_wrong.h "unknown" "told a commit that is not one")
+file(REMOVE_RECURSE ${outside})
 
 find_package(Git QUIET)
 execute_process(COMMAND ${GIT_EXECUTABLE} rev-parse --short=12 HEAD WORKING_DIRECTORY ${SOURCE_DIR}
