@@ -63,7 +63,8 @@ phase "base images"
 # 2. The multi-stage build (docker format, so HEALTHCHECK is kept).
 previous=$(podman image inspect --format '{{.Id}}' "$tag" 2>/dev/null || true)
 podman build --format docker "${run_flags[@]}" --build-arg BUILD_IMAGE="$build_image" \
-  --build-arg BASE_IMAGE="$base_image" --build-arg JOBS="${JOBS:-2}" -f deploy/Dockerfile -t "$tag" .
+  --build-arg BASE_IMAGE="$base_image" --build-arg JOBS="${JOBS:-2}" \
+  --build-arg GIT_COMMIT="$(git rev-parse --short=12 HEAD 2>/dev/null || true)" -f deploy/Dockerfile -t "$tag" .
 # The build stage (about 900 MB) is not needed once the image is made.
 podman image prune -f --filter label=org.armature.stage=build >/dev/null || true
 if [[ -n "$previous" && "$previous" != "$(podman image inspect --format '{{.Id}}' "$tag")" ]]; then

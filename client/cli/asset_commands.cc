@@ -1,5 +1,4 @@
-// import, list, info, export, delete, health.
-#include <fstream>
+// import, list, info, delete, health.
 #include <iostream>
 
 #include "cli_context.h"
@@ -30,15 +29,19 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
   auto name = std::make_shared<std::string>();
   auto replace = std::make_shared<bool>(false);
   auto outside = std::make_shared<bool>(false);
+  auto format = std::make_shared<std::string>();
   cmd->add_option("FILE", *file, "The file to import")->required()->check(CLI::ExistingFile);
   cmd->add_option("--name", *name, "Asset name (default: the file's stem)");
+  cmd->add_option("--format", *format, "bvh, gltf, glb or obj, whatever the file name says (default: from its "
+                                       "extension, else its content)")
+      ->check(CLI::IsMember({"bvh", "gltf", "glb", "obj"}));
   cmd->add_flag("--replace", *replace, "Replace an existing asset of the same name");
   cmd->add_flag("--allow-outside-resources", *outside,
                 "Also upload the files a .gltf's buffer uris name outside its folder (absolute paths, '..', file: "
                 "uris); by default only files in its folder or subfolders are sent");
-  cmd->callback([&ctx, file, name, replace, outside] {
-    ctx.run = [&ctx, file, name, replace, outside] {
-      const auto response = ctx.MakeClient().ImportFile(*file, *name, *replace, *outside);
+  cmd->callback([&ctx, file, name, replace, outside, format] {
+    ctx.run = [&ctx, file, name, replace, outside, format] {
+      const auto response = ctx.MakeClient().ImportFile(*file, *name, *replace, *outside, *format);
       auto summary = ImportSummary(response.asset());
       summary["warnings"] = std::vector<std::string>(response.warnings().begin(), response.warnings().end());
       PrintJson(summary);
@@ -49,12 +52,10 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
 
 void AddListCommand(CLI::App& app, CliContext& ctx) {
   auto* cmd = app.add_subcommand("list", "List assets with their skeletons, clips and meshes");
-  auto json = std::make_shared<bool>(false);
-  cmd->add_flag("--json", *json, "Print JSON");
-  cmd->callback([&ctx, json] {
-    ctx.run = [&ctx, json] {
+  cmd->callback([&ctx] {
+    ctx.run = [&ctx] {
       const auto assets = ctx.MakeClient().ListAssets();
-      if (*json) {
+      if (ctx.json) {
         PrintJson(ToJson(assets));
         return 0;
       }
@@ -90,24 +91,6 @@ void AddInfoCommand(CLI::App& app, CliContext& ctx) {
   });
 }
 
-void AddExportCommand(CLI::App& app, CliContext& ctx) {
-  auto* cmd = app.add_subcommand("export", "Export a clip as a BVH file");
-  auto clip = std::make_shared<std::string>();
-  auto out = std::make_shared<std::string>();
-  cmd->add_option("CLIP", *clip, "Clip name")->required();
-  cmd->add_option("-o,--output", *out, "Output file (.bvh)")->required();
-  cmd->callback([&ctx, clip, out] {
-    ctx.run = [&ctx, clip, out] {
-      const auto response = ctx.MakeClient().ExportClip(*clip);
-      std::ofstream f(*out, std::ios::binary);
-      f << response.data();
-      if (!f) throw std::runtime_error("cannot write " + *out);
-      std::cerr << "wrote " << *out << " (" << response.data().size() << " bytes)\n";
-      return 0;
-    };
-  });
-}
-
 void AddDeleteCommand(CLI::App& app, CliContext& ctx) {
   auto* cmd = app.add_subcommand("delete", "Delete an asset (or the asset owning a clip, skeleton or mesh)");
   auto name = std::make_shared<std::string>();
@@ -115,7 +98,10 @@ void AddDeleteCommand(CLI::App& app, CliContext& ctx) {
   cmd->callback([&ctx, name] {
     ctx.run = [&ctx, name] {
       const auto deleted = ctx.MakeClient().DeleteAsset(*name);
-      std::cout << "deleted asset " << deleted.name() << "\n";
+      if (ctx.json)
+        PrintJson(ToJson(deleted));
+      else
+        std::cout << "deleted asset " << deleted.name() << "\n";
       return 0;
     };
   });
@@ -126,7 +112,11 @@ void AddHealthCommand(CLI::App& app, CliContext& ctx) {
   cmd->callback([&ctx] {
     ctx.run = [&ctx] {
       const bool ok = ctx.MakeClient().Healthy();
-      std::cout << (ok ? "SERVING" : "NOT_SERVING") << "\n";
+      const char* status = ok ? "SERVING" : "NOT_SERVING";
+      if (ctx.json)
+        PrintJson({{"status", status}}, false);
+      else
+        std::cout << status << "\n";
       return ok ? 0 : 1;
     };
   });

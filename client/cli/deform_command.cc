@@ -15,7 +15,6 @@ struct DeformFlags {
   std::string method = "laplacian";
   std::vector<uint32_t> fixed;
   std::vector<std::string> handles;  // IDX=x,y,z
-  bool json = false;
 };
 
 // "12=0.5,1,-2" → a handle; anything else names the flag and the value.
@@ -64,7 +63,6 @@ void AddDeformCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--method", f->method, "laplacian or arap")->capture_default_str()->check(CLI::IsMember({"laplacian", "arap"}));
   cmd->add_option("--fixed", f->fixed, "Vertices held at rest: i,j,k,…")->delimiter(',');
   cmd->add_option("--handle", f->handles, "A moved vertex: IDX=x,y,z (repeatable)")->required();
-  cmd->add_flag("--json", f->json, "Print {\"mesh\":…,\"positions\":[x0,y0,z0,…]}");
   cmd->callback([&ctx, f] {
     ctx.run = [&ctx, f] {
       v1::DeformRequest request;
@@ -75,7 +73,7 @@ void AddDeformCommand(CLI::App& app, CliContext& ctx) {
       for (const auto& h : f->handles) *request.add_handles() = ParseHandle(h);
       Client client = ctx.MakeClient();
       const auto response = client.Deform(request);
-      if (f->json) {
+      if (ctx.json) {
         PrintJson({{"mesh", response.mesh()},
                    {"positions", std::vector<float>(response.positions().begin(), response.positions().end())}},
                   false);

@@ -52,7 +52,6 @@ struct IkFlags {
   double tolerance = 0;
   std::string root;
   std::string space = "world";
-  bool json = false;
 };
 
 }  // namespace
@@ -74,7 +73,6 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--root", f->root, "Only joints below this one move");
   cmd->add_option("--space", f->space, "Print the pose in local or world space")
       ->capture_default_str()->check(CLI::IsMember({"local", "world"}));
-  cmd->add_flag("--json", f->json, "Print JSON");
   cmd->callback([&ctx, f] {
     ctx.run = [&ctx, f] {
       v1::SolveIkRequest request;
@@ -93,7 +91,7 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
       const v1::Skeleton skeleton = client.GetSkeleton(response.skeleton());
       const v1::Pose& pose = f->space == "world" ? response.world() : response.local();
       // An unreachable target is an answer, not an error: exit 0 with converged false.
-      if (f->json) {
+      if (ctx.json) {
         nlohmann::json residuals = nlohmann::json::array();
         for (const v1::IkResidual& r : response.residuals())
           residuals.push_back({{"joint", r.joint()},

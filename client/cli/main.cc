@@ -2,17 +2,27 @@
 // server's message.
 #include <iostream>
 
+#include "armature/build_info.h"
 #include "cli_context.h"
 
 int main(int argc, char** argv) {
   using namespace armature::cli;
   CLI::App app{"armature: command-line client of armature-server"};
   CliContext ctx;
+  // Global options may come before or after the subcommand: a subcommand hands
+  // options it does not know to the app (fallthrough, inherited by every
+  // subcommand added below), so `armature list --server h:1` works like
+  // `armature --server h:1 list`.
+  app.fallthrough();
+  app.footer("Global options (--server, --token, --ca-file, --timeout, --json) go before or after the subcommand.\n");
+  app.set_version_flag("--version", armature::build_info::VersionLine("armature"),
+                       "Print the version and git commit, then exit");
   app.add_option("--server", ctx.server, "Server address HOST:PORT (default $ARMATURE_SERVER, else localhost:50051)");
   app.add_option("--token", ctx.token, "Bearer token (default $ARMATURE_TOKEN)");
   app.add_option("--ca-file", ctx.ca_file, "Use TLS, trusting this CA certificate (default $ARMATURE_CA_FILE)");
   app.add_option("--timeout", ctx.timeout_seconds, "Deadline of each call, in seconds")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_flag("--json", ctx.json, "Print JSON instead of text (import and info always print JSON)");
   app.require_subcommand(1);
 
   AddImportCommand(app, ctx);

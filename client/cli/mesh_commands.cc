@@ -1,11 +1,17 @@
-// skin: a mesh posed by a clip at a time, as world-space positions and normals.
+// skin: a mesh posed by a clip at a time, as world-space positions and normals
+// (printed, or written as an OBJ file with -o).
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <limits>
 #include <map>
+#include <sstream>
+#include <span>
+#include <stdexcept>
 
 #include "cli_context.h"
+#include "obj_text.h"
+#include "output_file.h"
 
 namespace armature::cli {
 namespace {
@@ -13,15 +19,26 @@ namespace {
 const std::map<std::string, v1::SkinningMethod> kMethods = {{"lbs", v1::LBS}, {"dqs", v1::DQS}};
 
 struct SkinFlags {
-  std::string mesh, clip, method = "lbs";
+  std::string mesh, clip, method = "lbs", out;
   double time = 0;
   bool loop = false;
   std::vector<float> weights;
-  bool json = false;
 };
 
 std::vector<float> Floats(const google::protobuf::RepeatedField<float>& values) {
   return {values.begin(), values.end()};
+}
+
+// 0.5, not 0.500000.
+std::string TimeText(double seconds) {
+  std::ostringstream out;
+  out << seconds;
+  return out.str();
+}
+
+template <class T>
+std::span<const T> Span(const google::protobuf::RepeatedField<T>& values) {
+  return {values.data(), static_cast<size_t>(values.size())};
 }
 
 }  // namespace
@@ -35,9 +52,12 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--method", f->method, "lbs or dqs")->capture_default_str()->check(CLI::IsMember({"lbs", "dqs"}));
   cmd->add_flag("--loop", f->loop, "Wrap times past the end (default: clamp)");
   cmd->add_option("--weights", f->weights, "Morph weights overriding the clip's, one per target")->delimiter(',');
-  cmd->add_flag("--json", f->json, "Print JSON");
+  cmd->add_option("-o,--output", f->out, "Also write the skinned mesh to this .obj file");
   cmd->callback([&ctx, f] {
     ctx.run = [&ctx, f] {
+      if (!f->out.empty() && ExtensionFormat(f->out) != "obj")
+        throw std::runtime_error("cannot tell the format from the file name " + f->out +
+                                 ": skin -o writes OBJ, name a .obj file");
       Client client = ctx.MakeClient();
       v1::SkinMeshRequest request;
       request.set_mesh(f->mesh);
@@ -47,7 +67,17 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
       request.set_method(kMethods.at(f->method));
       for (float w : f->weights) request.add_morph_weights(w);
       const auto response = client.SkinMesh(request);
-      if (f->json) {
+      if (!f->out.empty()) {
+        const v1::MeshGeometry geometry = client.GetMeshGeometry(f->mesh);  // the triangles
+        const std::string obj =
+            ObjText(Span(response.positions()), Span(response.normals()), Span(geometry.triangles()),
+                    "armature skin " + f->mesh + " --clip " + f->clip + " --time " + TimeText(f->time) +
+                        " --method " + f->method);
+        WriteOutputFile(f->out, obj);
+        std::cerr << "wrote " << f->out << " (" << response.vertex_count() << " vertices, "
+                  << geometry.triangles_size() / 3 << " triangles)\n";
+      }
+      if (ctx.json) {
         // Ordered: the mesh and count first, then the (long) arrays.
         const nlohmann::ordered_json j = {{"mesh", response.mesh()},
                                           {"vertexCount", response.vertex_count()},

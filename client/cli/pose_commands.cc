@@ -19,7 +19,6 @@ struct PoseFlags {
   std::string space = "world";
   std::string interpolation;
   std::vector<std::string> joints;
-  bool json = false;
   std::string motion;  // FILE.json: a motion instead of CLIP
 };
 
@@ -37,7 +36,6 @@ void AddPoseFlags(CLI::App* cmd, PoseFlags& f, bool motion = false) {
   cmd->add_option("--interpolation", f.interpolation, "step, linear or cubic (default: the clip's own)")
       ->check(CLI::IsMember({"step", "linear", "cubic"}));
   cmd->add_option("--joints", f.joints, "Only these joints")->delimiter(',');
-  cmd->add_flag("--json", f.json, "Print JSON");
 }
 
 template <class Request>
@@ -50,7 +48,7 @@ void FillPoseRequest(const PoseFlags& f, Request& r) {
 
 // `pose --motion FILE.json`: the same output as `pose CLIP`, with "motion"
 // (the file) and "skeleton" in place of "clip", and EXTRACT's "rootMotion".
-int PrintMotionPose(Client& client, const PoseFlags& f, double time) {
+int PrintMotionPose(Client& client, const PoseFlags& f, double time, bool json) {
   v1::EvaluateMotionRequest request;
   *request.mutable_motion() = ReadMotionFile(f.motion);
   request.add_times(time);
@@ -58,7 +56,7 @@ int PrintMotionPose(Client& client, const PoseFlags& f, double time) {
   for (const auto& j : f.joints) request.add_joints(j);
   const auto response = client.EvaluateMotion(request);
   const auto skeleton = client.GetSkeleton(response.skeleton());
-  if (f.json) {
+  if (json) {
     nlohmann::json out = {{"motion", f.motion},
                           {"skeleton", response.skeleton()},
                           {"time", time},
@@ -88,14 +86,14 @@ void AddPoseCommand(CLI::App& app, CliContext& ctx) {
     if (cmd->count("CLIP") + cmd->count("--motion") == 0) throw CLI::RequiredError("CLIP or --motion");
     ctx.run = [&ctx, flags, time, loop] {
       Client client = ctx.MakeClient();
-      if (!flags->motion.empty()) return PrintMotionPose(client, *flags, *time);
+      if (!flags->motion.empty()) return PrintMotionPose(client, *flags, *time, ctx.json);
       v1::EvaluateClipRequest request;
       FillPoseRequest(*flags, request);
       request.add_times(*time);
       request.set_wrap(*loop ? v1::LOOP : v1::CLAMP);
       const auto response = client.EvaluateClip(request);
       const auto skeleton = client.GetSkeleton(response.skeleton());
-      if (flags->json) {
+      if (ctx.json) {
         PrintJson({{"clip", response.clip()},
                    {"time", *time},
                    {"space", flags->space},
@@ -137,7 +135,7 @@ void AddStreamCommand(CLI::App& app, CliContext& ctx) {
           joints = frame.joints();
           skeleton = client.GetSkeleton(frame.skeleton());
         }
-        if (flags->json) {
+        if (ctx.json) {
           PrintJson({{"index", frame.index()},
                      {"time", frame.time()},
                      {"wallTime", frame.wall_time()},

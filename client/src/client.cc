@@ -84,11 +84,12 @@ void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
 }
 
 v1::ImportAssetResponse Client::ImportFile(const std::filesystem::path& path, const std::string& name,
-                                           bool replace, bool allow_outside_resources) {
+                                           bool replace, bool allow_outside_resources, const std::string& format) {
   UploadFile main{path.filename().string(), ReadFileOrThrow(path)};
   std::vector<UploadFile> resources;
-  if (path.extension() == ".gltf") resources = detail::GltfResources(path, main.bytes, allow_outside_resources);
-  return Import(main, name, "", replace, resources);
+  const bool gltf = format.empty() ? path.extension() == ".gltf" : format == "gltf";
+  if (gltf) resources = detail::GltfResources(path, main.bytes, allow_outside_resources);
+  return Import(main, name, format, replace, resources);
 }
 
 v1::ImportAssetResponse Client::Import(const UploadFile& main, const std::string& name, const std::string& format,

@@ -4,11 +4,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include "armature/build_info.h"
+
 namespace armature::server {
 
 int ParseConfig(int argc, char** argv, ServerConfig& c) {
   CLI::App app{"armature-server: an animation server (pose evaluation, IK, skinning, deformation) over gRPC and HTTP"};
   app.option_defaults()->always_capture_default();
+  app.set_version_flag("--version", build_info::VersionLine("armature-server"), "Print the version and git commit, then exit");
   app.add_option("--host", c.host, "Address to listen on")->envname("ARMATURE_HOST");
   app.add_option("--grpc-port", c.grpc_port, "gRPC port (0: any free port)")
       ->envname("ARMATURE_GRPC_PORT")->check(CLI::Range(0, 65535));

@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "armature/build_info.h"
+
 namespace armature::server {
 namespace {
 
@@ -112,6 +114,9 @@ std::string Metrics::Render() const {
       out.Sample("armature_rpc_in_flight", {{"method", method}}, static_cast<double>(m.in_flight));
     out.Family("armature_streams_in_flight", "gauge", "Streaming calls (client, server or bidi) now open.");
     out.Sample("armature_streams_in_flight", {}, static_cast<double>(streams_in_flight_));
+    // The usual info-metric idiom: always 1, the facts are in the labels.
+    out.Family("armature_build_info", "gauge", "The server's version and git commit (value always 1).");
+    out.Sample("armature_build_info", {{"version", build_info::kVersion}, {"commit", build_info::kCommit}}, 1);
     collectors = collectors_;
   }
   for (const auto& collect : collectors) collect(out);
