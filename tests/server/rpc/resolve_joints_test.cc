@@ -17,7 +17,7 @@ TEST(ResolveJoints, AnUnknownJointSuggestsTheClosestAndListsTheJoints) {
   auto joints = ResolveJoints(skeleton, names, "joints");
   ASSERT_FALSE(joints.ok());
   EXPECT_EQ(joints.status().code(), StatusCode::kNotFound);
-  const std::string& message = joints.status().message();
+  const std::string message = joints.status().message();
   EXPECT_EQ(message.rfind("joints[1]: unknown joint 'LeftWirst'; did you mean 'LeftWrist'? (the skeleton's 19 joints: "
                           "Hips, ",
                           0),
