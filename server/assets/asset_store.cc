@@ -15,6 +15,7 @@
 #include "server/assets/asset_limits.h"
 #include "server/assets/data_dir_lock.h"
 #include "server/assets/file_io.h"
+#include "server/assets/part_deletion.h"
 
 namespace armature::server {
 namespace fs = std::filesystem;
@@ -396,6 +397,7 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Delete(std::string_view
   const auto current = Snapshot();
   auto owner = current->FindOwner(name);
   if (!owner.ok()) return owner.status();
+  ARMATURE_RETURN_IF_ERROR(CheckDeletionTakesOnly(**owner, name));
   auto assets = current->assets;
   assets.erase((*owner)->record.name);
   auto catalog = BuildCatalog(std::move(assets));

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "armature/base/closest_name.h"
+
 namespace armature::server {
 namespace {
 
@@ -17,21 +19,39 @@ Status IndexParts(const std::shared_ptr<const StoredAsset>& asset, const std::ve
   return Status::Ok();
 }
 
+// NOT_FOUND that helps: a close name ("did you mean"), and when `name` is an asset's name, that
+// asset's parts of this kind ("mesh 'cesium_man' not found; asset 'cesium_man' has meshes: …").
 template <class Part>
-StatusOr<PartRef<Part>> FindIn(const std::map<std::string, PartRef<Part>>& index, std::string_view name,
-                               std::string_view kind) {
+StatusOr<PartRef<Part>> FindIn(const Catalog& catalog, const std::map<std::string, PartRef<Part>>& index,
+                               std::string_view name, std::string_view kind, std::string_view kinds,
+                               const std::vector<Part> AssetContents::*parts_of) {
   auto it = index.find(std::string(name));
-  if (it == index.end()) return Status::NotFound(std::string(kind) + " '" + std::string(name) + "' not found");
-  return it->second;
+  if (it != index.end()) return it->second;
+  std::string message = std::string(kind) + " '" + std::string(name) + "' not found";
+  if (auto asset = catalog.assets.find(std::string(name)); asset != catalog.assets.end()) {
+    std::vector<std::string_view> parts;
+    for (const Part& p : asset->second->contents.*parts_of) parts.push_back(p.name);
+    message += "; asset '" + asset->first + "' has " +
+               (parts.empty() ? "no " + std::string(kinds) : std::string(kinds) + ": " + JoinNames(parts));
+    return Status::NotFound(std::move(message));
+  }
+  std::vector<std::string_view> names;
+  names.reserve(index.size());
+  for (const auto& [n, ref] : index) names.push_back(n);
+  return Status::NotFound(message + DidYouMean(name, names));
 }
 
 }  // namespace
 
-StatusOr<PartRef<NamedClip>> Catalog::FindClip(std::string_view name) const { return FindIn(clips, name, "clip"); }
-StatusOr<PartRef<NamedSkeleton>> Catalog::FindSkeleton(std::string_view name) const {
-  return FindIn(skeletons, name, "skeleton");
+StatusOr<PartRef<NamedClip>> Catalog::FindClip(std::string_view name) const {
+  return FindIn(*this, clips, name, "clip", "clips", &AssetContents::clips);
 }
-StatusOr<PartRef<NamedMesh>> Catalog::FindMesh(std::string_view name) const { return FindIn(meshes, name, "mesh"); }
+StatusOr<PartRef<NamedSkeleton>> Catalog::FindSkeleton(std::string_view name) const {
+  return FindIn(*this, skeletons, name, "skeleton", "skeletons", &AssetContents::skeletons);
+}
+StatusOr<PartRef<NamedMesh>> Catalog::FindMesh(std::string_view name) const {
+  return FindIn(*this, meshes, name, "mesh", "meshes", &AssetContents::meshes);
+}
 
 StatusOr<std::shared_ptr<const StoredAsset>> Catalog::FindOwner(std::string_view name) const {
   const std::string key(name);

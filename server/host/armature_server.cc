@@ -16,6 +16,7 @@
 #include "server/host/gateway/http_rule.h"
 #include "server/assets/asset_memory.h"
 #include "server/host/auth_gate.h"
+#include "server/host/listen_error.h"
 #include "server/assets/demo_assets.h"
 #include "server/host/metrics_http.h"
 #include "server/host/rpc_observer.h"
@@ -56,6 +57,8 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   builder.AddListeningPort(config.host + ":" + std::to_string(config.grpc_port), *credentials, &s->grpc_port_);
+  // No SO_REUSEPORT (gRPC's default): a second server on the same port must fail, not split the traffic.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(static_cast<int>(config.limits.max_message_bytes));
   builder.SetMaxSendMessageSize(static_cast<int>(config.limits.max_message_bytes));
   // Every call, REST ones through the in-process channel included, passes the observer (metrics, request log).
@@ -65,7 +68,9 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   interceptors.push_back(std::make_unique<RpcObserverFactory>(*s->metrics_));
   builder.experimental().SetInterceptorCreators(std::move(interceptors));
   // With a token file, each API service sits behind an auth gate; health and reflection stay open.
+  std::vector<std::string> service_names;
   for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_)) {
+    service_names.push_back(entry.name);
     if (s->tokens_) {
       auto gated = GateService(std::move(entry.service), entry.name, s->tokens_);
       if (!gated.ok()) return gated.status();
@@ -76,7 +81,9 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   for (auto& service : s->services_) builder.RegisterService(service.get());
   s->grpc_ = builder.BuildAndStart();
   if (!s->grpc_ || s->grpc_port_ == 0)
-    return Status::Unavailable("cannot listen for gRPC on " + config.host + ":" + std::to_string(config.grpc_port));
+    return Status::Unavailable(ListenError("gRPC", config.host, config.grpc_port));
+  // grpc.health.v1 answers for "" (the whole server) and for each armature.v1 service by full name.
+  for (const std::string& name : service_names) s->grpc_->GetHealthCheckService()->SetServingStatus(name, true);
   s->grpc_->GetHealthCheckService()->SetServingStatus(true);
 
   if (config.http_port >= 0) {
@@ -85,7 +92,7 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
     if (Status st = s->StartGateway(); !st.ok()) return st;
     s->http_port_ = s->http_->Start(config.host, config.http_port);
     if (s->http_port_ < 0)
-      return Status::Unavailable("cannot listen for HTTP on " + config.host + ":" + std::to_string(config.http_port));
+      return Status::Unavailable(ListenError("HTTP", config.host, config.http_port));
     s->http_->SetReady(true);
   }
   spdlog::info("serving gRPC on {}:{} and HTTP on {}:{}{}{}", config.host, s->grpc_port_, config.host, s->http_port_,

@@ -1,5 +1,7 @@
 #include "server/host/http_server.h"
 
+#include <sys/socket.h>
+
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
@@ -31,6 +33,11 @@ HttpServer::HttpServer(size_t max_threads, const std::string& tls_cert_file, con
   http_->new_task_queue = [max_threads] { return new HttpTaskQueue(max_threads); };
   // Small writes (SSE frames) go out at once instead of waiting on Nagle and delayed ACKs.
   http_->set_tcp_nodelay(true);
+  // SO_REUSEADDR only: cpp-httplib's default SO_REUSEPORT would let a second server share the port.
+  http_->set_socket_options([](int sock) {
+    const int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+  });
   http_->Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
     res.set_content("{\"status\":\"ok\"}\n", "application/json");
   });

@@ -5,6 +5,8 @@
 
 #include <google/protobuf/descriptor.h>
 
+#include "armature/base/closest_name.h"
+
 namespace armature::server {
 
 Status ValidateFinite(double value, const std::string& field) {
@@ -38,7 +40,7 @@ StatusOr<std::vector<int>> ResolveJoints(const Skeleton& skeleton,
   for (int i = 0; i < names.size(); ++i) {
     const int j = skeleton.Find(names[i]);
     if (j < 0)
-      return Status::NotFound(field + "[" + std::to_string(i) + "]: unknown joint '" + names[i] + "'");
+      return Status::NotFound(field + "[" + std::to_string(i) + "]: " + UnknownJoint(names[i], skeleton.names));
     joints.push_back(j);
   }
   return joints;

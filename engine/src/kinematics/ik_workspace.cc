@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "armature/base/closest_name.h"
 #include "armature/engine/kinematics/joint_limits.h"
 #include "ik_internal.h"
 
@@ -25,7 +26,7 @@ StatusOr<int> Resolve(const Skeleton& skeleton, IkWorkspace& ws, const std::stri
   int& hint = ws.name_hints[slot];
   if (hint >= 0 && hint < static_cast<int>(skeleton.size()) && skeleton.names[hint] == name) return hint;
   hint = skeleton.Find(name);
-  if (hint < 0) return Status::InvalidArgument(field() + ": unknown joint '" + name + "'");
+  if (hint < 0) return Status::InvalidArgument(field() + ": " + UnknownJoint(name, skeleton.names));
   return hint;
 }
 

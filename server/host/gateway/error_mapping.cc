@@ -10,6 +10,7 @@ int HttpStatusOf(grpc::StatusCode code) {
   switch (code) {
     case G::OK: return 200;
     case G::INVALID_ARGUMENT: return 400;
+    case G::FAILED_PRECONDITION: return 400;  // as google.rpc.Code maps it: the client must change something first
     case G::UNAUTHENTICATED: return 401;
     case G::PERMISSION_DENIED: return 403;
     case G::NOT_FOUND: return 404;

@@ -1,5 +1,6 @@
 #include "server/host/gateway/json_codec.h"
 
+#include <google/protobuf/descriptor.h>
 #include <google/protobuf/util/json_util.h>
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,19 @@ std::string NameTheField(const std::string& message, const std::string& where, c
   const size_t close = message.find("): ");
   if (message.empty() || message[0] != '(' || close == std::string::npos) return where + ": " + message;
   return label + " '" + message.substr(1, close - 1) + "': " + message.substr(close + 3);
+}
+
+// protobuf names a bad enum value's type ("… for type type.googleapis.com/armature.v1.Space"); the
+// caller needs the names it would have taken.
+std::string AllowedEnumValues(const std::string& message, const google::protobuf::DescriptorPool& pool) {
+  static constexpr std::string_view kTypePrefix = "for type type.googleapis.com/";
+  const size_t at = message.rfind(kTypePrefix);
+  if (at == std::string::npos) return "";
+  const google::protobuf::EnumDescriptor* type = pool.FindEnumTypeByName(message.substr(at + kTypePrefix.size()));
+  if (type == nullptr) return "";
+  std::string allowed;
+  for (int i = 0; i < type->value_count(); ++i) allowed += (i ? ", " : "") + type->value(i)->name();
+  return "; allowed: " + allowed + " (any case)";
 }
 
 }  // namespace
@@ -37,12 +51,16 @@ grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* mes
   if (auto st = CheckJsonSyntax(json, where); !st.ok()) return st;
   google::protobuf::util::JsonParseOptions options;
   options.ignore_unknown_fields = false;
-  options.case_insensitive_enum_parsing = false;
+  // "world" as well as "WORLD": the CLI prints enum values in lower case.
+  options.case_insensitive_enum_parsing = true;
   const auto status = google::protobuf::util::JsonStringToMessage(
       google::protobuf::StringPiece(json.data(), json.size()), message, options);
-  if (!status.ok())
+  if (!status.ok()) {
+    const std::string what(status.message());
+    const auto* pool = message->GetDescriptor()->file()->pool();
     return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        NameTheField(std::string(status.message()), where, field_label));
+                        NameTheField(what, where, field_label) + AllowedEnumValues(what, *pool));
+  }
   return grpc::Status::OK;
 }
 

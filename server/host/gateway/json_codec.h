@@ -11,9 +11,10 @@
 namespace armature::server::gateway {
 
 // Parses JSON into `message` (which is cleared first). Either field-name
-// spelling is accepted, enums by name or number; unknown fields are an
-// error. `where` prefixes messages ("request body: malformed JSON …") and
-// `field_label` names a bad field ("request body field 'times[1]': …").
+// spelling is accepted, enums by name (in any case: "world") or number, a bad
+// name answered with the allowed ones; unknown fields are an error. `where`
+// prefixes messages ("request body: malformed JSON …") and `field_label`
+// names a bad field ("request body field 'times[1]': …").
 grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* message, const std::string& where,
                            const std::string& field_label);
 

@@ -37,6 +37,7 @@ class IkValidationTest : public testing::Test {
   IkRequest request_;
   IkWorkspace ws_;
   IkResult result_;
+  std::string skeleton_names_front_;
 };
 
 TEST_F(IkValidationTest, ValidRequestSolves) {
@@ -45,19 +46,25 @@ TEST_F(IkValidationTest, ValidRequestSolves) {
 }
 
 TEST_F(IkValidationTest, UnknownJoints) {
+  // Each message names the field and the joint, suggests a near miss and lists the skeleton's joints.
+  auto starts = [this](const std::string& message, const std::string& prefix) {
+    EXPECT_EQ(message.rfind(prefix, 0), 0u) << message;
+    EXPECT_NE(message.find("joints: " + std::string(skeleton_names_front_)), std::string::npos) << message;
+  };
+  skeleton_names_front_ = skeleton_.names.front();
   IkRequest r = request_;
   r.effectors[1].joint = "LeftHandd";
-  EXPECT_EQ(ErrorOf(r), "effectors[1].joint: unknown joint 'LeftHandd'");
+  starts(ErrorOf(r), "effectors[1].joint: unknown joint 'LeftHandd'; did you mean 'LeftHand'? (the skeleton's ");
   r = request_;
   r.limits[4].joint = "Elbow";
-  EXPECT_EQ(ErrorOf(r), "limits[4].joint: unknown joint 'Elbow'");
+  starts(ErrorOf(r), "limits[4].joint: unknown joint 'Elbow'");
   r = request_;
   r.root = "Pelvis";
-  EXPECT_EQ(ErrorOf(r), "root: unknown joint 'Pelvis'");
+  starts(ErrorOf(r), "root: unknown joint 'Pelvis'");
   r = request_;
   r.root.clear();
   r.free_joints = {"LeftArm", "Shoulder"};
-  EXPECT_EQ(ErrorOf(r), "free_joints[1]: unknown joint 'Shoulder'");
+  starts(ErrorOf(r), "free_joints[1]: unknown joint 'Shoulder'");
 }
 
 TEST_F(IkValidationTest, NonFiniteNumbers) {

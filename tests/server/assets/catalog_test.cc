@@ -29,8 +29,24 @@ TEST(Catalog, AnUnknownNameIsNotFoundNamingTheKind) {
   auto mesh = catalog->FindMesh("demo_character");
   ASSERT_FALSE(mesh.ok());
   EXPECT_EQ(mesh.status().code(), StatusCode::kNotFound);
-  EXPECT_EQ(mesh.status().message(), "mesh 'demo_character' not found");
+  // An asset's name where a part's is wanted: the asset's parts of that kind are listed.
+  EXPECT_EQ(mesh.status().message(), "mesh 'demo_character' not found; asset 'demo_character' has meshes: "
+                                     "demo_character.body");
+  EXPECT_EQ(catalog->FindMesh("demo_walk").status().message(),
+            "mesh 'demo_walk' not found; asset 'demo_walk' has no meshes");
+  EXPECT_EQ(catalog->FindClip("demo_character").status().message(),
+            "clip 'demo_character' not found; asset 'demo_character' has clips: demo_character.walk");
   EXPECT_EQ(catalog->FindClip("nope").status().message(), "clip 'nope' not found");
+}
+
+TEST(Catalog, ANearMissSuggestsTheClosestName) {
+  auto catalog = DemoCatalog();
+  EXPECT_EQ(catalog->FindClip("demo_wlak").status().message(), "clip 'demo_wlak' not found; did you mean 'demo_walk'?");
+  EXPECT_EQ(catalog->FindClip("Demo_Walk").status().message(), "clip 'Demo_Walk' not found; did you mean 'demo_walk'?");
+  EXPECT_EQ(catalog->FindMesh("demo_character.bdy").status().message(),
+            "mesh 'demo_character.bdy' not found; did you mean 'demo_character.body'?");
+  EXPECT_EQ(catalog->FindSkeleton("demo_charactr").status().message(),
+            "skeleton 'demo_charactr' not found; did you mean 'demo_character'?");
 }
 
 TEST(Catalog, FindOwnerResolvesAnAssetOrAnyOfItsParts) {
