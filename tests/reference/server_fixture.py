@@ -19,7 +19,8 @@ class Server:
         deadline = time.time() + 60
         while time.time() < deadline:
             if os.path.exists(port_file):
-                ports = json.load(open(port_file))
+                with open(port_file) as f:
+                    ports = json.load(f)
                 self.grpc_port, self.http_port = ports["grpc"], ports["http"]
                 self.target = f"127.0.0.1:{self.grpc_port}"
                 return
@@ -38,6 +39,7 @@ class Server:
         if self.proc.poll() is None:
             self.proc.send_signal(signal.SIGTERM)
             self.proc.wait(timeout=15)
+        self.log.close()
         self.dir.cleanup()
 
     def __enter__(self):
