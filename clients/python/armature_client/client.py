@@ -249,6 +249,13 @@ class Client:
                             joint_names=names, joints=indices, skeleton=skeleton)
 
     # -- meshes -------------------------------------------------------------
+    def get_mesh_geometry(self, mesh, timeout=None):
+        """The rest mesh: (positions (vertices, 3), normals (vertices, 3) or None, triangles (triangles, 3))."""
+        r = self._unary(self._meshes.GetMeshGeometry, meshes_pb2.GetMeshGeometryRequest(mesh=mesh), timeout)
+        positions = packed(r.positions, 3, r.vertex_count)
+        normals = packed(r.normals, 3, r.vertex_count) if len(r.normals) else None
+        return positions, normals, np.asarray(r.triangles, np.uint32).reshape((-1, 3))
+
     def skin_mesh(self, mesh, clip="", time=0.0, *, method="lbs", interpolation=None, wrap=None,
                   morph_weights=None, timeout=None):
         """The mesh skinned by the clip's pose at `time`: .positions (vertices, 3) in world space,

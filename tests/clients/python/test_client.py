@@ -17,7 +17,9 @@ import subprocess
 import sys
 import tempfile
 import textwrap
+import time
 import unittest
+import urllib.request
 
 if os.environ.get("ARMATURE_CLIENT_TEST_PYTHON") != sys.argv[1]:
     if not os.path.exists(sys.argv[1]):
@@ -139,6 +141,35 @@ class ClientTest(unittest.TestCase):
         with self.assertRaises(NotFound):
             self.client.evaluate_clip(clip, [0.0])
 
+    def test_import_gltf_sends_its_buffer(self):
+        corners = np.array([[0, 0, 0], [1, 0, 0], [0, 2, 0.5]], np.float32)
+        gltf = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+                "nodes": [{"mesh": 0}], "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}}]}],
+                "buffers": [{"uri": "tri%20data.bin", "byteLength": corners.nbytes}],
+                "bufferViews": [{"buffer": 0, "byteLength": corners.nbytes}],
+                "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                               "min": corners.min(0).tolist(), "max": corners.max(0).tolist()}]}
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "scene"))
+            path = os.path.join(d, "scene", "tri.gltf")
+            with open(path, "w") as f:
+                json.dump(gltf, f)
+            corners.tofile(os.path.join(d, "scene", "tri data.bin"))
+            r = self.client.import_asset(path, name="py_tri")
+            mesh = r.asset.meshes[0]
+            self.assertEqual(mesh.vertex_count, 3)
+            positions, _, _ = self.client.get_mesh_geometry(mesh.name)
+            np.testing.assert_array_equal(positions, corners)
+            # A buffer outside the file's folder is not sent: refused before the call.
+            gltf["buffers"][0]["uri"] = "../tri%20data.bin"
+            corners.tofile(os.path.join(d, "tri data.bin"))
+            with open(path, "w") as f:
+                json.dump(gltf, f)
+            with self.assertRaises(InvalidArgument) as e:
+                self.client.import_asset(path, name="py_tri_outside")
+            self.assertIn("../tri%20data.bin", e.exception.message)
+        self.client.delete_asset("py_tri")
+
     def test_stream_clip_frames(self):
         fps, duration = 40.0, 0.5
         frames = list(self.client.stream_clip("demo_walk", fps=fps, duration=duration))
@@ -163,6 +194,15 @@ class ClientTest(unittest.TestCase):
         first = [next(stream) for _ in range(3)]
         stream.close()  # cancels the call: a looping stream would otherwise never end
         self.assertEqual([f.index for f in first], [0, 1, 2])
+        open_streams = None
+        for _ in range(100):  # the server sees the cancellation
+            metrics = urllib.request.urlopen(f"http://127.0.0.1:{self.server.http_port}/metrics", timeout=10)
+            open_streams = next(float(line.split()[-1]) for line in metrics.read().decode().splitlines()
+                                if line.startswith("armature_streams_in_flight"))
+            if open_streams == 0:
+                break
+            time.sleep(0.05)
+        self.assertEqual(open_streams, 0, "the server still streams after the generator was closed")
 
     def test_skin_mesh_equals_the_cli(self):
         skinned = [m for m in self.client.list_meshes() if m.skeleton]
