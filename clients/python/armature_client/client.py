@@ -188,6 +188,9 @@ class Client:
         extra = dict(resources or {})
         if path.lower().endswith(".gltf") and resources is None:
             extra = _gltf_resources(path, main)
+        for uri, file in extra.items():  # fail here, not inside gRPC's request thread
+            if not os.path.isfile(file):
+                raise FileNotFoundError(f"resource '{uri}': no file {file}")
 
         def requests():
             first = True
