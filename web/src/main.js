@@ -95,7 +95,6 @@ function updateControls() {
   ui.skeletonToggle.hidden = !mesh?.skeleton;
   // Blending needs a skeleton with a clip (a mesh's, shown alone while blending).
   ui.blend.disabled = editing || !clip || (meshMode() && !mesh?.skeleton);
-  ui.blend.checked = blending;
   ui.hint.textContent = editing ? HINTS.edit : blending ? HINTS.blend : meshMode() ? HINTS.mesh : HINTS.skeleton;
   view.figure.visible = !meshMode() || overlay();
 }
@@ -254,6 +253,7 @@ async function setBlending(on) {
     showMessage('');
     if (player.clip) await player.refresh();
   }
+  ui.blend.checked = blend.enabled;
   updateControls();
 }
 

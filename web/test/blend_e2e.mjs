@@ -228,4 +228,18 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot }) => {
   // Leaving blend mode shows the clip again.
   await page.uncheck('#blend');
   check(await page.isHidden('#blend-panel'), 'unticking Blend closes the panel');
+
+  // From a skinned mesh, Blend shows the mesh's skeleton alone, with the layers set before (same skeleton).
+  const mesh = asset.meshes.find((m) => m.skeleton === skeleton.name);
+  await page.selectOption('#mesh', mesh.name);
+  await page.waitForFunction(() => window.armatureViewer.meshPlayer.clip, null, { timeout: 30000 });
+  shown = await drawnAfter(page, () => page.check('#blend'));
+  const state = await page.evaluate(() => ({
+    mesh: document.getElementById('mesh').value,
+    layers: [0, 1].map((k) => document.getElementById(`blend-clip-${k}`).value),
+  }));
+  reference = await evaluate({ layers: [{ clip: walk, weight: 0 }, { clip: run, weight: 1 }] }, shown.time);
+  diff = maxDiff(shown.positions, reference);
+  check(state.mesh === '' && state.layers[0] === walk && state.layers[1] === run && diff < TOLERANCE,
+        `from the mesh ${mesh.name}, Blend shows its skeleton with the layers kept (${diff.toExponential(2)})`);
 });
