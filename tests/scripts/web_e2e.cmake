@@ -18,9 +18,12 @@ if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   add_test(NAME web.openapi_valid
     COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/openapi_validate.mjs $<TARGET_FILE:armature-server>)
   set_tests_properties(web.openapi_valid PROPERTIES TIMEOUT 120)
+  # The blend panel's pure parts (upper-body joint, crossfade ramp, motion JSON) in node.
+  add_test(NAME web.blend_motion COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/blend_motion_test.mjs)
+  set_tests_properties(web.blend_motion PROPERTIES TIMEOUT 60)
 else()
   # Not a skip: the setup provides node and web/node_modules.
-  foreach(test ${ARMATURE_VIEWER_TESTS} openapi_valid)
+  foreach(test ${ARMATURE_VIEWER_TESTS} openapi_valid blend_motion)
     add_test(NAME web.${test} COMMAND sh -c
       "echo 'FAIL: node or web/node_modules missing: run scripts/setup.sh test, then configure again'; exit 1")
   endforeach()
