@@ -143,7 +143,10 @@ meshPlayer.addEventListener('frame', ({ detail: { time, positions, normals, fram
 meshPlayer.addEventListener('state', ({ detail: { playing } }) => meshMode() && showState(playing));
 meshPlayer.addEventListener('error', ({ detail }) => showMessage(detail));
 
+let blendFailed = false;  // a blend error is on screen until a motion evaluates again
 blend.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
+  if (blendFailed) showMessage('');
+  blendFailed = false;
   view.setPose(pose);
   ui.time.textContent = `t = ${time.toFixed(3)} s · blend`;
   if (frame) showRate('poses');
@@ -152,7 +155,10 @@ blend.addEventListener('state', () => {
   ui.rate.textContent = '';
   arrivals.length = 0;
 });
-blend.addEventListener('error', ({ detail }) => showMessage(`Blend: ${detail}`));
+blend.addEventListener('error', ({ detail }) => {
+  blendFailed = true;
+  showMessage(`Blend: ${detail}`);
+});
 
 ik.addEventListener('solve', ({ detail: { joint, response } }) => {
   const [residual] = response.residuals;

@@ -55,7 +55,7 @@ function maxDiff(a, b, only) {
   return most;
 }
 
-await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot }) => {
+await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectConsoleError }) => {
   const rest = async (route, body) => {
     const res = await fetch(server.url + route, body && {
       method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body),
@@ -131,6 +131,15 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot }) => {
   check(shown.motion.sync === 'PHASE' && diff < TOLERANCE && syncShift > 1e-3 * height,
         `Walking + Idle with phase sync: drawn = EvaluateMotion with PHASE (${diff.toExponential(2)}), ` +
         `${syncShift.toFixed(4)} from NONE`);
+  // An error is shown and cleared: PHASE with no override layer to drive it.
+  await page.selectOption('#blend-clip-1', '');
+  expectConsoleError(/status of 400/);  // Chromium logs the rejected request
+  await page.selectOption('#blend-mode-0', 'ADDITIVE');
+  await page.waitForFunction(() => /^Blend: .*PHASE/.test(document.getElementById('message').textContent));
+  const message = await page.textContent('#message');
+  await drawnAfter(page, () => page.selectOption('#blend-mode-0', 'OVERRIDE'));
+  const cleared = await page.textContent('#message');
+  check(cleared === '', `a rejected motion shows the server's message (${message}) until the next pose`);
   await page.uncheck('#blend-sync');
   await drawnAfter(page, () => page.selectOption('#blend-clip-1', run));
 
@@ -183,7 +192,10 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot }) => {
   await page.evaluate(() => {
     window.__fade = [];
     window.armatureViewer.blend.addEventListener('pose', ({ detail: { time, motion, pose } }) =>
-      window.__fade.push({ time, weights: motion.layers.map((l) => l.weight), translations: pose.translations }));
+      window.__fade.push({
+        time, weights: motion.layers.map((l) => l.weight), translations: pose.translations,
+        sliders: [0, 1].map((k) => Number(document.getElementById(`blend-weight-${k}`).value)),
+      }));
   });
   await page.click('#blend-fade');
   const fade = await page.evaluate(() => ({ ...window.armatureViewer.blend.fade }));
@@ -194,15 +206,17 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot }) => {
   }, fade, { timeout: 30000 });
   await page.click('#blend-play');  // pause
   const samples = await page.evaluate(() => window.__fade);
-  let worst = 0;
+  let worst = 0, worstSlider = 0;
   for (const s of samples) {
     const p = Math.min(Math.max((s.time - fade.start) / FADE, 0), 1);
     worst = Math.max(worst, Math.abs(s.weights[0] - (1 - p)), Math.abs(s.weights[1] - p));
+    worstSlider = Math.max(worstSlider, ...s.sliders.map((v, k) => Math.abs(v - s.weights[k])));
   }
   const inside = samples.filter((s) => s.time > fade.start + 0.05 * FADE && s.time < fade.start + 0.95 * FADE);
   check(inside.length >= 3 && worst < 1e-12,
         `${samples.length} frames, ${inside.length} inside the fade: weights = (1 − p, p), p = (t − ${fade.start.toFixed(3)}) / ${FADE} ` +
         `(worst ${worst.toExponential(2)}; at t = ${inside.map((s) => s.time.toFixed(3)).join(', ')})`);
+  check(worstSlider <= 0.005 + 1e-12, `the sliders follow the ramp (within their 0.01 step: ${worstSlider.toFixed(4)})`);
   for (const s of [inside[0], inside[Math.floor(inside.length / 2)], inside[inside.length - 1]]) {
     const p = (s.time - fade.start) / FADE;
     const ramped = await evaluate({ layers: [{ clip: walk, weight: 1 - p }, { clip: run, weight: p }] }, s.time);
