@@ -3,22 +3,27 @@
 # OpenAPI 3 by @apidevtools/swagger-parser. The viewer tests skip only when
 # /usr/bin/chromium is absent; their screenshots land in build/web-e2e:
 # viewer_e2e (clip playback, IK drag), mesh_e2e (skinned mesh, LBS/DQS),
-# deform_e2e (dragging a vertex).
-set(ARMATURE_VIEWER_TESTS viewer_e2e mesh_e2e deform_e2e)
+# deform_e2e (dragging a vertex), blend_e2e (the blend panel on RobotExpressive
+# from ../shared/data; it skips without it).
+set(ARMATURE_VIEWER_TESTS viewer_e2e mesh_e2e deform_e2e blend_e2e)
 if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   foreach(test ${ARMATURE_VIEWER_TESTS})
     string(REGEX REPLACE "_e2e$" "" shot ${test})
     add_test(NAME web.${test}
       COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/${test}.mjs
         $<TARGET_FILE:armature-server> ${ARMATURE_WEB_OUT} ${CMAKE_BINARY_DIR}/web-e2e/${shot}.png)
-    set_tests_properties(web.${test} PROPERTIES TIMEOUT 180 SKIP_REGULAR_EXPRESSION "SKIP:")
+    set_tests_properties(web.${test} PROPERTIES TIMEOUT 180 SKIP_REGULAR_EXPRESSION "SKIP:"
+      ENVIRONMENT ARMATURE_SHARED_DATA=${ARMATURE_SHARED_DATA})
   endforeach()
   add_test(NAME web.openapi_valid
     COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/openapi_validate.mjs $<TARGET_FILE:armature-server>)
   set_tests_properties(web.openapi_valid PROPERTIES TIMEOUT 120)
+  # The blend panel's pure parts (upper-body joint, crossfade ramp, motion JSON) in node.
+  add_test(NAME web.blend_motion COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/blend_motion_test.mjs)
+  set_tests_properties(web.blend_motion PROPERTIES TIMEOUT 60)
 else()
   # Not a skip: the setup provides node and web/node_modules.
-  foreach(test ${ARMATURE_VIEWER_TESTS} openapi_valid)
+  foreach(test ${ARMATURE_VIEWER_TESTS} openapi_valid blend_motion)
     add_test(NAME web.${test} COMMAND sh -c
       "echo 'FAIL: node or web/node_modules missing: run scripts/setup.sh test, then configure again'; exit 1")
   endforeach()

@@ -37,6 +37,11 @@ export function evaluate(clip, times, space = 'WORLD') {
   return call(`${clipPath(clip)}:evaluate`, postJson({ times, space }));
 }
 
+// Poses of a motion (motion.proto as JSON: layers, sync, ...) at `times`.
+export function evaluateMotion(motion, times, space = 'WORLD') {
+  return call('/v1/motions:evaluate', postJson({ motion, times, space }));
+}
+
 // One inverse kinematics solve (a SolveIkRequest as JSON, less the skeleton).
 export function solveIk(skeleton, request) {
   return call(`/v1/skeletons/${encodeURIComponent(skeleton)}:solveIk`, postJson(request));

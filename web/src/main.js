@@ -1,7 +1,8 @@
 // The viewer page: choose a clip (and a mesh it plays on), play / pause,
 // scrub, set the speed and the skinning method; drag a joint (IK) or, in
-// edit mode, a vertex (Laplacian editing).
+// edit mode, a vertex (Laplacian editing); blend clips of the skeleton.
 import * as api from './api.js';
+import { BlendPanel } from './blend_panel.js';
 import { IkDrag } from './ik_drag.js';
 import { MeshPlayer, SKINNING_METHODS, clipsFor } from './mesh_player.js';
 import { MeshView } from './mesh_view.js';
@@ -15,7 +16,7 @@ const ui = {
   meshControls: $('mesh-controls'), method: $('method'), showSkeleton: $('show-skeleton'),
   skeletonToggle: $('skeleton-toggle'), edit: $('edit'),
   editControls: $('edit-controls'), deformMethod: $('deform-method'), deformWeights: $('deform-weights'),
-  radius: $('radius'), reset: $('reset'), hint: $('hint'),
+  radius: $('radius'), reset: $('reset'), hint: $('hint'), blend: $('blend'),
   time: $('time'), frameTime: $('frame-time'), joints: $('joints'), vertices: $('vertices'), rate: $('rate'),
   message: $('message'),
 };
@@ -23,6 +24,7 @@ const HINTS = {
   skeleton: 'Drag a joint to pose it (IK)',
   mesh: 'Edit mesh to drag its vertices',
   edit: 'Drag a vertex to deform the mesh',
+  blend: 'Blend: set layers, play or crossfade',
 };
 
 const view = new SkeletonView($('viewport'));
@@ -31,6 +33,7 @@ const player = new Player({ fps: 30 });          // the skeleton (alone, or over
 const meshPlayer = new MeshPlayer({ fps: 30 });  // the chosen mesh
 const ik = new IkDrag(view, player);
 const vertexDrag = new VertexDrag(view, meshView);
+const blend = new BlendPanel($('blend-panel'), { speed: () => Number(ui.speed.value) });
 let clips = [];
 let meshes = [];
 let scrubbing = false;
@@ -59,12 +62,15 @@ function showTime(time, clip, frame, unit) {
   ui.time.textContent =
     `t = ${time.toFixed(3)} / ${clip.duration.toFixed(3)} s` + (frameIndex !== null ? ` · frame ${frameIndex}` : '');
   if (!scrubbing) ui.scrub.value = String(time);
-  if (frame) {
-    const now = performance.now();
-    arrivals.push(now);
-    while (arrivals.length && now - arrivals[0] > 1000) arrivals.shift();
-    ui.rate.textContent = `${arrivals.length} ${unit}/s`;
-  }
+  if (frame) showRate(unit);
+}
+
+// Counts a frame's arrival and shows the rate over the last second.
+function showRate(unit) {
+  const now = performance.now();
+  arrivals.push(now);
+  while (arrivals.length && now - arrivals[0] > 1000) arrivals.shift();
+  ui.rate.textContent = `${arrivals.length} ${unit}/s`;
 }
 
 function showState(playing) {
@@ -81,11 +87,15 @@ function updateControls() {
   ui.meshControls.hidden = !meshMode();
   ui.editControls.hidden = !editing;
   ui.edit.checked = editing;
-  ui.play.disabled = ui.scrub.disabled = editing || !clip;
+  const blending = blend.enabled;
+  ui.play.disabled = ui.scrub.disabled = editing || blending || !clip;
   ui.clip.disabled = editing || !ui.clip.value;
+  ui.mesh.disabled = blending;
   ui.method.disabled = editing || !clip || !mesh?.skeleton;
   ui.skeletonToggle.hidden = !mesh?.skeleton;
-  ui.hint.textContent = editing ? HINTS.edit : meshMode() ? HINTS.mesh : HINTS.skeleton;
+  // Blending needs a skeleton with a clip (a mesh's, shown alone while blending).
+  ui.blend.disabled = editing || !clip || (meshMode() && !mesh?.skeleton);
+  ui.hint.textContent = editing ? HINTS.edit : blending ? HINTS.blend : meshMode() ? HINTS.mesh : HINTS.skeleton;
   view.figure.visible = !meshMode() || overlay();
 }
 
@@ -93,9 +103,11 @@ player.addEventListener('load', ({ detail: { clip, skeleton } }) => {
   view.setSkeleton(skeleton);
   ui.joints.textContent = `${skeleton.joints.length} joints`;
   if (!meshMode()) showClip(clip);
+  if (blend.enabled) blend.setCharacter(skeleton, clipsOf(skeleton), clip.name);
   updateControls();
 });
 player.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
+  if (blend.enabled) return;  // the blend draws the skeleton
   view.setPose(pose);
   if (!meshMode()) showTime(time, player.clip, frame, 'poses');
 });
@@ -130,6 +142,23 @@ meshPlayer.addEventListener('frame', ({ detail: { time, positions, normals, fram
 });
 meshPlayer.addEventListener('state', ({ detail: { playing } }) => meshMode() && showState(playing));
 meshPlayer.addEventListener('error', ({ detail }) => showMessage(detail));
+
+let blendFailed = false;  // a blend error is on screen until a motion evaluates again
+blend.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
+  if (blendFailed) showMessage('');
+  blendFailed = false;
+  view.setPose(pose);
+  ui.time.textContent = `t = ${time.toFixed(3)} s · blend`;
+  if (frame) showRate('poses');
+});
+blend.addEventListener('state', () => {
+  ui.rate.textContent = '';
+  arrivals.length = 0;
+});
+blend.addEventListener('error', ({ detail }) => {
+  blendFailed = true;
+  showMessage(`Blend: ${detail}`);
+});
 
 ik.addEventListener('solve', ({ detail: { joint, response } }) => {
   const [residual] = response.residuals;
@@ -213,6 +242,27 @@ function setEditing(on) {
   updateControls();
 }
 
+const clipsOf = (skeleton) => clips.filter((c) => c.skeleton === skeleton.name).map((c) => c.name);
+
+// Blend mode: the clip's skeleton (shown alone) is driven by the blend panel;
+// leaving it shows the clip again.
+async function setBlending(on) {
+  if (on && meshMode()) await chooseMesh('', meshPlayer.clip?.name);
+  if (on && player.skeleton) {
+    player.pause();
+    ik.enabled = false;
+    blend.setCharacter(player.skeleton, clipsOf(player.skeleton), player.clip.name);
+    blend.setEnabled(true);
+  } else if (!on) {
+    blend.setEnabled(false);
+    ik.enabled = !meshMode();
+    showMessage('');
+    if (player.clip) await player.refresh();
+  }
+  ui.blend.checked = blend.enabled;
+  updateControls();
+}
+
 const failed = (prefix) => (error) => showMessage(`${prefix}${error.message}`);
 
 ui.play.addEventListener('click', () => (playback().playing ? playback().pause() : playback().play()));
@@ -234,6 +284,7 @@ ui.showSkeleton.addEventListener('change', () => {
   if (overlay()) player.seek(meshPlayer.time);
 });
 ui.edit.addEventListener('change', () => setEditing(ui.edit.checked));
+ui.blend.addEventListener('change', () => setBlending(ui.blend.checked).catch(failed('')));
 ui.deformMethod.addEventListener('change', () => vertexDrag.setOptions({ method: ui.deformMethod.value }));
 ui.deformWeights.addEventListener('change', () => vertexDrag.setOptions({ weights: ui.deformWeights.value }));
 ui.radius.addEventListener('change', () => vertexDrag.setOptions({ radius: Number(ui.radius.value) }));
@@ -271,6 +322,6 @@ async function start() {
 }
 
 // For tests and the console.
-window.armatureViewer = { player, view, ik, meshPlayer, meshView, vertexDrag };
+window.armatureViewer = { player, view, ik, meshPlayer, meshView, vertexDrag, blend };
 
 start().catch(failed('Cannot reach the server: '));

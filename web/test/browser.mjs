@@ -15,10 +15,11 @@ export function check(condition, message) {
   console.log(`ok: ${message}`);
 }
 
-// Runs `body({ page, server, screenshot })` against a fresh server and
-// browser, for `node <test>.mjs <armature-server> <web dir> <screenshot.png>`;
-// fails on any console error, page error or failed request, and exits with
-// the result. SKIP (exit 0) when Chromium is not installed.
+// Runs `body({ page, server, screenshot, expectConsoleError })` against a
+// fresh server and browser, for `node <test>.mjs <armature-server> <web dir>
+// <screenshot.png>`; fails on any console error, page error or failed
+// request, and exits with the result. `expectConsoleError(regex)` allows one
+// console error matching it (a request the test makes fail on purpose). SKIP (exit 0) when Chromium is not installed.
 export async function runViewerTest(script, body) {
   const [serverBin, webDir, screenshot] = process.argv.slice(2);
   if (!serverBin || !webDir || !screenshot) {
@@ -52,7 +53,13 @@ export async function runViewerTest(script, body) {
     });
     const page = context.pages()[0] ?? (await context.newPage());
     const problems = [];
-    page.on('console', (m) => m.type() === 'error' && problems.push(`console: ${m.text()}`));
+    const expected = [];
+    page.on('console', (m) => {
+      if (m.type() !== 'error') return;
+      const allowed = expected.findIndex((re) => re.test(m.text()));
+      if (allowed >= 0) expected.splice(allowed, 1);
+      else problems.push(`console: ${m.text()}`);
+    });
     page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
     // Leaving a page aborts the old document's requests in flight: while a
     // test navigates, an aborted request is no error.
@@ -72,7 +79,7 @@ export async function runViewerTest(script, body) {
       if (navigating > 0 && r.failure()?.errorText === 'net::ERR_ABORTED') return;
       problems.push(`request failed: ${r.url()} ${r.failure()?.errorText}`);
     });
-    await body({ page, server, screenshot });
+    await body({ page, server, screenshot, expectConsoleError: (re) => expected.push(re) });
     check(problems.length === 0, `no console errors${problems.length ? ':\n  ' + problems.join('\n  ') : ''}`);
     console.log(`screenshot: ${path.resolve(screenshot)}`);
   } catch (error) {
