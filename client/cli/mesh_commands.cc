@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "cli_context.h"
+#include "motion_file.h"
 #include "obj_text.h"
 #include "output_file.h"
 
@@ -19,7 +20,7 @@ namespace {
 const std::map<std::string, v1::SkinningMethod> kMethods = {{"lbs", v1::LBS}, {"dqs", v1::DQS}};
 
 struct SkinFlags {
-  std::string mesh, clip, method = "lbs", out;
+  std::string mesh, clip, motion, method = "lbs", out;
   double time = 0;
   bool loop = false;
   std::vector<float> weights;
@@ -44,16 +45,21 @@ std::span<const T> Span(const google::protobuf::RepeatedField<T>& values) {
 }  // namespace
 
 void AddSkinCommand(CLI::App& app, CliContext& ctx) {
-  auto* cmd = app.add_subcommand("skin", "Skin a mesh by a clip at a time (world-space positions and normals)");
+  auto* cmd = app.add_subcommand("skin",
+                                 "Skin a mesh by a clip or a motion at a time (world-space positions and normals)");
   auto f = std::make_shared<SkinFlags>();
   cmd->add_option("MESH", f->mesh, "Mesh name")->required();
-  cmd->add_option("--clip", f->clip, "Clip posing the mesh (its joints and morph weights)")->required();
-  cmd->add_option("--time,-t", f->time, "Clip time in seconds")->required();
+  auto* clip = cmd->add_option("--clip", f->clip, "Clip posing the mesh (its joints and morph weights)");
+  cmd->add_option("--motion", f->motion, "A motion (clips in layers) as proto3 JSON posing the mesh, instead of --clip")
+      ->excludes(clip)
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--time,-t", f->time, "Clip (or motion) time in seconds")->required();
   cmd->add_option("--method", f->method, "lbs or dqs")->capture_default_str()->check(CLI::IsMember({"lbs", "dqs"}));
   cmd->add_flag("--loop", f->loop, "Wrap times past the end (default: clamp)");
   cmd->add_option("--weights", f->weights, "Morph weights overriding the clip's, one per target")->delimiter(',');
   cmd->add_option("-o,--output", f->out, "Also write the skinned mesh to this .obj file");
-  cmd->callback([&ctx, f] {
+  cmd->callback([&ctx, cmd, f] {
+    if (cmd->count("--clip") + cmd->count("--motion") == 0) throw CLI::RequiredError("--clip or --motion");
     ctx.run = [&ctx, f] {
       if (!f->out.empty() && ExtensionFormat(f->out) != "obj")
         throw std::runtime_error("cannot tell the format from the file name " + f->out +
@@ -61,7 +67,8 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
       Client client = ctx.MakeClient();
       v1::SkinMeshRequest request;
       request.set_mesh(f->mesh);
-      request.set_clip(f->clip);
+      if (f->motion.empty()) request.set_clip(f->clip);
+      else *request.mutable_motion() = ReadMotionFile(f->motion);
       request.set_time(f->time);
       request.set_wrap(f->loop ? v1::LOOP : v1::CLAMP);
       request.set_method(kMethods.at(f->method));
@@ -71,8 +78,9 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
         const v1::MeshGeometry geometry = client.GetMeshGeometry(f->mesh);  // the triangles
         const std::string obj =
             ObjText(Span(response.positions()), Span(response.normals()), Span(geometry.triangles()),
-                    "armature skin " + f->mesh + " --clip " + f->clip + " --time " + TimeText(f->time) +
-                        " --method " + f->method);
+                    "armature skin " + f->mesh +
+                        (f->motion.empty() ? " --clip " + f->clip : " --motion " + f->motion) + " --time " +
+                        TimeText(f->time) + " --method " + f->method);
         WriteOutputFile(f->out, obj);
         std::cerr << "wrote " << f->out << " (" << response.vertex_count() << " vertices, "
                   << geometry.triangles_size() / 3 << " triangles)\n";
@@ -94,7 +102,8 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
         hi[i % 3] = std::max(hi[i % 3], response.positions(i));
       }
       std::printf("mesh %s: %d vertices skinned (%s) by %s at %.6f s\n", response.mesh().c_str(),
-                  response.vertex_count(), f->method.c_str(), f->clip.c_str(), f->time);
+                  response.vertex_count(), f->method.c_str(), (f->motion.empty() ? f->clip : f->motion).c_str(),
+                  f->time);
       if (response.vertex_count() > 0)
         std::printf("bounds min (%.6g, %.6g, %.6g) max (%.6g, %.6g, %.6g)\n", lo[0], lo[1], lo[2], hi[0], hi[1],
                     hi[2]);

@@ -22,16 +22,12 @@ struct PoseFlags {
   std::string motion;  // FILE.json: a motion instead of CLIP
 };
 
-// `pose` takes CLIP or --motion FILE.json; `stream` a CLIP.
-void AddPoseFlags(CLI::App* cmd, PoseFlags& f, bool motion = false) {
+// `pose` and `stream` take CLIP or --motion FILE.json.
+void AddPoseFlags(CLI::App* cmd, PoseFlags& f) {
   auto* clip = cmd->add_option("CLIP", f.clip, "Clip name");
-  if (motion) {
-    cmd->add_option("--motion", f.motion, "A motion (clips in layers) as proto3 JSON, instead of CLIP")
-        ->excludes(clip)
-        ->check(CLI::ExistingFile);
-  } else {
-    clip->required();
-  }
+  cmd->add_option("--motion", f.motion, "A motion (clips in layers) as proto3 JSON, instead of CLIP")
+      ->excludes(clip)
+      ->check(CLI::ExistingFile);
   cmd->add_option("--space", f.space, "local or world")->capture_default_str()->check(CLI::IsMember({"local", "world"}));
   cmd->add_option("--interpolation", f.interpolation, "step, linear or cubic (default: the clip's own)")
       ->check(CLI::IsMember({"step", "linear", "cubic"}));
@@ -79,7 +75,7 @@ void AddPoseCommand(CLI::App& app, CliContext& ctx) {
   auto flags = std::make_shared<PoseFlags>();
   auto time = std::make_shared<double>(0);
   auto loop = std::make_shared<bool>(false);
-  AddPoseFlags(cmd, *flags, true);
+  AddPoseFlags(cmd, *flags);
   cmd->add_option("--time,-t", *time, "Clip (or motion) time in seconds")->required();
   cmd->add_flag("--loop", *loop, "Wrap times past the end (default: clamp; motion layers loop unless told)");
   cmd->callback([&ctx, cmd, flags, time, loop] {
@@ -108,7 +104,7 @@ void AddPoseCommand(CLI::App& app, CliContext& ctx) {
 }
 
 void AddStreamCommand(CLI::App& app, CliContext& ctx) {
-  auto* cmd = app.add_subcommand("stream", "Play a clip: one line per frame, paced in real time");
+  auto* cmd = app.add_subcommand("stream", "Play a clip or a motion: one line per frame, paced in real time");
   auto flags = std::make_shared<PoseFlags>();
   auto fps = std::make_shared<double>(30);
   auto duration = std::make_shared<double>(0);
@@ -118,12 +114,14 @@ void AddStreamCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--fps", *fps, "Frames per second")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--duration", *duration, "Stop after this many seconds (default: at the clip's end)");
   cmd->add_option("--speed", *speed, "Playback speed")->capture_default_str();
-  cmd->add_flag("--loop", *loop, "Loop the clip");
-  cmd->callback([&ctx, flags, fps, duration, speed, loop] {
+  cmd->add_flag("--loop", *loop, "Loop the clip (a motion: keep playing past its first layer's end)");
+  cmd->callback([&ctx, cmd, flags, fps, duration, speed, loop] {
+    if (cmd->count("CLIP") + cmd->count("--motion") == 0) throw CLI::RequiredError("CLIP or --motion");
     ctx.run = [&ctx, flags, fps, duration, speed, loop] {
       Client client = ctx.MakeClient();
       v1::StreamClipRequest r;
       FillPoseRequest(*flags, r);
+      if (!flags->motion.empty()) *r.mutable_motion() = ReadMotionFile(flags->motion);
       r.set_fps(*fps);
       r.set_duration(*duration);
       r.set_speed(*speed);
@@ -136,11 +134,13 @@ void AddStreamCommand(CLI::App& app, CliContext& ctx) {
           skeleton = client.GetSkeleton(frame.skeleton());
         }
         if (ctx.json) {
-          PrintJson({{"index", frame.index()},
-                     {"time", frame.time()},
-                     {"wallTime", frame.wall_time()},
-                     {"joints", PoseJointsJson(skeleton, joints, frame.pose())}},
-                    false);
+          nlohmann::json out = {{"index", frame.index()},
+                                {"time", frame.time()},
+                                {"wallTime", frame.wall_time()},
+                                {"joints", PoseJointsJson(skeleton, joints, frame.pose())}};
+          // A motion with rootMotion EXTRACT: the root's motion since the previous frame.
+          if (frame.has_root_delta()) out["rootDelta"] = RootMotionJson(frame.root_delta());
+          PrintJson(out, false);
         } else {
           // The first joint (the root, unless --joints says otherwise) stands for the frame.
           const auto& t = frame.pose().translations();

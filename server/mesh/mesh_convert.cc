@@ -2,6 +2,7 @@
 
 #include <google/protobuf/io/coded_stream.h>
 
+#include "server/assets/motion_convert.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {
@@ -22,6 +23,18 @@ StatusOr<PartRef<NamedClip>> ClipFor(const Catalog& catalog, const NamedMesh& me
     return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + clip->part->skeleton +
                                    "', not the mesh's skeleton '" + mesh.skeleton + "'");
   return clip;
+}
+
+StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, const v1::Motion& motion,
+                               const Limits& limits) {
+  ARMATURE_RETURN_IF_ERROR(ValidateMotion(motion, limits, "motion"));
+  const std::string& first = motion.layers(0).clip();
+  auto clip = catalog.FindClip(first);
+  if (!clip.ok()) return clip.status().WithContext("motion.layers[0]: ");
+  if (!mesh.skeleton.empty() && clip->part->skeleton != mesh.skeleton)
+    return Status::InvalidArgument("motion.layers[0] (clip '" + first + "'): animates skeleton '" +
+                                   clip->part->skeleton + "', not the mesh's skeleton '" + mesh.skeleton + "'");
+  return BindMotionProto(catalog, motion, limits, "motion");
 }
 
 Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc) {

@@ -6,9 +6,11 @@
 #include <string>
 #include <utility>
 
+#include "armature/engine/anim/motion.h"
 #include "armature/engine/mesh/mesh.h"
 #include "armature/engine/mesh/skinning.h"
 #include "armature/v1/meshes.pb.h"
+#include "armature/v1/motion.pb.h"
 #include "server/assets/asset_store.h"
 #include "server/rpc/limits.h"
 
@@ -19,6 +21,12 @@ StatusOr<SkinningMethod> FromProto(v1::SkinningMethod method);
 // The clip that poses `mesh`: it must animate the mesh's skeleton (any
 // clip for an unbound mesh, which only its morph weights track moves).
 StatusOr<PartRef<NamedClip>> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name);
+
+// The motion that poses `mesh`, bound: its first layer's clip must animate the
+// mesh's skeleton (the other layers map onto it by joint name); errors name
+// "motion.layers[i]".
+StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, const v1::Motion& motion,
+                               const Limits& limits);
 
 // Output arrays sized in the response (its only allocation) and viewed as spans.
 template <class Response>

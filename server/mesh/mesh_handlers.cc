@@ -16,6 +16,7 @@ namespace {
 struct MeshWorkspace {
   SkinningWorkspace skin;
   std::vector<Trs> local;
+  MotionWorkspace motion;
 };
 
 }  // namespace
@@ -38,6 +39,12 @@ Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest&
 }
 
 Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response) {
+  static const Limits kDefaultLimits;
+  return SkinMesh(catalog, request, response, kDefaultLimits);
+}
+
+Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response,
+                const Limits& limits) {
   auto ref = catalog.FindMesh(request.mesh());
   if (!ref.ok()) return ref.status().WithContext("mesh: ");
   const NamedMesh& named = *ref->part;
@@ -54,7 +61,17 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
   thread_local MeshWorkspace ws;
-  if (!request.clip().empty()) {
+  if (request.has_motion()) {
+    ARMATURE_RETURN_IF_ERROR(ValidateClipTime(request.time(), "time"));
+    auto plan = MotionFor(catalog, named, request.motion(), limits);
+    if (!plan.ok()) return plan.status();
+    const Skeleton& skeleton = *plan->skeleton;
+    ws.local.resize(skeleton.size());
+    ws.motion.Resize(*plan);
+    ARMATURE_RETURN_IF_ERROR((BlendMotionJob{&*plan, request.time(), &ws.motion, ws.local}.Run()));
+    auto [positions, normals] = OutputsOf(mesh, response);
+    ARMATURE_RETURN_IF_ERROR(SkinPose(mesh, skeleton, ws.local, options, positions, normals, ws.skin));
+  } else if (!request.clip().empty()) {
     auto clip = ClipFor(catalog, named, request.clip());
     if (!clip.ok()) return clip.status();
     ARMATURE_RETURN_IF_ERROR(ValidateClipTime(request.time(), "time"));

@@ -5,11 +5,15 @@
 #include "armature/base/status.h"
 #include "armature/v1/meshes.pb.h"
 #include "server/assets/asset_store.h"
+#include "server/rpc/limits.h"
 
 namespace armature::server {
 
 Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request,
                        v1::MeshGeometry* response);
+// `limits` bounds a motion's layers (the default Limits without it).
+Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response,
+                const Limits& limits);
 Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response);
 Status EvaluateBlendshapes(const Catalog& catalog, const v1::EvaluateBlendshapesRequest& request,
                            v1::EvaluateBlendshapesResponse* response);

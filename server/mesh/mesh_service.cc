@@ -3,6 +3,7 @@
 #include "server/assets/asset_convert.h"
 #include "server/mesh/mesh_convert.h"
 #include "server/mesh/skinned_mesh_stream_reactor.h"
+#include "server/mesh/skinned_motion_stream_reactor.h"
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
 #include "server/rpc/request_validation.h"
@@ -20,13 +21,20 @@ grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMe
     if (!mesh.ok()) return new Failed(mesh.status().WithContext("mesh: "));
     if (Status st = ValidateMeshReply(*mesh->part->mesh, false, limits_, "StreamSkinnedMesh"); !st.ok())
       return new Failed(st);
-    if (Status st = ValidateRequired(request->clip(), "clip"); !st.ok()) return new Failed(st);
-    auto clip = ClipFor(*catalog, *mesh->part, request->clip());
-    if (!clip.ok()) return new Failed(clip.status());
+    if (Status st = ValidateClipOrMotion(request->clip(), request->has_motion()); !st.ok()) return new Failed(st);
     auto method = FromProto(request->method());
     if (!method.ok()) return new Failed(method.status());
     StreamPacing pacing = PacingOf(*request);
     if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new Failed(st);
+    if (request->has_motion()) {
+      auto plan = MotionFor(*catalog, *mesh->part, request->motion(), limits_);
+      if (!plan.ok()) return new Failed(plan.status());
+      auto* reactor = new SkinnedMotionStreamReactor(scheduler_, pacing, std::move(*mesh), std::move(*plan), *method);
+      reactor->HoldUntilDone(std::move(*stream));
+      return reactor;
+    }
+    auto clip = ClipFor(*catalog, *mesh->part, request->clip());
+    if (!clip.ok()) return new Failed(clip.status());
     auto* reactor = new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*clip), *method,
                                                  request->interpolation());
     reactor->HoldUntilDone(std::move(*stream));
@@ -69,7 +77,7 @@ grpc::ServerUnaryReactor* MeshServiceImpl::SkinMesh(grpc::CallbackServerContext*
   return RunUnary(context, "SkinMesh", [&]() -> Status {
     const auto catalog = store_.Snapshot();
     ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), false, limits_, "SkinMesh"));
-    return server::SkinMesh(*catalog, *request, response);
+    return server::SkinMesh(*catalog, *request, response, limits_);
   });
 }
 

@@ -6,8 +6,9 @@
 #include "server/rpc/grpc_status.h"
 #include "server/rpc/pose_convert.h"
 #include "server/rpc/request_validation.h"
-#include "server/pose/motion_convert.h"
+#include "server/assets/motion_convert.h"
 #include "server/pose/stream_clip_reactor.h"
+#include "server/pose/stream_motion_reactor.h"
 
 namespace armature::server {
 namespace {
@@ -140,13 +141,28 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
   return MakeReactor<grpc::ServerWriteReactor<v1::PoseFrame>>(context, "StreamClip", [&]() -> grpc::ServerWriteReactor<v1::PoseFrame>* {
     auto stream = streams_->Admit(*context, "StreamClip");
     if (!stream.ok()) return new FailedStream<v1::PoseFrame>(stream.status());
-    auto ref = store_.Snapshot()->FindClip(request->clip());
-    if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
+    if (Status st = ValidateClipOrMotion(request->clip(), request->has_motion()); !st.ok())
+      return new FailedStream<v1::PoseFrame>(st);
     StreamPacing pacing = PacingOf(*request);
     if (Status st = ValidatePacing(pacing, limits_); !st.ok()) return new FailedStream<v1::PoseFrame>(st);
     for (const Status& st : {ValidateEnum(request->interpolation(), v1::Interpolation_descriptor(), "interpolation"),
                              ValidateEnum(request->space(), v1::Space_descriptor(), "space")})
       if (!st.ok()) return new FailedStream<v1::PoseFrame>(st);
+    const auto catalog = store_.Snapshot();
+    if (request->has_motion()) {
+      auto plan = BindMotionProto(*catalog, request->motion(), limits_, "motion");
+      if (!plan.ok()) return new FailedStream<v1::PoseFrame>(plan.status());
+      auto joints = ResolveJoints(*plan->skeleton, request->joints(), "joints");
+      if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
+      const v1::Space space = request->space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
+      auto* reactor = new StreamMotionReactor(scheduler_, pacing, std::move(*plan),
+                                              catalog->FindClip(request->motion().layers(0).clip())->part->skeleton,
+                                              space, std::move(*joints));
+      reactor->HoldUntilDone(std::move(*stream));
+      return reactor;
+    }
+    auto ref = catalog->FindClip(request->clip());
+    if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
     auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
     if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
     auto* reactor = new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));

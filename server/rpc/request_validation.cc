@@ -106,8 +106,19 @@ Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::Deform
 }
 
 Status ValidateSkinSource(const v1::SkinMeshRequest& request) {
-  if (request.clip().empty() && request.pose().rotations().empty())
-    return Status::InvalidArgument("clip or pose.rotations: one is required (pose: 4 rotation values per joint)");
+  if (request.clip().empty() && !request.has_motion() && request.pose().rotations().empty())
+    return Status::InvalidArgument(
+        "clip, motion or pose.rotations: one is required (pose: 4 rotation values per joint)");
+  // A pose beside a clip is ignored (the clip poses the mesh), as it always was.
+  if (request.has_motion() && !request.pose().rotations().empty())
+    return Status::InvalidArgument("motion and pose.rotations: give exactly one (both given)");
+  return request.has_motion() ? ValidateClipOrMotion(request.clip(), true) : Status::Ok();
+}
+
+Status ValidateClipOrMotion(const std::string& clip, bool has_motion) {
+  if (clip.empty() && !has_motion) return Status::InvalidArgument("clip or motion: one is required");
+  if (!clip.empty() && has_motion)
+    return Status::InvalidArgument("clip and motion: give exactly one (both given; clip '" + clip + "')");
   return Status::Ok();
 }
 

@@ -49,8 +49,11 @@ Status ValidateHandlePositions(std::span<const double> positions, size_t handles
 // A unary Deform's handles: each position has 3 values (x, y, z).
 Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::DeformHandle>& handles);
 
-// A skin request's pose source: a clip, or else pose rotations.
+// A skin request's pose source: a clip or a motion (exactly one), or else pose rotations.
 Status ValidateSkinSource(const v1::SkinMeshRequest& request);
+
+// A stream's source: exactly one of `clip` and `motion`, naming both fields.
+Status ValidateClipOrMotion(const std::string& clip, bool has_motion);
 
 // A motion's own numbers, before any clip is looked up: at least one layer
 // (at most limits.max_motion_layers), each layer's clip named, weight in

@@ -131,6 +131,24 @@ Status BindRoot(const Motion& motion, MotionPlan& plan) {
   return Status::Ok();
 }
 
+// Per joint, the layers with weight and a track there, in layer order.
+void IndexJointLayers(MotionPlan& plan) {
+  const size_t n = plan.skeleton->size();
+  plan.joint_begin.assign(n + 1, 0);
+  plan.joint_layers.clear();
+  for (size_t j = 0; j < n; ++j) {
+    plan.joint_begin[j] = static_cast<uint32_t>(plan.joint_layers.size());
+    for (size_t i = 0; i < plan.layers.size(); ++i) {
+      const BoundLayer& l = plan.layers[i];
+      const JointTrack& track = l.clip->joints[l.clip_joint[j]];
+      if (!(l.joint_weight[j] > 0) || (track.translation.empty() && track.rotation.empty() && track.scale.empty()))
+        continue;
+      plan.joint_layers.push_back({static_cast<uint32_t>(i), l.mode == LayerMode::kAdditive, l.joint_weight[j], &track});
+    }
+  }
+  plan.joint_begin[n] = static_cast<uint32_t>(plan.joint_layers.size());
+}
+
 }  // namespace
 
 StatusOr<MotionPlan> BindMotion(const Motion& motion) {
@@ -175,6 +193,7 @@ StatusOr<MotionPlan> BindMotion(const Motion& motion) {
   if (plan.sync == TimeSync::kPhase && plan.phase_layer < 0)
     return Status::InvalidArgument("sync: PHASE needs an OVERRIDE layer to drive the phase");
   if (rm != RootMotion::kKeep) ARMATURE_RETURN_IF_ERROR(BindRoot(motion, plan));
+  IndexJointLayers(plan);
   return plan;
 }
 

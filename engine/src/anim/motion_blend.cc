@@ -83,29 +83,35 @@ void ApplyRootMotion(const MotionPlan& plan, const BoundLayer& l, const LayerTim
   }
 }
 
-// One joint of the blended pose.
+// One joint of the blended pose, from the layers acting on it (plan.joint_layers).
 void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t j, RootMotion root_mode, Trs& out) {
   const Trs& rest = plan.skeleton->rest[j];
+  const JointLayer* begin = plan.joint_layers.data() + plan.joint_begin[j];
+  const JointLayer* end = plan.joint_layers.data() + plan.joint_begin[j + 1];
+  out = rest;
+  if (begin == end) return;
   const bool is_root = static_cast<int>(j) == plan.root;
+  // One override layer at full weight: the mixer takes its sample as it is.
+  if (end - begin == 1 && !begin->additive && begin->weight >= 1 && !is_root) {
+    SampleJoint(*begin->track, times[begin->layer].time, std::nullopt, out);
+    return;
+  }
   Accumulator<Eigen::Vector3d> t{Eigen::Vector3d::Zero()}, s{Eigen::Vector3d::Zero()};
   Accumulator<Eigen::Quaterniond> r{Eigen::Quaterniond::Identity()};
   bool additive = false;
-  for (size_t i = 0; i < plan.layers.size(); ++i) {
-    const BoundLayer& l = plan.layers[i];
-    const double w = l.joint_weight[j];
-    if (!(w > 0)) continue;  // three.js skips actions of weight 0
-    if (l.mode == LayerMode::kAdditive) {
+  for (const JointLayer* e = begin; e != end; ++e) {
+    if (e->additive) {
       additive = true;
       continue;
     }
-    const JointTrack& jt = l.clip->joints[l.clip_joint[j]];
+    const JointTrack& jt = *e->track;
     Trs v = rest;
-    SampleJoint(jt, times[i].time, std::nullopt, v);
-    if (is_root) ApplyRootMotion(plan, l, times[i], root_mode, v);
+    SampleJoint(jt, times[e->layer].time, std::nullopt, v);
+    if (is_root) ApplyRootMotion(plan, plan.layers[e->layer], times[e->layer], root_mode, v);
     // Only the properties the clip animates take part (three.js binds tracks, not joints).
-    if (!jt.translation.empty()) t.Add(v.translation, w);
-    if (!jt.rotation.empty()) r.Add(v.rotation, w);
-    if (!jt.scale.empty()) s.Add(v.scale, w);
+    if (!jt.translation.empty()) t.Add(v.translation, e->weight);
+    if (!jt.rotation.empty()) r.Add(v.rotation, e->weight);
+    if (!jt.scale.empty()) s.Add(v.scale, e->weight);
   }
   out.translation = t.Finish(rest.translation);
   out.rotation = r.Finish(rest.rotation);
@@ -115,14 +121,13 @@ void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t
   // layer slerps toward add·delta by its weight; apply: q·add, t + add, s + add.
   Eigen::Vector3d add_t = Eigen::Vector3d::Zero(), add_s = Eigen::Vector3d::Zero();
   Eigen::Quaterniond add_r = Eigen::Quaterniond::Identity();
-  for (size_t i = 0; i < plan.layers.size(); ++i) {
-    const BoundLayer& l = plan.layers[i];
-    const double w = l.joint_weight[j];
-    if (l.mode != LayerMode::kAdditive || !(w > 0)) continue;
-    const JointTrack& jt = l.clip->joints[l.clip_joint[j]];
-    const Trs& ref = l.reference[j];
+  for (const JointLayer* e = begin; e != end; ++e) {
+    if (!e->additive) continue;
+    const JointTrack& jt = *e->track;
+    const Trs& ref = plan.layers[e->layer].reference[j];
+    const double w = e->weight;
     Trs v = rest;
-    SampleJoint(jt, times[i].time, std::nullopt, v);
+    SampleJoint(jt, times[e->layer].time, std::nullopt, v);
     if (!jt.translation.empty()) {
       Eigen::Vector3d d = v.translation - ref.translation;
       if (is_root && root_mode == RootMotion::kInPlace) d -= plan.horizontal * d;
@@ -155,6 +160,8 @@ Status BlendMotionJob::Validate() const {
   if (!plan || !plan->skeleton) return Status::InvalidArgument("blend job: no motion plan");
   if (!workspace || workspace->layer_times.size() != plan->layers.size())
     return Status::InvalidArgument("blend job: the workspace is not sized for this motion (call Resize)");
+  if (plan->joint_begin.size() != plan->skeleton->size() + 1)
+    return Status::InvalidArgument("blend job: the motion plan is not bound (use BindMotion)");
   if (output.size() != plan->skeleton->size())
     return Status::InvalidArgument("blend job: output has room for " + std::to_string(output.size()) +
                                    " transforms, the skeleton has " + std::to_string(plan->skeleton->size()) +

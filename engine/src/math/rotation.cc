@@ -156,9 +156,11 @@ Eigen::Quaterniond SlerpFlat(const Eigen::Quaterniond& a, const Eigen::Quaternio
     dot = -dot;
   }
   if (dot < 0.9995) {
-    const double theta = std::acos(dot), sin = std::sin(theta);
-    return Eigen::Quaterniond(Eigen::Vector4d(std::sin((1 - t) * theta) / sin * a.coeffs() +
-                                              std::sin(t * theta) / sin * b));
+    // sin((1−t)θ)/sin θ = cos tθ − cos θ · sin tθ / sin θ: one sin/cos pair
+    // instead of three sines (the motion blend's hot path), the same weights.
+    const double theta = std::acos(dot), sin = std::sqrt(1 - dot * dot);
+    const double wb = std::sin(t * theta) / sin, wa = std::cos(t * theta) - dot * wb;
+    return Eigen::Quaterniond(Eigen::Vector4d(wa * a.coeffs() + wb * b));
   }
   return Eigen::Quaterniond(((1 - t) * a.coeffs() + t * b).normalized());
 }

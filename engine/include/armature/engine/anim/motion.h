@@ -9,6 +9,7 @@
 // a local pose without allocating (ozz's job style).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -74,10 +75,24 @@ struct BoundLayer {
   double loop_yaw = 0;
 };
 
+// One layer acting on one joint: it has weight there and a track.
+struct JointLayer {
+  uint32_t layer = 0;
+  bool additive = false;
+  double weight = 0;                 // layer weight × mask weight, > 0
+  const JointTrack* track = nullptr;  // the layer's clip's track of the joint
+};
+
 struct MotionPlan {
   std::shared_ptr<const Skeleton> skeleton;  // the first layer's
   std::vector<std::shared_ptr<const Clip>> clips;
   std::vector<BoundLayer> layers;
+  // Per joint j, the layers acting on it in layer order:
+  // joint_layers[joint_begin[j] .. joint_begin[j + 1]). A layer without weight
+  // or without a track at a joint adds nothing there (three.js binds tracks),
+  // so the blend visits only these; a joint with none keeps its rest transform.
+  std::vector<uint32_t> joint_begin;
+  std::vector<JointLayer> joint_layers;
   TimeSync sync = TimeSync::kNone;
   int phase_layer = -1;  // PHASE: the first override layer
   RootMotion root_motion = RootMotion::kKeep;

@@ -1,4 +1,4 @@
-#include "server/pose/motion_convert.h"
+#include "server/assets/motion_convert.h"
 
 #include "server/rpc/request_validation.h"
 
