@@ -130,7 +130,10 @@ Status ArmatureServer::StartGateway() {
   if (!gw.ok()) return gw.status();
   gateway_ = std::move(*gw);
   httplib::Server& routes = http_->routes();
-  routes.set_payload_max_length(static_cast<size_t>(std::max(limits.max_upload_bytes, limits.max_request_bytes)));
+  // A form upload's boundaries and part headers are not part of what --max-upload-mb counts: room for them.
+  constexpr int64_t kFormFramingBytes = 1 << 20;
+  routes.set_payload_max_length(
+      static_cast<size_t>(std::max(limits.max_upload_bytes + kFormFramingBytes, limits.max_request_bytes)));
   gateway_->Register(routes);
   spdlog::info("REST gateway: {} routes; OpenAPI at /openapi.json", gateway_->bindings().size());
 
