@@ -57,6 +57,9 @@ bool IsPrintableAscii(const std::string& s) {
   return std::all_of(s.begin(), s.end(), [](unsigned char c) { return c >= 0x20 && c < 0x7f; });
 }
 
+// How much of a refused body is still read (and dropped) past the limit.
+constexpr size_t kDrainBytes = 64u << 20;
+
 grpc::Status ShuttingDown() { return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the server is shutting down"); }
 
 std::string TooLarge(size_t size, size_t limit, bool raw) {
@@ -256,7 +259,6 @@ void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const 
   // An oversized body is still read (and dropped) up to kDrainBytes past the
   // limit, so the connection stays in step for the next request; beyond
   // that the client gets its 413 without being read.
-  constexpr size_t kDrainBytes = 64u << 20;
   const uint64_t declared = req.get_header_value<uint64_t>("Content-Length");
   if (declared > limit + kDrainBytes) {
     res.set_header("Connection", "close");
@@ -317,7 +319,7 @@ bool Gateway::ReadMultipartUpload(const HttpBinding& binding, const httplib::Con
   }
   std::vector<FormPart> form;
   bool unread_left = false;
-  const grpc::Status read = ReadMultipartForm(*reader, options_.max_upload_bytes, &form, &unread_left);
+  const grpc::Status read = ReadMultipartForm(*reader, options_.max_upload_bytes, kDrainBytes, &form, &unread_left);
   if (unread_left) res.set_header("Connection", "close");
   if (res.status == 413) {  // cpp-httplib's own cap, the payload max length
     WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(declared, options_.max_upload_bytes, true));

@@ -17,7 +17,12 @@ namespace pb = google::protobuf;
 
 grpc::Status Invalid(const std::string& message) { return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message); }
 
-std::string Quoted(const std::string& s) { return "'" + EscapeForMessage(s, 200) + "'"; }
+std::string Quoted(const std::string& s) {
+  std::string out(1, '\'');  // appended, not "'" + …: GCC 12 warns falsely (-Wrestrict) on that
+  out += EscapeForMessage(s, 200);
+  out += '\'';
+  return out;
+}
 
 std::string PartName(const FormPart& part) {
   return part.filename.empty() ? "form field " + Quoted(part.field)
@@ -85,28 +90,34 @@ bool AcceptsMultipartUpload(const HttpBinding& binding) {
          is_string(resource);
 }
 
-grpc::Status ReadMultipartForm(const httplib::ContentReader& reader, size_t limit_bytes, std::vector<FormPart>* parts,
-                               bool* unread_left) {
+grpc::Status ReadMultipartForm(const httplib::ContentReader& reader, size_t limit_bytes, size_t drain_bytes,
+                               std::vector<FormPart>* parts, bool* unread_left) {
   size_t total = 0;
+  size_t dropped = 0;  // bytes read and dropped after the refusal
   grpc::Status refused;
+  auto refuse = [&](grpc::Status status) {
+    refused = std::move(status);
+    std::vector<FormPart>().swap(*parts);  // the answer is decided: free what was read
+    return true;
+  };
   auto over_limit = [&] {
-    refused = grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                           PartName(parts->back()) + ": the upload exceeds the limit of " + std::to_string(limit_bytes) +
-                               " bytes (--max-upload-mb) at this part; every part, filename and field name counts");
-    return false;
+    return refuse(grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                               PartName(parts->back()) + ": the upload exceeds the limit of " +
+                                   std::to_string(limit_bytes) +
+                                   " bytes (--max-upload-mb) at this part; every part, filename and field name counts"));
   };
   const bool complete = reader(
       [&](const httplib::MultipartFormData& header) {
-        if (parts->size() >= kMaxFormParts) {
-          refused = grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                                 "multipart/form-data body: more than " + std::to_string(kMaxFormParts) + " parts");
-          return false;
-        }
+        if (!refused.ok()) return (dropped += header.name.size() + header.filename.size()) <= drain_bytes;
+        if (parts->size() >= kMaxFormParts)
+          return refuse(grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                                     "multipart/form-data body: more than " + std::to_string(kMaxFormParts) + " parts"));
         parts->push_back(FormPart{header.name, header.filename, {}});
         total += header.name.size() + header.filename.size();
         return total <= limit_bytes || over_limit();
       },
       [&](const char* data, size_t n) {
+        if (!refused.ok()) return (dropped += n) <= drain_bytes;
         if (parts->empty()) return false;  // the parser announces a part before its data
         total += n;
         if (total > limit_bytes) return over_limit();

@@ -39,10 +39,12 @@ bool AcceptsMultipartUpload(const HttpBinding& binding);
 // Reads the form's parts. RESOURCE_EXHAUSTED naming the part once the
 // contents, filenames and field names of the parts together exceed
 // `limit_bytes` (--max-upload-mb) or the parts outnumber kMaxFormParts;
-// INVALID_ARGUMENT for a body that is not a well-formed form. `*unread_left`
-// tells whether the body was left partly unread (the connection must close).
-grpc::Status ReadMultipartForm(const httplib::ContentReader& reader, size_t limit_bytes, std::vector<FormPart>* parts,
-                               bool* unread_left);
+// INVALID_ARGUMENT for a body that is not a well-formed form. A refused
+// form is still read and dropped for up to `drain_bytes` more, so the
+// connection stays in step; `*unread_left` tells whether the body was left
+// partly unread (then the connection must close).
+grpc::Status ReadMultipartForm(const httplib::ContentReader& reader, size_t limit_bytes, size_t drain_bytes,
+                               std::vector<FormPart>* parts, bool* unread_left);
 
 // The serialized request messages: the first carries the path, query and form
 // fields, the main part's filename and its first chunk; each resource then
