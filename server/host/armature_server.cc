@@ -19,6 +19,7 @@
 #include "server/host/listen_error.h"
 #include "server/assets/demo_assets.h"
 #include "server/host/metrics_http.h"
+#include "server/host/reflection_v1_service.h"
 #include "server/host/rpc_observer.h"
 #include "server/host/server_credentials.h"
 #include "server/host/services.h"
@@ -67,7 +68,7 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
   interceptors.push_back(std::make_unique<RpcObserverFactory>(*s->metrics_));
   builder.experimental().SetInterceptorCreators(std::move(interceptors));
-  // With a token file, each API service sits behind an auth gate; health and reflection stay open.
+  // With a token file, each API service sits behind an auth gate; health and reflection (v1alpha, v1) stay open.
   std::vector<std::string> service_names;
   for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_)) {
     service_names.push_back(entry.name);
@@ -78,6 +79,11 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
     }
     s->services_.push_back(std::move(entry.service));
   }
+  // Reflection v1 beside the plugin's v1alpha, open like it; both list the same services.
+  std::vector<std::string> reflected = service_names;
+  reflected.insert(reflected.end(), {"grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection",
+                                     "grpc.reflection.v1alpha.ServerReflection"});
+  s->services_.push_back(std::make_unique<ReflectionV1Service>(std::move(reflected)));
   for (auto& service : s->services_) builder.RegisterService(service.get());
   s->grpc_ = builder.BuildAndStart();
   if (!s->grpc_ || s->grpc_port_ == 0)
@@ -124,7 +130,10 @@ Status ArmatureServer::StartGateway() {
   if (!gw.ok()) return gw.status();
   gateway_ = std::move(*gw);
   httplib::Server& routes = http_->routes();
-  routes.set_payload_max_length(static_cast<size_t>(std::max(limits.max_upload_bytes, limits.max_request_bytes)));
+  // A form upload's boundaries and part headers are not part of what --max-upload-mb counts: room for them.
+  constexpr int64_t kFormFramingBytes = 1 << 20;
+  routes.set_payload_max_length(
+      static_cast<size_t>(std::max(limits.max_upload_bytes + kFormFramingBytes, limits.max_request_bytes)));
   gateway_->Register(routes);
   spdlog::info("REST gateway: {} routes; OpenAPI at /openapi.json", gateway_->bindings().size());
 

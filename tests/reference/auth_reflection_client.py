@@ -1,7 +1,7 @@
 """With --auth-token-file, grpcio (a client that is not ours) finds reflection
 and health open, and the API closed without the bearer token.
 
-usage: auth_reflection_client.py SERVER_BIN
+usage: auth_reflection_client.py SERVER_BIN [v1alpha|v1]   (the reflection version; default v1alpha)
 """
 import os
 import sys
@@ -10,17 +10,18 @@ import tempfile
 import grpc
 
 sys.path.insert(0, os.path.dirname(__file__))
-from reflection_client import REFLECTION_PROTO, reflection_module  # noqa: E402
+from reflection_client import reflection_module, reflection_proto  # noqa: E402
 from server_fixture import Server  # noqa: E402
 
 TOKEN = "py-token-123"
 
 
 def main():
-    if not os.path.exists(REFLECTION_PROTO):
-        print("SKIP: grpc-proto's reflection.proto is not installed")
+    version = sys.argv[2] if len(sys.argv) > 2 else "v1alpha"
+    if not os.path.exists(reflection_proto(version)):
+        print(f"SKIP: grpc-proto's {version} reflection.proto is not installed")
         return 0
-    rpb = reflection_module()
+    rpb = reflection_module(version)
     failures = []
 
     def check(cond, what):
@@ -35,12 +36,15 @@ def main():
         with Server(sys.argv[1], ["--auth-token-file", token_file]) as server:
             channel = grpc.insecure_channel(server.target)
             info = channel.stream_stream(
-                "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
+                f"/grpc.reflection.{version}.ServerReflection/ServerReflectionInfo",
                 request_serializer=rpb.ServerReflectionRequest.SerializeToString,
                 response_deserializer=rpb.ServerReflectionResponse.FromString)
             reply = list(info(iter([rpb.ServerReflectionRequest(list_services="")]), timeout=10))[0]
             services = [s.name for s in reply.list_services_response.service]
-            check("armature.v1.PoseService" in services, "reflection answers without a token")
+            check("armature.v1.PoseService" in services, f"reflection {version} answers without a token")
+            files = list(info(iter([rpb.ServerReflectionRequest(file_containing_symbol="armature.v1.PoseService")]),
+                              timeout=10))[0].file_descriptor_response.file_descriptor_proto
+            check(len(files) > 0, f"reflection {version} describes PoseService without a token")
 
             # Raw bytes: an empty EvaluateClipRequest. Refused before it is even parsed.
             evaluate = channel.unary_unary("/armature.v1.PoseService/EvaluateClip")

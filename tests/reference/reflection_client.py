@@ -1,7 +1,7 @@
 """A client that has none of Armature's .proto files: it learns the API from
 server reflection, then calls EvaluateClip and the health check with grpcio.
 
-usage: reflection_client.py SERVER_BIN
+usage: reflection_client.py SERVER_BIN [v1alpha|v1]   (the reflection version; default v1alpha)
 """
 import os
 import sys
@@ -13,19 +13,26 @@ from google.protobuf import descriptor_pb2, descriptor_pool, message_factory
 sys.path.insert(0, os.path.dirname(__file__))
 from server_fixture import Server  # noqa: E402
 
-REFLECTION_PROTO = "/usr/share/grpc-proto/grpc/reflection/v1alpha/reflection.proto"
+GRPC_PROTO = "/usr/share/grpc-proto"
+REFLECTION_PROTO = GRPC_PROTO + "/grpc/reflection/v1alpha/reflection.proto"
+# google.api.http, the one extension Armature's protos declare (on google.protobuf.MethodOptions).
+HTTP_RULE_EXTENSION = 72295728
 
 
-def reflection_module():
-    """Generates the reflection protocol's Python code (from Debian's grpc-proto)."""
+def reflection_proto(version="v1alpha"):
+    return f"{GRPC_PROTO}/grpc/reflection/{version}/reflection.proto"
+
+
+def reflection_module(version="v1alpha"):
+    """Generates the reflection protocol's Python code (from Debian's grpc-proto,
+    not from the copy Armature vendors, so the server is checked against grpc's)."""
     from grpc_tools import protoc
     out = tempfile.mkdtemp(prefix="reflection-py-")
-    include = "/usr/share/grpc-proto"
-    if protoc.main(["protoc", f"-I{include}", f"--python_out={out}", REFLECTION_PROTO]) != 0:
+    if protoc.main(["protoc", f"-I{GRPC_PROTO}", f"--python_out={out}", reflection_proto(version)]) != 0:
         raise RuntimeError("protoc failed")
     # Loaded by path: a "grpc" package on sys.path would shadow grpcio's.
     import importlib.util
-    path = os.path.join(out, "grpc", "reflection", "v1alpha", "reflection_pb2.py")
+    path = os.path.join(out, "grpc", "reflection", version, "reflection_pb2.py")
     spec = importlib.util.spec_from_file_location("reflection_pb2", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -34,10 +41,11 @@ def reflection_module():
 
 def main():
     server_bin = sys.argv[1]
-    if not os.path.exists(REFLECTION_PROTO):
-        print("SKIP: grpc-proto's reflection.proto is not installed")
+    version = sys.argv[2] if len(sys.argv) > 2 else "v1alpha"
+    if not os.path.exists(reflection_proto(version)):
+        print(f"SKIP: grpc-proto's {version} reflection.proto is not installed")
         return 0
-    rpb = reflection_module()
+    rpb = reflection_module(version)
     failures, passes = [], []
 
     def check(cond, what):
@@ -47,7 +55,7 @@ def main():
     with Server(server_bin) as server:
         channel = grpc.insecure_channel(server.target)
         info = channel.stream_stream(
-            "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
+            f"/grpc.reflection.{version}.ServerReflection/ServerReflectionInfo",
             request_serializer=rpb.ServerReflectionRequest.SerializeToString,
             response_deserializer=rpb.ServerReflectionResponse.FromString)
 
@@ -56,13 +64,56 @@ def main():
 
         services = [s.name for s in ask(list_services="").list_services_response.service]
         print("services:", services)
-        for s in ("armature.v1.AssetService", "armature.v1.PoseService", "grpc.health.v1.Health"):
+        for s in ("armature.v1.AssetService", "armature.v1.PoseService", "grpc.health.v1.Health",
+                  "grpc.reflection.v1.ServerReflection", "grpc.reflection.v1alpha.ServerReflection"):
             check(s in services, f"reflection lists {s}")
+        check(len(services) == len(set(services)), "no service is listed twice")
+        if version != "v1alpha":
+            # gRPC's own v1alpha plugin is the reference for what the server offers.
+            apb = reflection_module("v1alpha")
+            alpha = channel.stream_stream("/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
+                                          request_serializer=apb.ServerReflectionRequest.SerializeToString,
+                                          response_deserializer=apb.ServerReflectionResponse.FromString)
+            reply = list(alpha(iter([apb.ServerReflectionRequest(list_services="")])))[0]
+            alpha_services = sorted(s.name for s in reply.list_services_response.service)
+            check(sorted(services) == alpha_services,
+                  f"{version} lists the same services as v1alpha ({len(alpha_services)})")
+            armature = [s for s in alpha_services if s.startswith("armature.v1.")]
+            check(len(armature) >= 4 and all(s in services for s in armature),
+                  f"every armature.v1 service is listed ({len(armature)})")
+
+        # Errors come back in error_response, NOT_FOUND naming what was asked.
+        for kw, name in ((dict(file_containing_symbol="armature.v1.NoSuchService"), "armature.v1.NoSuchService"),
+                         (dict(file_by_filename="armature/v1/no_such.proto"), "armature/v1/no_such.proto"),
+                         (dict(all_extension_numbers_of_type="armature.v1.NoSuchMessage"), "armature.v1.NoSuchMessage")):
+            err = ask(**kw).error_response
+            check(err.error_code == grpc.StatusCode.NOT_FOUND.value[0],
+                  f"{list(kw)[0]} of an unknown name is NOT_FOUND ({err.error_code}: {err.error_message})")
+            if version != "v1alpha":
+                check(name in err.error_message, f"the error names '{name}'")
+        ext = ask(file_containing_extension=rpb.ExtensionRequest(
+            containing_type="google.protobuf.MethodOptions", extension_number=HTTP_RULE_EXTENSION))
+        names = [descriptor_pb2.FileDescriptorProto.FromString(raw).name
+                 for raw in ext.file_descriptor_response.file_descriptor_proto]
+        check(names[:1] == ["google/api/annotations.proto"],
+              f"file_containing_extension finds google.api.http in google/api/annotations.proto ({names})")
+        numbers = ask(all_extension_numbers_of_type="google.protobuf.MethodOptions").all_extension_numbers_response
+        check(numbers.base_type_name == "google.protobuf.MethodOptions" and
+              HTTP_RULE_EXTENSION in numbers.extension_number,
+              f"all_extension_numbers_of_type lists {HTTP_RULE_EXTENSION} ({list(numbers.extension_number)})")
+        missing = ask(file_containing_extension=rpb.ExtensionRequest(
+            containing_type="google.protobuf.MethodOptions", extension_number=12345)).error_response
+        check(missing.error_code == grpc.StatusCode.NOT_FOUND.value[0],
+              f"an unknown extension number is NOT_FOUND ({missing.error_message})")
 
         # Fetch the files defining PoseService (and what they import) into a pool.
         pool = descriptor_pool.DescriptorPool()
         pending = [f for f in ask(file_containing_symbol="armature.v1.PoseService")
                    .file_descriptor_response.file_descriptor_proto]
+        first = descriptor_pb2.FileDescriptorProto.FromString(pending[0]) if pending else None
+        check(first is not None and first.package == "armature.v1" and
+              "PoseService" in [sv.name for sv in first.service],
+              f"file_containing_symbol PoseService answers a file declaring it ({first.name if first else None})")
         added = set()
         while pending:
             progress = False

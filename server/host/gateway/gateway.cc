@@ -11,6 +11,7 @@
 #include "armature/base/utf8.h"
 #include "server/host/gateway/error_mapping.h"
 #include "server/host/gateway/generic_call.h"
+#include "server/host/gateway/multipart_upload.h"
 #include "server/host/gateway/openapi.h"
 #include "server/host/gateway/sse.h"
 #include "server/rpc/caller_identity.h"  // kRestPeerMetadata
@@ -55,6 +56,9 @@ std::optional<std::chrono::nanoseconds> ParseGrpcTimeout(const std::string& text
 bool IsPrintableAscii(const std::string& s) {
   return std::all_of(s.begin(), s.end(), [](unsigned char c) { return c >= 0x20 && c < 0x7f; });
 }
+
+// How much of a refused body is still read (and dropped) past the limit.
+constexpr size_t kDrainBytes = 64u << 20;
 
 grpc::Status ShuttingDown() { return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the server is shutting down"); }
 
@@ -255,11 +259,20 @@ void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const 
   // An oversized body is still read (and dropped) up to kDrainBytes past the
   // limit, so the connection stays in step for the next request; beyond
   // that the client gets its 413 without being read.
-  constexpr size_t kDrainBytes = 64u << 20;
   const uint64_t declared = req.get_header_value<uint64_t>("Content-Length");
   if (declared > limit + kDrainBytes) {
     res.set_header("Connection", "close");
     return WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(declared, limit, raw));
+  }
+  if (parts.content_type == "multipart/form-data" || req.is_multipart_form_data()) {
+    if (!req.is_multipart_form_data()) {  // cpp-httplib parses forms only when it is spelled so
+      res.set_header("Connection", "close");
+      return WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT,
+                        "header Content-Type: write multipart/form-data in lower case, with its boundary");
+    }
+    std::vector<std::string> requests;
+    if (ReadMultipartUpload(binding, reader, declared, parts, res, &requests)) Dispatch(req, binding, std::move(requests), res);
+    return;
   }
   std::string body;
   if (reader) {
@@ -291,6 +304,42 @@ void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const 
                                  options_.upload_chunk_bytes, &requests);
       !st.ok())
     return WriteError(res, st);
+  Dispatch(req, binding, std::move(requests), res);
+}
+
+bool Gateway::ReadMultipartUpload(const HttpBinding& binding, const httplib::ContentReader* reader, uint64_t declared,
+                                  const HttpRequestParts& http, httplib::Response& res,
+                                  std::vector<std::string>* requests) {
+  if (!reader || !AcceptsMultipartUpload(binding)) {
+    res.set_header("Connection", "close");
+    WriteError(res, 415, grpc::StatusCode::INVALID_ARGUMENT,
+               "request body: " + binding.http_method + " " + binding.path.text() +
+                   " does not take multipart/form-data (only file uploads such as POST /v1/assets:import do)");
+    return false;
+  }
+  std::vector<FormPart> form;
+  bool unread_left = false;
+  const grpc::Status read = ReadMultipartForm(*reader, options_.max_upload_bytes, kDrainBytes, &form, &unread_left);
+  if (unread_left) res.set_header("Connection", "close");
+  if (res.status == 413) {  // cpp-httplib's own cap, the payload max length
+    WriteError(res, 413, grpc::StatusCode::RESOURCE_EXHAUSTED, TooLarge(declared, options_.max_upload_bytes, true));
+    return false;
+  }
+  if (!read.ok()) {
+    if (read.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED)
+      WriteError(res, 413, read.error_code(), read.error_message());
+    else
+      WriteError(res, read);
+    return false;
+  }
+  const grpc::Status st = TranscodeMultipartUpload(binding, Prototype(binding.method->input_type()), http,
+                                                   std::move(form), options_.upload_chunk_bytes, requests);
+  if (!st.ok()) WriteError(res, st);
+  return st.ok();
+}
+
+void Gateway::Dispatch(const httplib::Request& req, const HttpBinding& binding, std::vector<std::string> requests,
+                       httplib::Response& res) {
   std::unique_ptr<grpc::ClientContext> context;
   if (auto st = MakeContext(req, binding, &context); !st.ok()) return WriteError(res, st);
   if (calls_.draining()) return WriteError(res, ShuttingDown());

@@ -89,6 +89,13 @@ class Gateway {
                            std::unique_ptr<grpc::ClientContext>* context) const;
 
   void Handle(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader* reader);
+  // A multipart/form-data upload into `requests` (multipart_upload.h); false
+  // once it has written the error.
+  bool ReadMultipartUpload(const HttpBinding& binding, const httplib::ContentReader* reader, uint64_t declared,
+                           const HttpRequestParts& http, httplib::Response& res, std::vector<std::string>* requests);
+  // Sends `requests` to the binding's method and writes its answer.
+  void Dispatch(const httplib::Request& req, const HttpBinding& binding, std::vector<std::string> requests,
+                httplib::Response& res);
   void CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
                  std::vector<std::string> requests, httplib::Response& res);
   void CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <set>
 
+#include "server/host/gateway/multipart_upload.h"
+
 namespace armature::server::gateway {
 namespace {
 
@@ -165,6 +167,13 @@ json Operation(const HttpBinding& b, SchemaBuilder& schemas) {
       content["application/json"] = {{"schema", schemas.FieldSchema(f)}};
     }
     if (m->client_streaming()) content["application/x-ndjson"] = content["application/json"];
+    if (AcceptsMultipartUpload(b))  // the main file and its resources as file parts (multipart_upload.h)
+      content["multipart/form-data"] = {
+          {"schema",
+           {{"type", "object"},
+            {"properties",
+             {{"files", {{"type", "array"}, {"items", {{"type", "string"}, {"format", "binary"}}}}},
+              {"name", {{"type", "string"}}}}}}}};
     op["requestBody"] = {{"required", b.body != "*"}, {"content", content}};
   }
 

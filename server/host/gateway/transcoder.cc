@@ -40,24 +40,26 @@ grpc::Status Dump(const json& j, const std::string& where, std::string* out) {
   return grpc::Status::OK;
 }
 
-// Path variables and query parameters into `params`.
+}  // namespace
+
 grpc::Status ParamsMessage(const HttpBinding& binding, const HttpRequestParts& http, pb::Message* params) {
   const pb::Descriptor* type = params->GetDescriptor();
   json from_path = json::object();
   for (size_t i = 0; i < http.path.size(); ++i) Put(from_path, binding.path_fields[i], {http.path[i].second});
 
-  // Query parameters grouped by field, in first-seen order.
+  // Query parameters (then form fields) grouped by field, in first-seen order.
   std::vector<std::pair<FieldPath, std::vector<std::string>>> fields;
   std::map<std::string, size_t> index;
-  for (const auto& [name, value] : http.query) {
-    const std::string where = "query parameter '" + name + "'";
+  auto take = [&](const std::string& kind, const std::string& name, const std::string& value) -> grpc::Status {
+    const std::string where = kind + " '" + name + "'";
+    const char* source = kind == "form field" ? "form" : "query";
     if (binding.body == "*")
       return Invalid(where + ": " + binding.http_method + " " + binding.path.text() +
-                     " takes every field from the JSON body, none from the query");
+                     " takes every field from the JSON body, none from the " + source);
     auto path = ResolveFieldPath(type, name);
-    if (!path.ok()) return Invalid("query parameter " + path.status().message());
+    if (!path.ok()) return Invalid(kind + " " + path.status().message());
     const pb::FieldDescriptor* leaf = path->back();
-    if (leaf->is_map()) return Invalid(where + ": map fields cannot be set from the query");
+    if (leaf->is_map()) return Invalid(where + ": map fields cannot be set from the " + source);
     if (leaf->type() == pb::FieldDescriptor::TYPE_MESSAGE)
       return Invalid(where + ": '" + leaf->name() + "' is a message; set its fields with dots, e.g. " + name + "." +
                      (leaf->message_type()->field_count() ? leaf->message_type()->field(0)->json_name() : "field"));
@@ -72,14 +74,20 @@ grpc::Status ParamsMessage(const HttpBinding& binding, const HttpRequestParts& h
     values.push_back(value);
     if (!leaf->is_repeated() && values.size() > 1)
       return Invalid(where + ": given " + std::to_string(values.size()) + " times but it takes one value");
-  }
+    return grpc::Status::OK;
+  };
+  for (const auto& [name, value] : http.query)
+    if (auto st = take("query parameter", name, value); !st.ok()) return st;
+  for (const auto& [name, value] : http.form)
+    if (auto st = take("form field", name, value); !st.ok()) return st;
   json from_query = json::object();
   for (const auto& [path, values] : fields) Put(from_query, path, values);
 
   std::unique_ptr<pb::Message> part(params->New());
   std::string text;
-  if (auto st = Dump(from_query, "query parameters", &text); !st.ok()) return st;
-  if (auto st = JsonToMessage(text, part.get(), "query parameters", "query parameter"); !st.ok()) return st;
+  const std::string kind = http.form.empty() ? "query parameter" : "query parameter or form field";
+  if (auto st = Dump(from_query, kind + "s", &text); !st.ok()) return st;
+  if (auto st = JsonToMessage(text, part.get(), kind + "s", kind); !st.ok()) return st;
   params->MergeFrom(*part);
   // Path last, so it wins over anything else naming the same field.
   if (auto st = Dump(from_path, "path", &text); !st.ok()) return st;
@@ -87,6 +95,8 @@ grpc::Status ParamsMessage(const HttpBinding& binding, const HttpRequestParts& h
   params->MergeFrom(*part);
   return grpc::Status::OK;
 }
+
+namespace {
 
 // One JSON value of the body into `message` according to the body rule.
 grpc::Status BodyInto(const HttpBinding& binding, std::string_view body, const std::string& where, pb::Message* message) {

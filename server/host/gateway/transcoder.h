@@ -26,6 +26,8 @@ namespace armature::server::gateway {
 struct HttpRequestParts {
   PathBindings path;                                       // the template's variables
   std::vector<std::pair<std::string, std::string>> query;  // decoded, in order
+  // multipart/form-data text fields (multipart_upload.h): set fields as query parameters do.
+  std::vector<std::pair<std::string, std::string>> form;
   std::string_view body;
   std::string content_type;  // media type, lower case, no parameters
 };
@@ -36,6 +38,10 @@ bool IsNdjson(const std::string& content_type);
 // and not JSON: the raw body is that field. Any other body is read as JSON
 // whatever its content type says (curl -d sends form encoding).
 bool IsRawBytesBody(const HttpBinding& binding, const std::string& content_type);
+
+// Path variables, query parameters and form fields into `params`.
+// INVALID_ARGUMENT naming the parameter.
+grpc::Status ParamsMessage(const HttpBinding& binding, const HttpRequestParts& http, google::protobuf::Message* params);
 
 // The serialized request messages. INVALID_ARGUMENT naming the parameter or
 // body field on bad input.
