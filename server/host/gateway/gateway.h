@@ -40,7 +40,7 @@ std::string MediaType(const httplib::Request& req);
 
 struct GatewayOptions {
   std::vector<std::string> cors_origins;  // --cors-origin
-  size_t max_request_bytes = 4u << 20;    // JSON bodies (--max-request-kb)
+  size_t max_request_bytes = 4u << 20;    // JSON, protobuf and gRPC-Web bodies (--max-request-kb)
   size_t max_upload_bytes = 256u << 20;   // raw bytes bodies, i.e. imports (--max-upload-mb)
   size_t upload_chunk_bytes = 1u << 20;   // raw bodies reach client-streaming RPCs in chunks of this size
   // Deadline of calls that do not stream responses, unless the request sends
@@ -50,7 +50,7 @@ struct GatewayOptions {
   // with a plain HTTP error; later ones arrive as the final SSE status event.
   std::chrono::milliseconds first_response_wait{2000};
   std::chrono::milliseconds sse_heartbeat{15000};
-  size_t max_streams = 200;  // open SSE streams; more get 429 (each holds an HTTP thread)
+  size_t max_streams = 200;  // open SSE and gRPC-Web streams; more are refused (each holds an HTTP thread)
   // --auth-token-file: checked before a request body is read, so token-less
   // uploads cost no memory (the gRPC auth gate checks again).
   std::shared_ptr<const BearerTokens> tokens;

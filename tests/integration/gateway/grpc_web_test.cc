@@ -2,6 +2,10 @@
 // end: a real armature-server, requests framed here by hand from the
 // protocol text (flag byte, 4-byte big-endian length; trailers as header
 // lines) with httplib::Client, answers compared with the same calls over gRPC.
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -11,6 +15,7 @@
 
 #include "armature/client.h"
 #include "support/client_helpers.h"
+#include "support/metrics_scrape.h"
 #include "support/server_process.h"
 
 namespace armature::testing {
@@ -356,6 +361,52 @@ TEST_F(GrpcWeb, BinaryRestTakesAndGivesProtobuf) {
   EXPECT_EQ(garbage->status, 400);
   EXPECT_NE(garbage->body.find("not a valid armature.v1.EvaluateClipRequest encoding"), std::string::npos)
       << garbage->body;
+}
+
+// A looping stream over gRPC-Web whose client vanishes: its call is
+// cancelled (the next frame's write fails), as the metrics show; calls count
+// in the same metrics as gRPC ones.
+TEST_F(GrpcWeb, CallsCountInTheMetricsAndAVanishedStreamClientCancelsItsCall) {
+  ServerProcess server(data_.path());
+  auto http = Http(server);
+  const std::string evaluated = R"(armature_rpc_requests_total{method="armature.v1.PoseService/EvaluateClip",code="OK"})";
+  const double before = std::max(0.0, ScrapeSample(server, evaluated));
+  for (int i = 0; i < 3; ++i)
+    ASSERT_EQ(Call(http, "/armature.v1.PoseService/EvaluateClip", Frame(EvaluateRequest("demo_walk").SerializeAsString()))
+                  .code(),
+              0);
+  EXPECT_EQ(ScrapeSample(server, evaluated), before + 3);
+
+  v1::StreamClipRequest req;
+  req.set_clip("demo_walk");
+  req.set_fps(60);
+  req.set_loop(true);
+  const std::string body = Frame(req.SerializeAsString());
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<uint16_t>(server.http_port()));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  const std::string request = "POST /armature.v1.PoseService/StreamClip HTTP/1.1\r\nHost: localhost\r\n"
+                              "Content-Type: application/grpc-web+proto\r\nContent-Length: " +
+                              std::to_string(body.size()) + "\r\n\r\n" + body;
+  ASSERT_EQ(::send(fd, request.data(), request.size(), MSG_NOSIGNAL), static_cast<ssize_t>(request.size()));
+  std::string got;
+  char buf[4096];
+  while (got.size() < 2000) {  // a few frames
+    const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+    ASSERT_GT(n, 0) << got;
+    got.append(buf, static_cast<size_t>(n));
+  }
+  EXPECT_NE(got.find("Transfer-Encoding: chunked"), std::string::npos) << got.substr(0, 300);
+  const std::string streaming = R"(armature_rpc_in_flight{method="armature.v1.PoseService/StreamClip"})";
+  EXPECT_EQ(ScrapeSample(server, streaming), 1);
+  ::close(fd);
+  EXPECT_TRUE(WaitFor([&] { return ScrapeSample(server, streaming) == 0; }, 30))
+      << "the stream's call was not cancelled when its client went away";
+  EXPECT_EQ(ScrapeSample(server, R"(armature_rpc_requests_total{method="armature.v1.PoseService/StreamClip",code="CANCELLED"})"),
+            1);
 }
 
 }  // namespace
