@@ -163,6 +163,10 @@ def concrete(template, value="walk"):
 
 # REST requests for the transcoder: "<METHOD> <target>\n<content type>\n<body>".
 TRANSCODE = {
+    # binary REST: the body is the request's encoding (clip "x", then times [0.5] as a packed double)
+    "evaluate_protobuf": "POST /v1/clips/walk:evaluate\napplication/x-protobuf\n"
+                         "\n\x01x\x12\x08\x00\x00\x00\x00\x00\x00\x00\x00",
+    "import_protobuf": "POST /v1/assets:import?filename=a.bvh\napplication/x-protobuf\n\x12\x03HIE",
     "evaluate": 'POST /v1/clips/walk:evaluate\napplication/json\n'
                 '{"times":[0,0.5,1e3],"space":"SPACE_WORLD","interpolation":1,"joints":["Hips","Chest"]}',
     "stream_query": "GET /v1/clips/walk:stream?fps=30&speed=-1.5&loop=true&joints=Hips&joints=Chest"
