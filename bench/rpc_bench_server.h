@@ -1,4 +1,4 @@
-// One in-process armature-server (gRPC on a free port, demo assets, the CMU
+// One in-process armature-server (gRPC and HTTP on free ports, demo assets, the CMU
 // capture when present) and a client, shared by the *_rpc_bench.cc files.
 #pragma once
 
@@ -27,7 +27,7 @@ struct BenchServer {
     armature::server::ServerConfig config;
     config.host = "127.0.0.1";
     config.grpc_port = 0;
-    config.http_port = -1;
+    config.http_port = 0;  // gRPC-Web and REST (grpc_web_rpc_bench.cc)
     config.data_dir = dir.string();
     config.log_level = "warn";  // no per-call request log lines in the measurement
     armature::server::ConfigureLogging(config.log_level, config.log_format);

@@ -163,6 +163,10 @@ def concrete(template, value="walk"):
 
 # REST requests for the transcoder: "<METHOD> <target>\n<content type>\n<body>".
 TRANSCODE = {
+    # binary REST: the body is the request's encoding (clip "x", then times [0.5] as a packed double)
+    "evaluate_protobuf": "POST /v1/clips/walk:evaluate\napplication/x-protobuf\n"
+                         "\n\x01x\x12\x08\x00\x00\x00\x00\x00\x00\x00\x00",
+    "import_protobuf": "POST /v1/assets:import?filename=a.bvh\napplication/x-protobuf\n\x12\x03HIE",
     "evaluate": 'POST /v1/clips/walk:evaluate\napplication/json\n'
                 '{"times":[0,0.5,1e3],"space":"SPACE_WORLD","interpolation":1,"joints":["Hips","Chest"]}',
     "stream_query": "GET /v1/clips/walk:stream?fps=30&speed=-1.5&loop=true&joints=Hips&joints=Chest"
@@ -273,6 +277,17 @@ def main():
         seeds["transcode"]["route_%d" % i] = ("%s %s\napplication/json\n{}" % (method, concrete(template))).encode()
     seeds["path_template"] = path_template_seeds()
     seeds["import_upload"] = import_upload_seeds()
+    # first byte: the frame limit, 1 << (byte % 24); then a gRPC-Web body
+    frame = lambda flag, m: bytes([flag]) + len(m).to_bytes(4, "big") + m
+    seeds["grpc_web"] = {
+        "one_frame": b"\x0a" + frame(0, b"\x0a\x09demo_walk"),
+        "two_frames": b"\x0a" + frame(0, b"ab") + frame(0, b""),
+        "trailer": b"\x0a" + frame(0x80, b"grpc-status: 0\r\ngrpc-message: \r\n"),
+        "compressed": b"\x0a" + frame(1, b"x"),
+        "over_limit": b"\x02" + frame(0, b"12345"),
+        "cut_short": b"\x0a" + frame(0, b"abc")[:6],
+        "base64": b"\x0a" + b"AAAAAAA=Zm9v",
+    }
     for name, blob in seeds.get(kind, {}).items():
         write(out, name, blob)
     # Small real files, when the shared data is beside the clone.

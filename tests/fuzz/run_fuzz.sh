@@ -18,6 +18,7 @@ case $target in
   server_transcode_fuzz) format=transcode ;;
   server_path_template_fuzz) format=path_template ;;
   server_import_upload_fuzz) format=import_upload ;;
+  server_grpc_web_framing_fuzz) format=grpc_web ;;
   *) format=$target ;;
 esac
 dir=$work/$target

@@ -104,11 +104,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     CheckError(st);
   } else {
     if (requests.empty()) std::abort();
+    // A protobuf body is one request message, whatever the RPC's kind.
+    if (gw::IsProtobufType(http.content_type) && requests.size() != 1) std::abort();
     // A body rule naming a field: the body sets that field and nothing else,
     // so apart from it the first message is what path and query give, and
-    // later ones are empty.
+    // later ones are empty. (A protobuf body is the whole message instead.)
     std::vector<std::string> params;
-    const bool field_body = !binding->body_field.empty();
+    const bool field_body = !binding->body_field.empty() && !gw::IsProtobufType(http.content_type);
     if (field_body) {
       gw::HttpRequestParts no_body = http;
       no_body.body = {};

@@ -30,6 +30,7 @@ export async function startServer(serverBin, extraArgs = []) {
   const ports = JSON.parse(readFileSync(portFile, 'utf8'));
   return {
     url: `http://127.0.0.1:${ports.http}`,
+    grpcPort: ports.grpc,
     log: () => readFileSync(log, 'utf8'),
     // Imports a file the way `armature import` does over REST: the raw file
     // is the body of POST /v1/assets:import. Returns the AssetInfo.

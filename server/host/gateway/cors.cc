@@ -8,9 +8,11 @@
 
 namespace armature::server::gateway {
 namespace {
-// Request headers a browser page may send to the gateway.
-constexpr char kAllowedHeaders[] = "authorization, content-type, grpc-timeout, x-request-id";
-constexpr char kExposedHeaders[] = "x-request-id";
+// Request headers a browser page may send to the gateway (gRPC-Web clients
+// add x-grpc-web and x-user-agent), and response headers it may read.
+constexpr char kAllowedHeaders[] =
+    "authorization, content-type, grpc-timeout, x-request-id, x-grpc-web, x-user-agent";
+constexpr char kExposedHeaders[] = "x-request-id, grpc-status, grpc-message";
 }  // namespace
 
 CorsPolicy::CorsPolicy(std::vector<std::string> origins) : origins_(std::move(origins)) {

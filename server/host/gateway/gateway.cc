@@ -18,12 +18,6 @@
 #include "server/rpc/session_admission.h"
 
 namespace armature::server::gateway {
-namespace {
-
-namespace pb = google::protobuf;
-
-// HTTP headers that travel to the gRPC handlers as metadata.
-constexpr const char* kForwardedHeaders[] = {"authorization", "x-request-id", "traceparent", "tracestate"};
 
 std::string MediaType(const httplib::Request& req) {
   std::string type = req.get_header_value("Content-Type");
@@ -32,6 +26,13 @@ std::string MediaType(const httplib::Request& req) {
   std::transform(type.begin(), type.end(), type.begin(), [](unsigned char c) { return std::tolower(c); });
   return type;
 }
+
+namespace {
+
+namespace pb = google::protobuf;
+
+// HTTP headers that travel to the gRPC handlers as metadata.
+constexpr const char* kForwardedHeaders[] = {"authorization", "x-request-id", "traceparent", "tracestate"};
 
 // gRPC's timeout header: up to 8 digits and a unit (H, M, S, m, u, n).
 std::optional<std::chrono::nanoseconds> ParseGrpcTimeout(const std::string& text) {
@@ -80,6 +81,7 @@ StatusOr<std::unique_ptr<Gateway>> Gateway::Create(const std::vector<const pb::S
   std::map<std::string, std::string> claimed;  // "GET /v1/x/{}" → method
   for (const auto* service : services) {
     for (int i = 0; i < service->method_count(); ++i) {
+      g->grpc_web_methods_.emplace("/" + service->full_name() + "/" + service->method(i)->name(), service->method(i));
       auto bindings = BindingsOf(service->method(i));
       if (!bindings.ok()) return bindings.status();
       for (auto& b : *bindings) {
@@ -129,7 +131,7 @@ size_t Gateway::BodyLimit(const HttpBinding& binding, const std::string& content
   return IsRawBytesBody(binding, content_type) ? options_.max_upload_bytes : options_.max_request_bytes;
 }
 
-grpc::Status Gateway::MakeContext(const httplib::Request& req, const HttpBinding& binding,
+grpc::Status Gateway::MakeContext(const httplib::Request& req, bool server_streaming,
                                   std::unique_ptr<grpc::ClientContext>* context) const {
   auto ctx = std::make_unique<grpc::ClientContext>();
   std::optional<std::chrono::nanoseconds> timeout;
@@ -138,7 +140,7 @@ grpc::Status Gateway::MakeContext(const httplib::Request& req, const HttpBinding
     if (!timeout)
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
                           "header grpc-timeout: expected up to 8 digits and a unit H, M, S, m, u or n, e.g. 500m");
-  } else if (!binding.server_streaming()) {
+  } else if (!server_streaming) {
     timeout = options_.default_timeout;
   }
   if (timeout)
@@ -173,7 +175,7 @@ void Gateway::Register(httplib::Server& http) {
     }
     if (req.method != "OPTIONS") return Server::HandlerResponse::Unhandled;
     auto path = RequestPath::Parse(req.target);
-    std::string allowed = path.ok() ? AllowedMethods(*path) : "";
+    std::string allowed = grpc_web_methods_.count(req.path) ? "POST" : path.ok() ? AllowedMethods(*path) : "";
     // Paths outside the API (health, viewer, openapi.json) are read-only.
     cors_.AnswerOptions(req, res, (allowed.empty() ? "GET, HEAD" : allowed) + ", OPTIONS");
     return Server::HandlerResponse::Handled;
@@ -216,6 +218,11 @@ void Gateway::Register(httplib::Server& http) {
   http.Get("/openapi.json", [this](const httplib::Request&, httplib::Response& res) {
     res.set_content(openapi_, "application/json");
   });
+  // gRPC-Web first: its paths would otherwise reach the REST routes below.
+  http.Post(R"(/[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+)+/[A-Za-z0-9_]+)",
+            [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
+              HandleGrpcWeb(req, res, reader);
+            });
   auto plain = [this](const httplib::Request& req, httplib::Response& res) { Handle(req, res, nullptr); };
   auto reading = [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
     Handle(req, res, &reader);
@@ -341,16 +348,16 @@ bool Gateway::ReadMultipartUpload(const HttpBinding& binding, const httplib::Con
 void Gateway::Dispatch(const httplib::Request& req, const HttpBinding& binding, std::vector<std::string> requests,
                        httplib::Response& res) {
   std::unique_ptr<grpc::ClientContext> context;
-  if (auto st = MakeContext(req, binding, &context); !st.ok()) return WriteError(res, st);
+  if (auto st = MakeContext(req, binding.server_streaming(), &context); !st.ok()) return WriteError(res, st);
   if (calls_.draining()) return WriteError(res, ShuttingDown());
   if (binding.server_streaming())
     CallStreaming(binding, std::move(context), std::move(requests), res);
   else
-    CallUnary(binding, std::move(context), std::move(requests), res);
+    CallUnary(binding, std::move(context), std::move(requests), AcceptsProtobuf(req.get_header_value("Accept")), res);
 }
 
 void Gateway::CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
-                        std::vector<std::string> requests, httplib::Response& res) {
+                        std::vector<std::string> requests, bool proto_response, httplib::Response& res) {
   auto call = GenericCall::Start(*stub_, binding.grpc_method(), std::move(context), std::move(requests));
   if (!calls_.Add(call.get())) return WriteError(res, ShuttingDown());
   std::vector<std::string> responses;
@@ -360,6 +367,10 @@ void Gateway::CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::Client
   if (responses.size() != 1)
     return WriteError(res, grpc::Status(grpc::StatusCode::INTERNAL, binding.method->full_name() + " returned " +
                                                                         std::to_string(responses.size()) + " responses"));
+  if (proto_response) {  // Accept: application/x-protobuf, the response's own encoding
+    res.status = 200;
+    return res.set_content(std::move(responses[0]), kProtobufMediaType);
+  }
   HttpBody body;
   if (auto st = TranscodeResponse(binding, Prototype(binding.method->output_type()), responses[0], &body); !st.ok())
     return WriteError(res, st);

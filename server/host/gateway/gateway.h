@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -34,9 +35,12 @@ class ContentReader;
 
 namespace armature::server::gateway {
 
+// The request's Content-Type without parameters, lower case, no spaces.
+std::string MediaType(const httplib::Request& req);
+
 struct GatewayOptions {
   std::vector<std::string> cors_origins;  // --cors-origin
-  size_t max_request_bytes = 4u << 20;    // JSON bodies (--max-request-kb)
+  size_t max_request_bytes = 4u << 20;    // JSON, protobuf and gRPC-Web bodies (--max-request-kb)
   size_t max_upload_bytes = 256u << 20;   // raw bytes bodies, i.e. imports (--max-upload-mb)
   size_t upload_chunk_bytes = 1u << 20;   // raw bodies reach client-streaming RPCs in chunks of this size
   // Deadline of calls that do not stream responses, unless the request sends
@@ -46,7 +50,7 @@ struct GatewayOptions {
   // with a plain HTTP error; later ones arrive as the final SSE status event.
   std::chrono::milliseconds first_response_wait{2000};
   std::chrono::milliseconds sse_heartbeat{15000};
-  size_t max_streams = 200;  // open SSE streams; more get 429 (each holds an HTTP thread)
+  size_t max_streams = 200;  // open SSE and gRPC-Web streams; more are refused (each holds an HTTP thread)
   // --auth-token-file: checked before a request body is read, so token-less
   // uploads cost no memory (the gRPC auth gate checks again).
   std::shared_ptr<const BearerTokens> tokens;
@@ -61,7 +65,8 @@ class Gateway {
                                                    google::protobuf::MessageFactory* factory,
                                                    std::shared_ptr<grpc::Channel> channel, GatewayOptions options);
 
-  // Adds CORS, OPTIONS, /openapi.json and the REST routes to `http`. Routes
+  // Adds CORS, OPTIONS, /openapi.json, gRPC-Web (POST /armature.v1.<Service>/<Method>,
+  // every method of `services`) and the REST routes to `http`. Routes
   // registered before stay first; static files still win for GET.
   void Register(httplib::Server& http);
 
@@ -85,7 +90,7 @@ class Gateway {
   std::optional<Route> Match(const std::string& http_method, const RequestPath& path) const;
   std::string AllowedMethods(const RequestPath& path) const;  // "GET, DELETE" or ""
   size_t BodyLimit(const HttpBinding& binding, const std::string& content_type) const;
-  grpc::Status MakeContext(const httplib::Request& req, const HttpBinding& binding,
+  grpc::Status MakeContext(const httplib::Request& req, bool server_streaming,
                            std::unique_ptr<grpc::ClientContext>* context) const;
 
   void Handle(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader* reader);
@@ -97,9 +102,14 @@ class Gateway {
   void Dispatch(const httplib::Request& req, const HttpBinding& binding, std::vector<std::string> requests,
                 httplib::Response& res);
   void CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
-                 std::vector<std::string> requests, httplib::Response& res);
+                 std::vector<std::string> requests, bool proto_response, httplib::Response& res);
   void CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
                      std::vector<std::string> requests, httplib::Response& res);
+
+  // gRPC-Web (grpc_web.cc): the whole call, its errors in the trailer frame.
+  void HandleGrpcWeb(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
+  void CallGrpcWebStreaming(const google::protobuf::MethodDescriptor& method, bool text,
+                            std::unique_ptr<grpc::ClientContext> context, std::string request, httplib::Response& res);
 
   const google::protobuf::Message& Prototype(const google::protobuf::Descriptor* type) const {
     return *factory_->GetPrototype(type);
@@ -111,6 +121,7 @@ class Gateway {
   std::unique_ptr<grpc::GenericStub> stub_;
   CorsPolicy cors_;
   std::vector<HttpBinding> bindings_;
+  std::map<std::string, const google::protobuf::MethodDescriptor*> grpc_web_methods_;  // "/pkg.Service/Method"
   std::string openapi_;
   std::atomic<size_t> open_streams_{0};
   CallRegistry calls_;

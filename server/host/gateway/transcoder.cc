@@ -1,5 +1,7 @@
 #include "server/host/gateway/transcoder.h"
 
+#include <algorithm>
+#include <cctype>
 #include <map>
 #include <memory>
 
@@ -141,8 +143,31 @@ bool IsJsonType(const std::string& content_type) {
          (content_type.size() > 5 && content_type.compare(content_type.size() - 5, 5, "+json") == 0);
 }
 
+bool IsProtobufType(const std::string& content_type) {
+  return content_type == "application/x-protobuf" || content_type == "application/protobuf";
+}
+
+bool AcceptsProtobuf(const std::string& accept_header) {
+  size_t start = 0;
+  while (start <= accept_header.size()) {
+    const size_t end = std::min(accept_header.find(',', start), accept_header.size());
+    std::string item = accept_header.substr(start, end - start);
+    start = end + 1;
+    std::transform(item.begin(), item.end(), item.begin(), [](unsigned char c) { return std::tolower(c); });
+    item.erase(std::remove_if(item.begin(), item.end(), [](unsigned char c) { return std::isspace(c); }), item.end());
+    const size_t semicolon = item.find(';');
+    if (!IsProtobufType(item.substr(0, semicolon))) continue;
+    // "q=0", "q=0.0", "q=0.000" refuse the type.
+    const size_t q = item.find(";q=", semicolon == std::string::npos ? item.size() : semicolon);
+    if (q != std::string::npos && item.find_first_not_of("0.", q + 3) == std::string::npos) continue;
+    return true;
+  }
+  return false;
+}
+
 bool IsRawBytesBody(const HttpBinding& binding, const std::string& content_type) {
-  if (binding.body_field.empty() || content_type.empty() || IsJsonType(content_type)) return false;
+  if (binding.body_field.empty() || content_type.empty() || IsJsonType(content_type) || IsProtobufType(content_type))
+    return false;
   const pb::FieldDescriptor* f = binding.body_field.front();
   return f->type() == pb::FieldDescriptor::TYPE_BYTES && !f->is_repeated();
 }
@@ -162,6 +187,16 @@ grpc::Status TranscodeRequest(const HttpBinding& binding, const pb::Message& pro
     return grpc::Status::OK;
   }
 
+  if (IsProtobufType(http.content_type)) {
+    // The whole message's encoding; path and query fields win (merged last).
+    std::unique_ptr<pb::Message> m(prototype.New());
+    if (!m->ParseFromArray(http.body.data(), static_cast<int>(http.body.size())))
+      return Invalid("request body: not a valid " + prototype.GetTypeName() + " encoding (Content-Type " +
+                     http.content_type + ")");
+    m->MergeFrom(*first);
+    requests->push_back(m->SerializeAsString());
+    return grpc::Status::OK;
+  }
   const pb::FieldDescriptor* body_field = binding.body_field.empty() ? nullptr : binding.body_field.front();
   if (IsRawBytesBody(binding, http.content_type)) {
     // The raw body is the bytes field; a streaming RPC gets it in chunks.

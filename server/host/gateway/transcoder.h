@@ -5,6 +5,8 @@
 //  - body "*": the JSON body is the request; body "field": the body is that
 //    field; a bytes field with a non-JSON content type takes the raw body;
 //    any other body is read as JSON whatever its content type;
+//  - a body of Content-Type application/x-protobuf (or application/protobuf)
+//    is the whole request message's encoding; path and query still set fields;
 //  - client-streaming (and bidi) RPCs get one message per line of an
 //    application/x-ndjson body, or one message; a raw bytes body is cut into
 //    chunks, the first message carrying the other fields and later ones only
@@ -31,6 +33,14 @@ struct HttpRequestParts {
   std::string_view body;
   std::string content_type;  // media type, lower case, no parameters
 };
+
+inline constexpr char kProtobufMediaType[] = "application/x-protobuf";
+// application/x-protobuf or application/protobuf (media type, lower case).
+bool IsProtobufType(const std::string& content_type);
+// True when an Accept header lists application/x-protobuf (or
+// application/protobuf) with a non-zero quality: the answer is then the
+// response message's proto encoding instead of JSON.
+bool AcceptsProtobuf(const std::string& accept_header);
 
 // True for the content types whose body is one JSON value per line.
 bool IsNdjson(const std::string& content_type);

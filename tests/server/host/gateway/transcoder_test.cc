@@ -55,5 +55,45 @@ TEST(Transcoder, ABodyBoundToAFieldSetsThatFieldAndThePathAndQueryTheRest) {
   EXPECT_EQ(m.resource(), "");
 }
 
+// Binary REST: an application/x-protobuf body is the whole request message,
+// not the raw bytes of the body field; the query still sets its fields.
+TEST(Transcoder, AProtobufBodyIsTheWholeRequestMessage) {
+  v1::ImportAssetRequest sent;
+  sent.set_name("walker");
+  sent.set_data(std::string("\x00\x01\xff", 3));
+  sent.set_filename("from-body.bvh");
+  const std::string encoded = sent.SerializeAsString();
+  std::vector<std::string> requests;
+  const auto st = TranscodeRequest(ImportBinding(), v1::ImportAssetRequest::default_instance(),
+                                   Import(encoded, "application/x-protobuf"), 1 << 20, &requests);
+  ASSERT_TRUE(st.ok()) << st.error_message();
+  ASSERT_EQ(requests.size(), 1u);
+  v1::ImportAssetRequest m;
+  ASSERT_TRUE(m.ParseFromString(requests[0]));
+  EXPECT_EQ(m.name(), "walker");
+  EXPECT_EQ(m.data(), std::string("\x00\x01\xff", 3));
+  EXPECT_EQ(m.filename(), "walk.bvh");  // the query wins
+
+  const auto bad = TranscodeRequest(ImportBinding(), v1::ImportAssetRequest::default_instance(),
+                                    Import("\xff\xff\xff", "application/protobuf"), 1 << 20, &requests);
+  EXPECT_EQ(bad.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(bad.error_message(),
+            "request body: not a valid armature.v1.ImportAssetRequest encoding (Content-Type application/protobuf)");
+  EXPECT_FALSE(IsRawBytesBody(ImportBinding(), "application/x-protobuf"));
+  EXPECT_TRUE(IsRawBytesBody(ImportBinding(), "application/octet-stream"));
+}
+
+TEST(Transcoder, AcceptHeadersAskingForProtobuf) {
+  EXPECT_TRUE(AcceptsProtobuf("application/x-protobuf"));
+  EXPECT_TRUE(AcceptsProtobuf("application/json;q=0.5, Application/X-Protobuf"));
+  EXPECT_TRUE(AcceptsProtobuf("application/protobuf; q=0.9"));
+  EXPECT_FALSE(AcceptsProtobuf(""));
+  EXPECT_FALSE(AcceptsProtobuf("*/*"));
+  EXPECT_FALSE(AcceptsProtobuf("application/json"));
+  EXPECT_FALSE(AcceptsProtobuf("application/x-protobuf;q=0"));
+  EXPECT_FALSE(AcceptsProtobuf("application/x-protobuf; q=0.0, application/json"));
+  EXPECT_FALSE(AcceptsProtobuf("application/x-protobuffer"));
+}
+
 }  // namespace
 }  // namespace armature::server::gateway
