@@ -46,12 +46,13 @@ after(async () => {
 const flat = (parts) => Float32Array.from(parts.flat());
 const restSkeleton = async (name) => (await (await fetch(`${server.url}/v1/skeletons/${encodeURIComponent(name)}`)).json());
 
-test('evaluateClip packs the gRPC answer into Float32Arrays, with REST\'s joint names', async () => {
+test('evaluateClip packs the gRPC answer into Float32Arrays, with REST\'s joint names', async (t) => {
   const times = [0, 0.4, 1.3];
   const got = await client.evaluateClip('demo_walk', times, { space: 'world' });
   const want = await grpc.pose.evaluateClip({ clip: 'demo_walk', times, space: Space.WORLD });
   const joints = want.joints.length;
   assert.ok(joints > 1, `${joints} joints`);
+  t.diagnostic(`${joints} joints, ${times.length} times`);
   assert.equal(got.skeleton, want.skeleton);
   assert.deepEqual(got.jointIndices, want.joints);
   assert.ok(got.translations instanceof Float32Array && got.rotations instanceof Float32Array);
@@ -80,13 +81,14 @@ test('evaluateClip with a subset of joints names exactly those joints', async ()
   }
 });
 
-test('streamClip yields every frame gRPC sends, as Float32Arrays', async () => {
+test('streamClip yields every frame gRPC sends, as Float32Arrays', async (t) => {
   const options = { fps: 240, speed: 8, space: 'world' };
   const frames = [];
   for await (const f of client.streamClip('demo_walk', options)) frames.push(f);
   const want = [];
   for await (const f of grpc.pose.streamClip({ clip: 'demo_walk', fps: 240, speed: 8, space: Space.WORLD })) want.push(f);
   assert.ok(want.length > 5, `${want.length} frames`);
+  t.diagnostic(`${frames.length} frames`);
   assert.equal(frames.length, want.length);
   const names = (await client.evaluateClip('demo_walk', [0])).jointNames;
   frames.forEach((f, i) => {
@@ -98,7 +100,7 @@ test('streamClip yields every frame gRPC sends, as Float32Arrays', async () => {
   });
 });
 
-test('skinMesh equals the gRPC answer, normals included', async () => {
+test('skinMesh equals the gRPC answer, normals included', async (t) => {
   const { meshes } = await grpc.mesh.listMeshes({});
   assert.ok(meshes.length > 0, 'the demo character has a mesh');
   const m = meshes[0];
@@ -106,6 +108,7 @@ test('skinMesh equals the gRPC answer, normals included', async () => {
   const want = await grpc.mesh.skinMesh({ mesh: m.name, clip: 'demo_character.walk', time: 0.5 });
   assert.equal(got.vertexCount, m.vertexCount);
   assert.equal(got.positions.length, 3 * m.vertexCount);
+  t.diagnostic(`${m.name}: ${m.vertexCount} vertices, normals ${want.normals.length > 0}`);
   assert.deepEqual(got.positions, Float32Array.from(want.positions));
   if (want.normals.length > 0) assert.deepEqual(got.normals, Float32Array.from(want.normals));
   else assert.equal(got.normals, undefined);
@@ -144,7 +147,7 @@ test('with a token file the client\'s token is sent; without it the call is Unau
   assert.equal((await good.asset.listClips({})).clips.length, 2);
 });
 
-test('timeoutMs ends a stream that would never end with a DeadlineExceededError', async () => {
+test('timeoutMs ends a stream that would never end with a DeadlineExceededError', async (t) => {
   const short = createArmatureClient(server.url, { timeoutMs: 400 });
   const started = Date.now();
   let frames = 0;
@@ -154,6 +157,7 @@ test('timeoutMs ends a stream that would never end with a DeadlineExceededError'
   assert.ok(err instanceof DeadlineExceededError, String(err));
   assert.ok(frames > 3, `${frames} frames before the deadline`);
   assert.ok(elapsed >= 350 && elapsed < 5000, `${elapsed} ms`);
+  t.diagnostic(`${frames} frames, ended after ${elapsed} ms`);
 });
 
 test('bad option names are refused before any call', async () => {
