@@ -175,7 +175,7 @@ TEST_F(IkRoot, FreeRootOverRestAndTheCli) {
   const auto bad = post(body);
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);
-  EXPECT_NE(bad->body.find("freeRoot"), std::string::npos) << bad->body;
+  EXPECT_NE(bad->body.find("free_root"), std::string::npos) << bad->body;
   EXPECT_NE(bad->body.find("ROOT_ROTATION_AND_TRANSLATION"), std::string::npos) << bad->body;
 
   // The CLI: the default keeps the hips (the first joint printed), --free-root frees them.
