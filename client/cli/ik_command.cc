@@ -78,7 +78,8 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", f->tolerance, "Position tolerance, world units (default: 1e-4 x chain length)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--root", f->root, "Only joints below this one move (default: all above the effectors but the skeleton root)");
+  cmd->add_option("--root", f->root,
+                  "Only joints below this one move (default: those above the effectors but the skeleton root)");
   cmd->add_flag("--free-root{both}", f->free_root,
                 "Let the skeleton root (the hips) turn and move too; --free-root=rotation or =translation for one");
   cmd->add_option("--space", f->space, "Print the pose in local or world space")

@@ -91,7 +91,9 @@ TEST(IkRoot, FreeRootLetsTheHipsTurnAndMove) {
   EXPECT_GT((both.pose[hips].translation - start[hips].translation).norm(), 1.0);
 
   // Rotation alone: the hips join the free joints; their translation stays.
-  auto hips_free = [&] { return std::find(ws.free_joints.begin(), ws.free_joints.end(), hips) != ws.free_joints.end(); };
+  auto hips_free = [&] {
+    return std::find(ws.free_joints.begin(), ws.free_joints.end(), hips) != ws.free_joints.end();
+  };
   IkRequest turn = HandReach(s, start, IkSolver::kDls);
   IkResult turned;
   ASSERT_TRUE(SolveIk(s, turn, ws, turned).ok());
