@@ -14,6 +14,13 @@ namespace {
 const std::map<std::string, v1::IkSolver> kSolvers = {
     {"dls", v1::DLS}, {"ccd", v1::CCD}, {"fabrik", v1::FABRIK}, {"two-bone", v1::TWO_BONE}, {"aim", v1::AIM}};
 
+// --free-root (both) or --free-root=rotation|translation|both.
+const std::map<std::string, v1::FreeRoot> kFreeRoots = {
+    {"", v1::ROOT_FIXED},
+    {"rotation", v1::ROOT_ROTATION},
+    {"translation", v1::ROOT_TRANSLATION},
+    {"both", v1::ROOT_ROTATION_AND_TRANSLATION}};
+
 // "stalled" from STOP_STALLED.
 std::string StopName(v1::IkStop stop) {
   std::string name = v1::IkStop_Name(stop);
@@ -51,6 +58,7 @@ struct IkFlags {
   int max_iterations = 0;
   double tolerance = 0;
   std::string root;
+  std::string free_root;
   std::string space = "world";
 };
 
@@ -70,7 +78,10 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", f->tolerance, "Position tolerance, world units (default: 1e-4 x chain length)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--root", f->root, "Only joints below this one move");
+  cmd->add_option("--root", f->root,
+                  "Only joints below this one move (default: those above the effectors but the skeleton root)");
+  cmd->add_flag("--free-root{both}", f->free_root,
+                "Let the skeleton root (the hips) turn and move too; --free-root=rotation or =translation for one");
   cmd->add_option("--space", f->space, "Print the pose in local or world space")
       ->capture_default_str()->check(CLI::IsMember({"local", "world"}));
   cmd->callback([&ctx, f] {
@@ -86,6 +97,10 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
       request.mutable_options()->set_max_iterations(f->max_iterations);
       request.mutable_options()->set_position_tolerance(f->tolerance);
       request.set_root(f->root);
+      const auto free_root = kFreeRoots.find(f->free_root);
+      if (free_root == kFreeRoots.end())
+        throw std::runtime_error("--free-root='" + f->free_root + "': expected rotation, translation or both");
+      request.set_free_root(free_root->second);
       Client client = ctx.MakeClient();
       const v1::SolveIkResponse response = client.SolveIk(request);
       const v1::Skeleton skeleton = client.GetSkeleton(response.skeleton());

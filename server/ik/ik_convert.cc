@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "armature/engine/anim/clip.h"
+#include "armature/engine/anim/joint_map.h"
 #include "armature/engine/kinematics/fk.h"
 #include "server/rpc/request_validation.h"
 
@@ -177,16 +178,19 @@ Status StartFromClip(const Catalog& catalog, const v1::ClipTime& in, const Named
                      std::vector<Trs>& start) {
   auto clip = catalog.FindClip(in.clip());
   if (!clip.ok()) return clip.status().WithContext("from_clip.clip: ");
-  if (clip->part->skeleton != skeleton.name)
+  // A clip of another skeleton plays by joint name (anim/joint_map.h).
+  const Skeleton& sk = *skeleton.skeleton;
+  std::vector<int> map;
+  if (Status mapped = MapJointsByName(sk, *clip->part->clip->skeleton, "'" + skeleton.name + "'", map); !mapped.ok())
     return Status::InvalidArgument("from_clip.clip: '" + clip->part->name + "' animates skeleton '" +
-                                   clip->part->skeleton + "', not '" + skeleton.name + "'");
+                                   clip->part->skeleton + "', which " + mapped.message());
   ARMATURE_RETURN_IF_ERROR(ValidateFinite(in.time(), "from_clip.time"));
   if (in.time() < 0) return Status::InvalidArgument("from_clip.time: must not be negative");
   SampleOptions options;
   options.interpolation = FromProto(in.interpolation());
   options.wrap = FromProto(in.wrap());
-  start.resize(skeleton.skeleton->size());
-  return SampleClip(*clip->part->clip, in.time(), options, start);
+  start.resize(sk.size());
+  return SampleClipOnto(*clip->part->clip, map, sk, in.time(), options, start);
 }
 
 }  // namespace
@@ -194,6 +198,9 @@ Status StartFromClip(const Catalog& catalog, const v1::ClipTime& in, const Named
 Status ApiFieldNames(const Status& status) {
   const std::string& m = status.message();
   if (m.rfind("pose.", 0) == 0) return Status(status.code(), "start_" + m);
+  // The engine's two root flags are the API's one free_root.
+  for (const char* engine : {"free_root_rotation:", "free_root_translation:"})
+    if (m.rfind(engine, 0) == 0) return Status(status.code(), "free_root:" + m.substr(std::string(engine).size()));
   return status;
 }
 
@@ -254,7 +261,10 @@ Status IkCallFromProto(const Catalog& catalog, const Limits& limits, const v1::S
   r.root = in.root();
   r.max_chain_depth = in.max_chain_depth();
   r.free_joints.assign(in.free_joints().begin(), in.free_joints().end());
-  r.free_root_translation = in.free_root_translation();
+  ARMATURE_RETURN_IF_ERROR(ValidateEnum(in.free_root(), v1::FreeRoot_descriptor(), "free_root"));
+  r.free_root_rotation = in.free_root() == v1::ROOT_ROTATION || in.free_root() == v1::ROOT_ROTATION_AND_TRANSLATION;
+  r.free_root_translation =
+      in.free_root() == v1::ROOT_TRANSLATION || in.free_root() == v1::ROOT_ROTATION_AND_TRANSLATION;
   return Status::Ok();
 }
 

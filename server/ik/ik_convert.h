@@ -36,7 +36,8 @@ Status ApplyTargetUpdates(const google::protobuf::RepeatedPtrField<v1::IkTargetU
                           IkRequest& request);
 
 // The engine names the start pose "pose.…" (PoseFromArrays) and
-// "start_pose[i]"; the API calls it start_pose.
+// "start_pose[i]"; the API calls it start_pose. Its free_root_rotation and
+// free_root_translation are the API's free_root.
 Status ApiFieldNames(const Status& status);
 
 // `result` as an answer: the pose in both spaces, every joint, residuals.

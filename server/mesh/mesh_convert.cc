@@ -2,6 +2,7 @@
 
 #include <google/protobuf/io/coded_stream.h>
 
+#include "armature/engine/anim/joint_map.h"
 #include "server/assets/motion_convert.h"
 #include "server/rpc/request_validation.h"
 
@@ -16,13 +17,30 @@ StatusOr<SkinningMethod> FromProto(v1::SkinningMethod method) {
   }
 }
 
-StatusOr<PartRef<NamedClip>> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name) {
+StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name) {
   auto clip = catalog.FindClip(name);
   if (!clip.ok()) return clip.status().WithContext("clip: ");
-  if (!mesh.skeleton.empty() && clip->part->skeleton != mesh.skeleton)
-    return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + clip->part->skeleton +
-                                   "', not the mesh's skeleton '" + mesh.skeleton + "'");
-  return clip;
+  MeshClip out;
+  out.clip = std::move(*clip);
+  if (mesh.skeleton.empty() || out.clip.part->skeleton == mesh.skeleton) return out;
+  auto skeleton = catalog.FindSkeleton(mesh.skeleton);
+  if (!skeleton.ok()) return skeleton.status().WithContext("mesh '" + mesh.name + "': ");
+  out.skeleton = std::move(*skeleton);
+  const Status mapped = MapJointsByName(*out.skeleton.part->skeleton, *out.clip.part->clip->skeleton,
+                                        "the mesh's skeleton '" + mesh.skeleton + "'", out.joint_map);
+  if (!mapped.ok())
+    return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + out.clip.part->skeleton +
+                                   "', which " + mapped.message());
+  return out;
+}
+
+Status SkinByClip(const Mesh& mesh, const MeshClip& clip, double time, const SampleOptions& sample,
+                  const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
+                  SkinningWorkspace& workspace) {
+  const Clip& c = *clip.clip.part->clip;
+  if (clip.skeleton.part == nullptr) return SkinClip(mesh, c, time, sample, options, positions, normals, workspace);
+  return SkinClipOnto(mesh, *clip.skeleton.part->skeleton, clip.joint_map, c, time, sample, options, positions,
+                      normals, workspace);
 }
 
 StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, const v1::Motion& motion,

@@ -5,6 +5,7 @@
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "armature/engine/anim/motion.h"
 #include "armature/engine/mesh/mesh.h"
@@ -18,9 +19,23 @@ namespace armature::server {
 
 StatusOr<SkinningMethod> FromProto(v1::SkinningMethod method);
 
-// The clip that poses `mesh`: it must animate the mesh's skeleton (any
-// clip for an unbound mesh, which only its morph weights track moves).
-StatusOr<PartRef<NamedClip>> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name);
+// A clip posing a mesh: a clip of the mesh's skeleton, or of another
+// skeleton with the mesh skeleton's joint names (mapped by name).
+struct MeshClip {
+  PartRef<NamedClip> clip;
+  PartRef<NamedSkeleton> skeleton;  // the mesh's, when the clip animates another (else part is null)
+  std::vector<int> joint_map;       // then: per joint of the mesh's skeleton, the clip's joint
+};
+
+// The clip `name` for `mesh` (any clip for an unbound mesh, which only its
+// morph weights track moves). A clip of another skeleton that lacks some of
+// the mesh skeleton's joints is INVALID_ARGUMENT naming them.
+StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name);
+
+// Skins `mesh` by `clip` at `time` (SkinClip, or SkinClipOnto the mesh's skeleton).
+Status SkinByClip(const Mesh& mesh, const MeshClip& clip, double time, const SampleOptions& sample,
+                  const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
+                  SkinningWorkspace& workspace);
 
 // The motion that poses `mesh`, bound: its first layer's clip must animate the
 // mesh's skeleton (the other layers map onto it by joint name); errors name

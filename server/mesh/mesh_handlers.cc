@@ -79,8 +79,7 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
     sample.interpolation = server::FromProto(request.interpolation());
     sample.wrap = server::FromProto(request.wrap());
     auto [positions, normals] = OutputsOf(mesh, response);
-    ARMATURE_RETURN_IF_ERROR(
-        SkinClip(mesh, *clip->part->clip, request.time(), sample, options, positions, normals, ws.skin));
+    ARMATURE_RETURN_IF_ERROR(SkinByClip(mesh, *clip, request.time(), sample, options, positions, normals, ws.skin));
   } else {
     if (named.skeleton.empty())
       return Status::InvalidArgument("pose: mesh '" + named.name + "' has no skeleton to pose; give a clip");

@@ -124,7 +124,8 @@ export class IkDrag extends EventTarget {
         startPose: { rotations: this.local.rotations, translations: this.local.translations },
         effectors: [{ joint: name, targetPosition: target.toArray() }, ...pins],
         options: { regularization: 0.5 },  // prefer small changes from the last pose
-        freeRootTranslation: this.view.skeleton.joints[joint].parent < 0,  // dragging the root moves it
+        // the hips stay where they stand unless they are what is dragged, then they move
+        freeRoot: this.view.skeleton.joints[joint].parent < 0 ? 'ROOT_TRANSLATION' : 'ROOT_FIXED',
       });
       this.local = response.local;
       this.view.setPose(response.world);

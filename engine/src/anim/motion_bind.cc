@@ -2,6 +2,7 @@
 #include <cmath>
 #include <string>
 
+#include "armature/engine/anim/joint_map.h"
 #include "armature/engine/anim/motion.h"
 
 namespace armature {
@@ -29,27 +30,6 @@ Status CheckLayerNumbers(const MotionLayer& l, const std::string& where) {
     if (!std::isfinite(m.weight) || m.weight < 0 || m.weight > 1)
       return Status::InvalidArgument(where + ": mask weight " + std::to_string(m.weight) + " of joint '" + m.joint +
                                      "' is outside [0, 1]");
-  return Status::Ok();
-}
-
-// Motion joint → clip joint, by index on the same skeleton, else by name;
-// both skeletons must have the same joint names.
-Status MapJoints(const Skeleton& motion, const Skeleton& clip, const std::string& where, std::vector<int>& out) {
-  out.resize(motion.size());
-  if (&motion == &clip) {
-    for (size_t j = 0; j < out.size(); ++j) out[j] = static_cast<int>(j);
-    return Status::Ok();
-  }
-  for (size_t j = 0; j < motion.size(); ++j) {
-    out[j] = clip.Find(motion.names[j]);
-    if (out[j] < 0)
-      return Status::InvalidArgument(where + ": joint '" + motion.names[j] +
-                                     "' of the motion's skeleton (layers[0]'s) is not in this clip's skeleton");
-  }
-  for (const std::string& name : clip.names)
-    if (motion.Find(name) < 0)
-      return Status::InvalidArgument(where + ": joint '" + name +
-                                     "' of this clip's skeleton is not in the motion's skeleton (layers[0]'s)");
   return Status::Ok();
 }
 
@@ -179,7 +159,10 @@ StatusOr<MotionPlan> BindMotion(const Motion& motion) {
     b.time_offset = l.time_offset;
     b.mode = l.mode;
     b.wrap = l.wrap;
-    ARMATURE_RETURN_IF_ERROR(MapJoints(sk, *l.clip->skeleton, where, b.clip_joint));
+    // By name when the layer's clip animates another skeleton (joint_map.h).
+    if (Status mapped = MapJointsByName(sk, *l.clip->skeleton, "the motion's skeleton (layers[0]'s)", b.clip_joint);
+        !mapped.ok())
+      return Status::InvalidArgument(where + ": the clip's skeleton " + mapped.message());
     ARMATURE_RETURN_IF_ERROR(MaskWeights(sk, l.mask, where, b.joint_weight));
     for (double& w : b.joint_weight) w *= l.weight;
     if (l.mode == LayerMode::kAdditive) {

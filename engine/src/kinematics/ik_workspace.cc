@@ -177,7 +177,8 @@ Status MarkFreeJoints(const Skeleton& skeleton, const IkRequest& request, IkWork
                                      Indexed("effectors", i) + ".joint '" + skeleton.names[e.joint] + "'");
     const bool own_rotation_matters = e.has_rotation || !e.offset.isZero();
     int depth = 0;
-    for (int j = e.joint; j >= 0 && j != root; j = skeleton.parents[j]) {
+    // The skeleton root (no parent) is never on a path: free_root_rotation adds it below.
+    for (int j = e.joint; j >= 0 && j != root && skeleton.parents[j] >= 0; j = skeleton.parents[j]) {
       if (j == e.joint && !own_rotation_matters) continue;
       if (request.max_chain_depth > 0 && depth == request.max_chain_depth) break;
       ws.mark[j] |= 1;
@@ -185,6 +186,17 @@ Status MarkFreeJoints(const Skeleton& skeleton, const IkRequest& request, IkWork
     }
   }
   return Status::Ok();
+}
+
+// free_root_rotation: the skeleton root above each effector turns too, in
+// addition to the paths or the explicit list.
+void MarkFreeRoots(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws) {
+  if (!request.free_root_rotation) return;
+  for (const IkWorkspace::Effector& e : ws.effectors) {
+    int top = e.joint;
+    while (skeleton.parents[top] >= 0) top = skeleton.parents[top];
+    if (top != e.joint || e.has_rotation || !e.offset.isZero()) ws.mark[top] |= 1;
+  }
 }
 
 // Paths, translated roots, the update list and chain lengths, from the marks.
@@ -227,7 +239,7 @@ Status BuildChains(const Skeleton& skeleton, const IkRequest& request, IkWorkspa
     auto f = [&] { return Indexed("effectors", i) + ".joint"; };
     if (top < 0)
       return Status::InvalidArgument(f() + ": no free joint moves '" + skeleton.names[e.joint] +
-                                     "' (check root, max_chain_depth, free_joints)");
+                                     "' (check root, max_chain_depth, free_joints, free_root)");
     if (!e.has_position) continue;
     any_position = true;
     double length = (ik_internal::EffectorPoint(ws, e) - ws.world_position[e.joint]).norm();
@@ -288,6 +300,9 @@ Status PrepareIkWorkspace(const Skeleton& skeleton, const IkRequest& request, Ik
                                    " solver takes one effector, got " + std::to_string(request.effectors.size()));
   if (request.free_root_translation && request.solver != IkSolver::kDls)
     return Status::InvalidArgument("free_root_translation: only the dls solver translates the root");
+  if (request.free_root_rotation && (request.solver == IkSolver::kTwoBone || request.solver == IkSolver::kAim))
+    return Status::InvalidArgument(std::string("free_root_rotation: the ") + SolverName(request.solver) +
+                                   " solver turns fixed joints; use dls, ccd or fabrik");
   ws.effectors.resize(request.effectors.size());
   for (size_t i = 0; i < request.effectors.size(); ++i)
     ARMATURE_RETURN_IF_ERROR(ResolveEffector(skeleton, request, i, ws));
@@ -322,6 +337,7 @@ Status PrepareIkWorkspace(const Skeleton& skeleton, const IkRequest& request, Ik
                                                                    : CheckAim(skeleton, ws));
   } else {
     ARMATURE_RETURN_IF_ERROR(MarkFreeJoints(skeleton, request, ws));
+    MarkFreeRoots(skeleton, request, ws);
     ARMATURE_RETURN_IF_ERROR(BuildChains(skeleton, request, ws));
   }
   ws.position_tolerance =

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "armature/engine/anim/joint_map.h"
 #include "armature/engine/kinematics/fk.h"
 #include "vertex_pipeline.h"
 
@@ -51,14 +52,14 @@ Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs>
   return job.Run();
 }
 
-Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOptions& sample,
-                const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
-                SkinningWorkspace& workspace) {
-  if (!clip.skeleton) return Status::InvalidArgument("clip has no skeleton");
-  const Skeleton& skeleton = *clip.skeleton;
-  Grow(workspace.local, skeleton.size());
-  const std::span<Trs> local(workspace.local.data(), skeleton.size());
-  ARMATURE_RETURN_IF_ERROR(SampleClip(clip, time, sample, local));
+namespace {
+
+// Skins `mesh` by a pose of `skeleton` sampled from `clip` (in
+// workspace.local), with the clip's morph weights track for the mesh, if
+// any, unless options give weights.
+Status SkinSampled(const Mesh& mesh, const Skeleton& skeleton, const Clip& clip, double time,
+                   const SampleOptions& sample, const SkinningOptions& options, std::span<float> positions,
+                   std::span<float> normals, SkinningWorkspace& workspace) {
   SkinningOptions effective = options;
   if (options.morph_weights.empty() && !mesh.targets.empty()) {
     for (const WeightsTrack& track : clip.weights) {
@@ -76,7 +77,29 @@ Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOpt
       break;
     }
   }
+  const std::span<const Trs> local(workspace.local.data(), skeleton.size());
   return SkinPose(mesh, skeleton, local, effective, positions, normals, workspace);
+}
+
+}  // namespace
+
+Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOptions& sample,
+                const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
+                SkinningWorkspace& workspace) {
+  if (!clip.skeleton) return Status::InvalidArgument("clip has no skeleton");
+  const Skeleton& skeleton = *clip.skeleton;
+  Grow(workspace.local, skeleton.size());
+  ARMATURE_RETURN_IF_ERROR(SampleClip(clip, time, sample, std::span<Trs>(workspace.local.data(), skeleton.size())));
+  return SkinSampled(mesh, skeleton, clip, time, sample, options, positions, normals, workspace);
+}
+
+Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip,
+                    double time, const SampleOptions& sample, const SkinningOptions& options,
+                    std::span<float> positions, std::span<float> normals, SkinningWorkspace& workspace) {
+  Grow(workspace.local, skeleton.size());
+  ARMATURE_RETURN_IF_ERROR(SampleClipOnto(clip, map, skeleton, time, sample,
+                                          std::span<Trs>(workspace.local.data(), skeleton.size())));
+  return SkinSampled(mesh, skeleton, clip, time, sample, options, positions, normals, workspace);
 }
 
 }  // namespace armature

@@ -229,7 +229,7 @@ TEST(BindMotion, ErrorsNameTheLayerAndTheProblem) {
   expect_error(m, StatusCode::kInvalidArgument, {"layers[1]", "mask weight", "'arm'"});
   m.layers[1].mask = {};
   m.layers[1].clip = Ramp(Chain({"hips", "spine", "arm", "tail"}), {0}, 0, 1);
-  expect_error(m, StatusCode::kInvalidArgument, {"layers[1] (clip 'Wave')", "joint 'leg'"});
+  expect_error(m, StatusCode::kInvalidArgument, {"layers[1] (clip 'Wave')", "lacks 1 of the 4 joints", "'leg'"});
   m.layers[1].clip = nullptr;
   expect_error(m, StatusCode::kInvalidArgument, {"layers[1]", "no clip"});
   Motion additive_only;

@@ -58,6 +58,7 @@ TEST_P(ChainSolverTest, ReachesRandomTargetsOnPlanarChain) {
     for (int j = 0; j < 5; ++j) pose[j].rotation = AxisRotation(Axis::kZ, angle(rng));
     const Eigen::Vector3d target = WorldOf(s, pose).Position(s, "tip");
     IkRequest r = Request("tip", target);
+    r.free_root_rotation = true;  // j0, the chain's first joint, is the skeleton's root
     r.options.max_iterations = 500;
     ASSERT_TRUE(SolveIk(s, r, ws_, result_).ok());
     const double error = (WorldOf(s, result_.pose).Position(s, "tip") - target).norm();
@@ -91,7 +92,9 @@ TEST_P(ChainSolverTest, RespectsEulerAndHingeLimitsOnArm) {
 TEST_P(ChainSolverTest, UnreachableTargetStallsPointingAtIt) {
   const Skeleton s = PlanarChain();
   const Eigen::Vector3d target(0.0, 5.0, 0.0);
-  ASSERT_TRUE(SolveIk(s, Request("tip", target), ws_, result_).ok());
+  IkRequest r = Request("tip", target);
+  r.free_root_rotation = true;  // j0 is the skeleton's root
+  ASSERT_TRUE(SolveIk(s, r, ws_, result_).ok());
   EXPECT_FALSE(result_.converged);
   EXPECT_EQ(result_.stop, IkStop::kStalled);
   EXPECT_NEAR(result_.residuals[0].position_error, 5.0 - kPlanarLength, 1e-3);

@@ -112,6 +112,7 @@ TEST(IkDls, ConeLimitIsRespected) {
   const Skeleton s = ik_rigs::BuildSkeleton({{"ball", nullptr, {0, 0, 0}}, {"tip", "ball", {0, 1, 0}}});
   IkRequest r = ik_rigs::OneEffector(IkSolver::kDls, "tip", Eigen::Vector3d(1, 0, 0));  // 90° away
   r.limits = {ik_rigs::SwingTwistLimit("ball", Eigen::Vector3d::UnitY(), 30, -10, 10)};
+  r.free_root_rotation = true;  // the ball is the skeleton's root
   IkWorkspace ws;
   IkResult result;
   ASSERT_TRUE(SolveIk(s, r, ws, result).ok());
@@ -173,6 +174,7 @@ TEST(IkDls, RedundantChainPrefersTheStartPose) {
       IkRequest r = ik_rigs::OneEffector(IkSolver::kDls, "tip", Eigen::Vector3d(target.x(), target.y(), 0));
       r.start_pose = start;
       r.limits = limits;
+      r.free_root_rotation = true;  // the first hinge is the skeleton's root
       r.options.regularization = k;  // off, then all the way
       r.options.position_tolerance = 1e-4;
       ASSERT_TRUE(SolveIk(s, r, ws, result).ok());
@@ -215,6 +217,7 @@ TEST(IkDls, WeightsTradeOffConflictingEffectors) {
       e.target_position = Eigen::Vector3d(0, y, 0);
       r.effectors.push_back(e);
     }
+    r.free_root_rotation = true;  // the one joint is the skeleton's root
     r.effectors[0].position_weight = w0;
     r.effectors[1].position_weight = w1;
     IkWorkspace ws;

@@ -15,6 +15,7 @@ v1::SolveIkRequest ArmRequest(int effectors, int iterations) {
   v1::SolveIkRequest r;
   r.set_skeleton("arm");
   r.set_solver(v1::DLS);
+  r.set_free_root(v1::ROOT_ROTATION);  // Base, the arm's only turning joint, is its root
   r.mutable_options()->set_max_iterations(iterations);
   for (int i = 0; i < effectors; ++i) {
     v1::IkEffector* e = r.add_effectors();

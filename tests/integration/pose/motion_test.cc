@@ -122,7 +122,8 @@ TEST_F(Motion, BadMotionsNameTheLayer) {
   v1::Motion mismatch;
   AddLayer(mismatch, "demo_walk");
   AddLayer(mismatch, "arm");
-  expect(mismatch, grpc::StatusCode::INVALID_ARGUMENT, {"layers[1] (clip 'arm')", "joint 'Hips'"});
+  expect(mismatch, grpc::StatusCode::INVALID_ARGUMENT,
+         {"layers[1] (clip 'arm')", "lacks 19 of the 19 joints", "'Hips'"});
   v1::Motion heavy;
   AddLayer(heavy, "demo_walk");
   AddLayer(heavy, "demo_walk")->set_weight(1.5);

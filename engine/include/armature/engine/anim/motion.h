@@ -110,7 +110,8 @@ struct MotionPlan {
 // Validates `motion` and resolves it. Errors are INVALID_ARGUMENT (or
 // NOT_FOUND for an unknown mask or root joint) naming the layer ("layer 1
 // (clip 'Wave')") and the joint or field. Layers on another skeleton map by
-// joint name; both skeletons must have the same joint names.
+// joint name (MapJointsByName): the clip's skeleton must have every joint of
+// the motion's; joints only it has are ignored.
 // The root-motion joint, unless named, is the joint with a translation track
 // in the first override layer's clip that has the most descendants (the hips).
 StatusOr<MotionPlan> BindMotion(const Motion& motion);

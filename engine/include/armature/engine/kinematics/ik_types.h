@@ -106,16 +106,21 @@ struct IkRequest {
   std::vector<IkEffector> effectors;
   std::vector<JointLimit> limits;
   // Which joints may move. By default the joints on each effector's path up
-  // to, but excluding, `root` (empty = up to the skeleton root, included),
-  // at most max_chain_depth of them per effector (0 = no cap). The path
-  // begins at the effector joint when its rotation matters (a rotation
-  // target or a local_offset), else at its parent.
+  // to, but excluding, `root` (empty = up to the skeleton root, excluded:
+  // it carries the whole body), at most max_chain_depth of them per
+  // effector (0 = no cap). The path begins at the effector joint when its
+  // rotation matters (a rotation target or a local_offset), else at its
+  // parent.
   std::string root;
   int max_chain_depth = 0;
   // Explicit free joints instead of the paths (not combined with root or
   // max_chain_depth).
   std::vector<std::string> free_joints;
-  // DLS: the skeleton root the effectors hang from may also translate.
+  // The skeleton root the effectors hang from (the hips) stays where it
+  // stands unless freed, so reaching with a hand never swings the legs.
+  // free_root_rotation adds it to the free joints (DLS, CCD, FABRIK);
+  // free_root_translation lets it translate (DLS).
+  bool free_root_rotation = false;
   bool free_root_translation = false;
   IkOptions options;
   // Checked once per iteration; on expiry the best pose so far is returned

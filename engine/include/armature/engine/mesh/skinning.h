@@ -84,4 +84,11 @@ Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOpt
                 const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                 SkinningWorkspace& workspace);
 
+// As SkinClip, for a clip of another skeleton with `skeleton`'s joint names
+// (anim/joint_map.h): `mesh`'s joints index `skeleton`, and `map` =
+// MapJointsByName(skeleton, *clip.skeleton).
+Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip,
+                    double time, const SampleOptions& sample, const SkinningOptions& options,
+                    std::span<float> positions, std::span<float> normals, SkinningWorkspace& workspace);
+
 }  // namespace armature
