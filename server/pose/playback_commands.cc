@@ -70,7 +70,8 @@ StatusOr<PlaybackSetup> StartPlayback(const Catalog& catalog, const Limits& limi
   setup.joints = std::move(*joints);
   playback = std::make_unique<Playback>(setup.skeleton.part->skeleton);
   names.clear();
-  if (start.has_play()) ARMATURE_RETURN_IF_ERROR(Play(catalog, limits, start.play(), "start.play", 0, *playback, names));
+  if (start.has_play())
+    ARMATURE_RETURN_IF_ERROR(Play(catalog, limits, start.play(), "start.play", 0, *playback, names));
   return setup;
 }
 
@@ -92,7 +93,8 @@ Status ApplyPlaybackCommand(const Catalog& catalog, const Limits& limits, const 
       if (s.has_weight() && (!std::isfinite(s.weight()) || s.weight() < 0 || s.weight() > 1))
         return Status::InvalidArgument("set_layer.weight: " + std::to_string(s.weight()) + " is outside [0, 1]");
       if (s.has_speed()) ARMATURE_RETURN_IF_ERROR(ValidateFinite(s.speed(), "set_layer.speed"));
-      if (s.has_weight()) ARMATURE_RETURN_IF_ERROR(playback.SetLayerWeight(layer, s.weight()).WithContext("set_layer."));
+      if (s.has_weight())
+        ARMATURE_RETURN_IF_ERROR(playback.SetLayerWeight(layer, s.weight()).WithContext("set_layer."));
       if (s.has_speed()) ARMATURE_RETURN_IF_ERROR(playback.SetLayerSpeed(layer, s.speed()).WithContext("set_layer."));
       return Status::Ok();
     }
