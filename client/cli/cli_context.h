@@ -34,6 +34,7 @@ void AddListCommand(CLI::App& app, CliContext& ctx);
 void AddInfoCommand(CLI::App& app, CliContext& ctx);
 void AddPoseCommand(CLI::App& app, CliContext& ctx);
 void AddStreamCommand(CLI::App& app, CliContext& ctx);
+void AddPlayCommand(CLI::App& app, CliContext& ctx);
 void AddExportCommand(CLI::App& app, CliContext& ctx);
 void AddDeleteCommand(CLI::App& app, CliContext& ctx);
 void AddHealthCommand(CLI::App& app, CliContext& ctx);

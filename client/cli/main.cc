@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   AddInfoCommand(app, ctx);
   AddPoseCommand(app, ctx);
   AddStreamCommand(app, ctx);
+  AddPlayCommand(app, ctx);
   AddIkCommand(app, ctx);
   AddExportCommand(app, ctx);
   AddDeleteCommand(app, ctx);

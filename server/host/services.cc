@@ -18,7 +18,7 @@ std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, 
   auto streams = std::make_shared<StreamAdmission>(limits);
   std::vector<ServiceEntry> services;
   services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
-  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits, streams));
+  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits, sessions, streams));
   auto deform_cache = std::make_shared<DeformerCache>(static_cast<size_t>(limits.deform_cache_bytes));
   metrics.AddCollector([deform_cache](PrometheusText& out) { deform_cache->Collect(out); });
   services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits, sessions, streams, deform_cache));

@@ -7,6 +7,7 @@
 #include "server/rpc/pose_convert.h"
 #include "server/rpc/request_validation.h"
 #include "server/assets/motion_convert.h"
+#include "server/pose/playback_session_reactor.h"
 #include "server/pose/stream_clip_reactor.h"
 #include "server/pose/stream_motion_reactor.h"
 
@@ -168,6 +169,16 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
     auto* reactor = new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
     reactor->HoldUntilDone(std::move(*stream));
     return reactor;
+  });
+}
+
+grpc::ServerBidiReactor<v1::PlaybackCommand, v1::PlaybackFrame>* PoseServiceImpl::PlaybackSession(
+    grpc::CallbackServerContext* context) {
+  using Base = grpc::ServerBidiReactor<v1::PlaybackCommand, v1::PlaybackFrame>;
+  return MakeReactor<Base>(context, "PlaybackSession", [&]() -> Base* {
+    auto stream = streams_->Admit(*context, "PlaybackSession");
+    if (!stream.ok()) return new FinishedReactor<Base>(stream.status());
+    return new PlaybackSessionReactor(context, store_, limits_, scheduler_, *sessions_, std::move(*stream));
   });
 }
 

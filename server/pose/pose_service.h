@@ -1,4 +1,5 @@
-// PoseService: clip evaluation, real-time pose streams and forward kinematics.
+// PoseService: clip evaluation, real-time pose streams, playback sessions and
+// forward kinematics.
 #pragma once
 
 #include <memory>
@@ -7,14 +8,16 @@
 #include "server/assets/asset_store.h"
 #include "server/rpc/frame_scheduler.h"
 #include "server/rpc/limits.h"
+#include "server/rpc/session_admission.h"
 #include "server/rpc/stream_admission.h"
 
 namespace armature::server {
 
 class PoseServiceImpl final : public v1::PoseService::CallbackService {
  public:
-  PoseServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<StreamAdmission> streams)
-      : store_(store), limits_(limits), streams_(std::move(streams)) {}
+  PoseServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
+                  std::shared_ptr<StreamAdmission> streams)
+      : store_(store), limits_(limits), sessions_(std::move(sessions)), streams_(std::move(streams)) {}
 
   grpc::ServerUnaryReactor* EvaluateClip(grpc::CallbackServerContext* context,
                                          const v1::EvaluateClipRequest* request,
@@ -24,14 +27,17 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
                                            v1::EvaluateMotionResponse* response) override;
   grpc::ServerWriteReactor<v1::PoseFrame>* StreamClip(grpc::CallbackServerContext* context,
                                                       const v1::StreamClipRequest* request) override;
+  grpc::ServerBidiReactor<v1::PlaybackCommand, v1::PlaybackFrame>* PlaybackSession(
+      grpc::CallbackServerContext* context) override;
   grpc::ServerUnaryReactor* ComputeFk(grpc::CallbackServerContext* context, const v1::ComputeFkRequest* request,
                                       v1::ComputeFkResponse* response) override;
 
  private:
   AssetStore& store_;
   const Limits& limits_;
+  std::shared_ptr<SessionAdmission> sessions_;  // shared with the IK and deformation sessions
   std::shared_ptr<StreamAdmission> streams_;  // shared with the other streaming RPCs
-  FrameScheduler scheduler_;  // paces StreamClip
+  FrameScheduler scheduler_;  // paces StreamClip and PlaybackSession
 };
 
 // The handlers' work, callable without gRPC (benchmarks, tests).

@@ -4,8 +4,12 @@ namespace armature::server {
 
 namespace {
 
-const char* RpcOf(SessionKind kind) { return kind == SessionKind::kIk ? "IkSession" : "DeformSession"; }
-const char* LabelOf(SessionKind kind) { return kind == SessionKind::kIk ? "ik" : "deform"; }
+const char* RpcOf(SessionKind kind) {
+  return kind == SessionKind::kIk ? "IkSession" : kind == SessionKind::kDeform ? "DeformSession" : "PlaybackSession";
+}
+const char* LabelOf(SessionKind kind) {
+  return kind == SessionKind::kIk ? "ik" : kind == SessionKind::kDeform ? "deform" : "playback";
+}
 int IndexOf(SessionKind kind) { return static_cast<int>(kind); }
 
 Status Refused(SessionKind kind, const std::string& what, const char* flag, int limit, const char* advice) {
@@ -27,13 +31,14 @@ StatusOr<SessionAdmission::Ticket> SessionAdmission::Admit(const grpc::ServerCon
                      limits_.max_ik_sessions, "close one and retry");
     }
     if (total_ >= limits_.max_sessions)
-      return Refused(kind, std::to_string(total_) + " sessions (IK and deformation) are open on this server",
+      return Refused(kind, std::to_string(total_) + " sessions (IK, deformation and playback) are open on this server",
                      "--max-sessions", limits_.max_sessions, "close one or retry later");
     int& mine = per_client_[client];
     if (mine >= limits_.max_sessions_per_client) {
       const int held = mine;
       if (held == 0) per_client_.erase(client);
-      return Refused(kind, "this client already has " + std::to_string(held) + " sessions (IK and deformation) open",
+      return Refused(kind,
+                     "this client already has " + std::to_string(held) + " sessions (IK, deformation and playback) open",
                      "--max-sessions-per-client", limits_.max_sessions_per_client, "close one and retry");
     }
     ++mine;
@@ -57,8 +62,8 @@ int SessionAdmission::open(SessionKind kind) const {
 }
 
 void SessionAdmission::Collect(PrometheusText& out) const {
-  out.Family("armature_sessions_active", "gauge", "IK and deformation sessions now open, by kind.");
-  for (SessionKind kind : {SessionKind::kIk, SessionKind::kDeform})
+  out.Family("armature_sessions_active", "gauge", "IK, deformation and playback sessions now open, by kind.");
+  for (SessionKind kind : {SessionKind::kIk, SessionKind::kDeform, SessionKind::kPlayback})
     out.Sample("armature_sessions_active", {{"kind", LabelOf(kind)}}, static_cast<double>(open(kind)));
 }
 

@@ -1,4 +1,4 @@
-// Admission of long-lived sessions (IK and deformation): one place per open
+// Admission of long-lived sessions (IK, deformation and playback): one place per open
 // session, held by a Ticket until the session ends, so a reactor cannot leak
 // one. Limits, each RESOURCE_EXHAUSTED naming its flag:
 //   --max-sessions-per-client  every kind together, per client
@@ -25,8 +25,8 @@
 
 namespace armature::server {
 
-enum class SessionKind { kIk, kDeform };
-inline constexpr int kSessionKindCount = 2;
+enum class SessionKind { kIk, kDeform, kPlayback };
+inline constexpr int kSessionKindCount = 3;
 
 class SessionAdmission {
  public:
@@ -43,7 +43,7 @@ class SessionAdmission {
 
   int open(SessionKind kind) const;
 
-  // armature_sessions_active{kind="ik"|"deform"}.
+  // armature_sessions_active{kind="ik"|"deform"|"playback"}.
   void Collect(PrometheusText& out) const;
 
  private:
