@@ -57,9 +57,21 @@ async function dragVertex(page, index, dx, dy) {
   const before = await page.evaluate(() => window.armatureViewer.vertexDrag.stats.deforms);
   await page.mouse.move(at.x, at.y);
   await page.mouse.down();
-  await page.mouse.move(drop.x, drop.y, { steps: 20 });
+  // Three legs, each waited for, so a slow (loaded) browser still sends a Deform per leg:
+  // latest-wins may merge the moves inside a leg, never across legs.
+  let last = before;
+  for (const f of [1 / 3, 2 / 3, 1]) {
+    await page.mouse.move(at.x + dx * f, at.y + dy * f, { steps: 7 });
+    if (f < 1) {
+      await page.waitForFunction((n) => {
+        const { vertexDrag } = window.armatureViewer;
+        return vertexDrag.stats.deforms > n && !vertexDrag.busy;
+      }, last, { timeout: 30000 });
+      last = await page.evaluate(() => window.armatureViewer.vertexDrag.stats.deforms);
+    }
+  }
   await page.mouse.up();
-  await settled(page, before);
+  await settled(page, last);
   return drop;
 }
 
