@@ -5,12 +5,16 @@
 #include <cmath>
 #include <string>
 
+// The engine first: a system header included later defines a macro Eigen's
+// headers trip on.
+#include "armature/engine/io/gltf.h"
+#include "armature/engine/mesh/mesh.h"
+
 #include <gtest/gtest.h>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
 #include "armature/client.h"
-#include "armature/engine/io/gltf.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
 
