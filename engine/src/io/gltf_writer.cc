@@ -101,7 +101,7 @@ uint64_t GltfExportByteEstimate(const Clip& clip, std::span<const Mesh* const> m
   }
   for (const Mesh* mesh : meshes) {
     bin = Add(bin, MeshByteEstimate(*mesh));
-    json = Add(json, Mul(kJsonBytesPerObject, 16 + 4 * mesh->targets.size()));
+    json = Add(json, Add(Mul(kJsonBytesPerObject, 16 + 4 * mesh->targets.size()), Mul(12, mesh->name.size())));
     for (const MorphTarget& target : mesh->targets) json = Add(json, Mul(6, target.name.size() + 3));
   }
   // A GLB holds the buffer as is; a .gltf as base64 (4 characters per 3 bytes).
@@ -119,7 +119,9 @@ StatusOr<std::string> ExportGltf(const Clip& clip, std::span<const Mesh* const> 
                                        std::to_string(joint) + ", outside the clip's skeleton of " +
                                        std::to_string(skeleton.size()) + " joints");
   }
-  const uint64_t estimate = GltfExportByteEstimate(clip, meshes, options.binary);
+  // The animation's name comes on top of the estimate (escaped at worst).
+  const uint64_t estimate =
+      Add(GltfExportByteEstimate(clip, meshes, options.binary), Mul(6, options.animation_name.size()));
   if (estimate > options.max_bytes)
     return Status::ResourceExhausted("glTF export: the file would take up to " + std::to_string(estimate) +
                                      " bytes, over the limit of " + std::to_string(options.max_bytes));

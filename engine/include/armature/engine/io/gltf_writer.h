@@ -46,8 +46,8 @@ uint64_t GltfExportByteEstimate(const Clip& clip, std::span<const Mesh* const> m
 // Writes `clip` (and `meshes`, each skinned to clip.skeleton: its joints index
 // that skeleton) as glTF. INVALID_ARGUMENT for a clip that does not match its
 // skeleton, a mesh whose joints are outside it, or a value no 32-bit float can
-// hold; RESOURCE_EXHAUSTED naming the size when GltfExportByteEstimate exceeds
-// options.max_bytes.
+// hold; RESOURCE_EXHAUSTED naming the size when GltfExportByteEstimate (plus
+// the animation name's length) exceeds options.max_bytes.
 StatusOr<std::string> ExportGltf(const Clip& clip, std::span<const Mesh* const> meshes = {},
                                  const GltfExportOptions& options = {});
 
