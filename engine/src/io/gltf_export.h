@@ -1,6 +1,7 @@
 // The glTF writer's shared pieces: the model under construction with its one
-// buffer (gltf_writer.cc), the animation (gltf_export_animation.cc) and the
-// meshes with their skins (gltf_export_mesh.cc). Private to engine/src/io.
+// buffer (gltf_writer.cc, also used by demo_character.cc), the animation
+// (gltf_export_animation.cc) and the meshes with their skins
+// (gltf_export_mesh.cc). Private to engine/src/io.
 #pragma once
 
 #include <cstdint>
@@ -32,7 +33,7 @@ StatusOr<float> ToFloat(double x, const std::string& where);
 
 class ModelBuilder {
  public:
-  explicit ModelBuilder(uint64_t reserve_bytes);
+  explicit ModelBuilder(uint64_t reserve_bytes = 0, const char* generator = "Armature");
 
   // Appends `values` as a bufferView (4-byte aligned) and an accessor of
   // `count` elements of `type` over it; returns the accessor.
@@ -58,6 +59,11 @@ class ModelBuilder {
     accessor.maxValues = std::move(max);
     model_.accessors.push_back(std::move(accessor));
     return static_cast<int>(model_.accessors.size()) - 1;
+  }
+  template <class T>
+  int Add(const std::vector<T>& values, int component, int type, size_t count, int target = 0,
+          std::vector<double> min = {}, std::vector<double> max = {}) {
+    return Add(std::span<const T>(values), component, type, count, target, std::move(min), std::move(max));
   }
   int AddFloats(std::span<const float> values, int type, size_t count, int target = 0) {
     return Add(values, TINYGLTF_COMPONENT_TYPE_FLOAT, type, count, target);

@@ -30,9 +30,9 @@ StatusOr<float> ToFloat(double x, const std::string& where) {
   return static_cast<float>(x);
 }
 
-ModelBuilder::ModelBuilder(uint64_t reserve_bytes) {
+ModelBuilder::ModelBuilder(uint64_t reserve_bytes, const char* generator) {
   model_.asset.version = "2.0";
-  model_.asset.generator = "Armature";
+  model_.asset.generator = generator;
   model_.buffers.emplace_back();
   model_.buffers[0].data.reserve(reserve_bytes);
 }
