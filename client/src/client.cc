@@ -153,9 +153,11 @@ v1::Skeleton Client::GetSkeleton(const std::string& skeleton) {
   r.set_skeleton(skeleton);
   return Call(&v1::AssetService::Stub::GetSkeleton, *assets_, r);
 }
-v1::ExportClipResponse Client::ExportClip(const std::string& clip) {
+v1::ExportClipResponse Client::ExportClip(const std::string& clip, const std::string& format, bool with_meshes) {
   v1::ExportClipRequest r;
   r.set_clip(clip);
+  r.set_format(format);
+  r.set_with_meshes(with_meshes);
   return Call(&v1::AssetService::Stub::ExportClip, *assets_, r);
 }
 v1::EvaluateClipResponse Client::EvaluateClip(const v1::EvaluateClipRequest& r) {

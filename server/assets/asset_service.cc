@@ -2,8 +2,11 @@
 
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "armature/engine/io/bvh.h"
+#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/mesh/mesh.h"
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
 #include "server/assets/import_reactor.h"
@@ -19,6 +22,45 @@ namespace {
 Status ValidateExportSize(const Clip& clip, const Limits& limits) {
   const std::string how = std::to_string(BvhExportFrameCount(clip)) + " frames of BVH text";
   return ValidateReplySize(static_cast<double>(BvhExportByteEstimate(clip)), limits, "ExportClip", how);
+}
+
+StatusOr<AssetFormat> ExportFormat(const std::string& format) {
+  if (format.empty() || format == "bvh") return AssetFormat::kBvh;
+  if (format == "glb") return AssetFormat::kGlb;
+  if (format == "gltf") return AssetFormat::kGltf;
+  return Status::InvalidArgument("format: unknown export format '" + format + "'; allowed: bvh, glb, gltf");
+}
+
+// The meshes of the clip's character: every mesh skinned to its skeleton.
+std::vector<const Mesh*> CharacterMeshes(const Catalog& catalog, const NamedClip& clip) {
+  std::vector<const Mesh*> meshes;
+  for (const auto& [name, ref] : catalog.meshes) {
+    if (ref.part->skeleton.empty() || !ref.part->mesh->skinned()) continue;
+    auto skeleton = catalog.FindSkeleton(ref.part->skeleton);
+    if (skeleton.ok() && skeleton->part->skeleton == clip.clip->skeleton) meshes.push_back(ref.part->mesh.get());
+  }
+  return meshes;
+}
+
+Status ExportGltfClip(const Catalog& catalog, const PartRef<NamedClip>& ref, bool binary, bool with_meshes,
+                      const Limits& limits, v1::ExportClipResponse* response) {
+  const NamedClip& clip = *ref.part;
+  const std::vector<const Mesh*> meshes = with_meshes ? CharacterMeshes(catalog, clip) : std::vector<const Mesh*>{};
+  const uint64_t estimate = GltfExportByteEstimate(*clip.clip, meshes, binary);
+  ARMATURE_RETURN_IF_ERROR(ValidateReplySize(static_cast<double>(estimate), limits, "ExportClip",
+                                             "glTF of " + std::to_string(clip.clip->skeleton->size()) +
+                                                 " joints and " + std::to_string(meshes.size()) + " meshes"));
+  GltfExportOptions options;
+  options.binary = binary;
+  // The animation's own name: "robot.Walking" of asset "robot" is "Walking".
+  const std::string prefix = ref.asset->record.name + ".";
+  options.animation_name = clip.name.rfind(prefix, 0) == 0 ? clip.name.substr(prefix.size()) : clip.name;
+  options.max_bytes = static_cast<uint64_t>(limits.max_message_bytes);
+  auto bytes = ExportGltf(*clip.clip, meshes, options);
+  if (!bytes.ok()) return bytes.status();
+  response->set_filename(clip.name + std::string(FormatExtension(binary ? AssetFormat::kGlb : AssetFormat::kGltf)));
+  response->set_data(std::move(*bytes));
+  return Status::Ok();
 }
 
 }  // namespace
@@ -111,8 +153,16 @@ grpc::ServerUnaryReactor* AssetServiceImpl::ExportClip(grpc::CallbackServerConte
                                                        const v1::ExportClipRequest* request,
                                                        v1::ExportClipResponse* response) {
   return RunUnary(context, "ExportClip", [&]() -> Status {
-    auto ref = store_.Snapshot()->FindClip(request->clip());
+    auto format = ExportFormat(request->format());
+    if (!format.ok()) return format.status();
+    const auto catalog = store_.Snapshot();
+    auto ref = catalog->FindClip(request->clip());
     if (!ref.ok()) return ref.status();
+    if (*format != AssetFormat::kBvh)
+      return ExportGltfClip(*catalog, *ref, *format == AssetFormat::kGlb, request->with_meshes(), limits_,
+                            response);
+    if (request->with_meshes())
+      return Status::InvalidArgument("with_meshes: BVH holds no meshes; ask for format glb or gltf");
     ARMATURE_RETURN_IF_ERROR(ValidateExportSize(*ref->part->clip, limits_));
     response->set_filename(ref->part->name + ".bvh");
     auto bvh = ExportBvh(*ref->part->clip);

@@ -129,7 +129,9 @@ class Client {
   v1::ClipInfo GetClip(const std::string& clip);
   v1::ListSkeletonsResponse ListSkeletons();
   v1::Skeleton GetSkeleton(const std::string& skeleton);
-  v1::ExportClipResponse ExportClip(const std::string& clip);
+  // format: "bvh" (default when empty), "glb" or "gltf"; with_meshes: glTF only.
+  v1::ExportClipResponse ExportClip(const std::string& clip, const std::string& format = "",
+                                    bool with_meshes = false);
 
   v1::EvaluateClipResponse EvaluateClip(const v1::EvaluateClipRequest& request);
   // A motion (clips composed in layers) at one or many times.

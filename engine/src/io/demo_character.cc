@@ -16,6 +16,7 @@
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/mesh/mesh.h"
 #include "armature/engine/math/rotation.h"
+#include "gltf_export.h"
 
 namespace armature {
 namespace {
@@ -207,51 +208,15 @@ Mesh MakeBody(const Skeleton& skeleton) {
 
 // ---- Writing the glb ----
 
-class GlbWriter {
+// The model and its one buffer, as the glTF export builds them.
+class GlbWriter : public gltf_export::ModelBuilder {
  public:
-  GlbWriter() {
-    model_.asset.version = "2.0";
-    model_.asset.generator = "Armature demo character";
-    model_.buffers.emplace_back();
-  }
-
-  // Appends `values` as a bufferView (4-byte aligned) and an accessor over it.
-  template <class T>
-  int Add(const std::vector<T>& values, int component, int type, size_t count, int target,
-          std::vector<double> min = {}, std::vector<double> max = {}) {
-    std::vector<unsigned char>& bin = model_.buffers[0].data;
-    while (bin.size() % 4) bin.push_back(0);
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = bin.size();
-    view.byteLength = values.size() * sizeof(T);
-    view.target = target;
-    bin.resize(bin.size() + view.byteLength);
-    std::memcpy(bin.data() + view.byteOffset, values.data(), view.byteLength);
-    model_.bufferViews.push_back(view);
-    tinygltf::Accessor accessor;
-    accessor.bufferView = static_cast<int>(model_.bufferViews.size()) - 1;
-    accessor.componentType = component;
-    accessor.type = type;
-    accessor.count = count;
-    accessor.minValues = std::move(min);
-    accessor.maxValues = std::move(max);
-    model_.accessors.push_back(accessor);
-    return static_cast<int>(model_.accessors.size()) - 1;
-  }
-
-  tinygltf::Model& model() { return model_; }
-
+  GlbWriter() : ModelBuilder(0, "Armature demo character") {}
   StatusOr<std::string> Write() {
-    std::ostringstream out;
-    tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToStream(&model_, out, false, true))
-      return Status::Internal("demo character: tinygltf could not write the glb");
-    return out.str();
+    auto glb = ModelBuilder::Write(true);
+    if (!glb.ok()) return Status::Internal("demo character: tinygltf could not write the glb");
+    return glb;
   }
-
- private:
-  tinygltf::Model model_;
 };
 
 void AddSkeleton(const Skeleton& skeleton, tinygltf::Model& model) {

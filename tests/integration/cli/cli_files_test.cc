@@ -1,5 +1,5 @@
 // Files the CLI writes and reads: `export -o` writes the format the file name
-// says (BVH; glTF refused until it is written), `--format` overrides the
+// says (BVH, glb, gltf), `--format` overrides the
 // name on export and on import, and `skin -o` writes an OBJ.
 #include <fstream>
 #include <sstream>
@@ -45,26 +45,42 @@ TEST_F(CliFiles, ExportWritesTheFormatTheFileNameSays) {
   EXPECT_EQ(json::parse(j.out)["bytes"], bvh.size());
 }
 
-TEST_F(CliFiles, ExportRefusesGltfAndUnknownExtensionsWritingNothing) {
-  for (const std::string name : {"fox_walk.glb", "fox_walk.gltf"}) {
-    const CommandResult r = Cli({"export", "arm", "-o", Out(name).string()});
-    EXPECT_EQ(r.exit_code, 1) << name;
-    EXPECT_NE(r.err.find("glTF export"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("not available yet"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find(Out("fox_walk.bvh").string()), std::string::npos) << r.err;  // what to write instead
-    EXPECT_FALSE(fs::exists(Out(name))) << name;
-  }
-  // --format glb over a .bvh name is refused the same way.
+TEST_F(CliFiles, ExportWritesGltfWhenTheNameOrFormatSaysSo) {
+  const CommandResult glb = Cli({"export", "arm", "-o", Out("arm.glb").string(), "--json"});
+  ASSERT_EQ(glb.exit_code, 0) << glb.err;
+  EXPECT_EQ(json::parse(glb.out)["format"], "glb");
+  EXPECT_EQ(ReadFile(Out("arm.glb")).substr(0, 4), "glTF");
+  const CommandResult gltf = Cli({"export", "arm", "-o", Out("arm.gltf").string()});
+  ASSERT_EQ(gltf.exit_code, 0) << gltf.err;
+  const json doc = json::parse(ReadFile(Out("arm.gltf")));
+  EXPECT_EQ(doc["asset"]["version"], "2.0");
+  EXPECT_EQ(doc["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0), 0u);
+  // --format glb over a .bvh name writes glTF.
   const CommandResult forced = Cli({"export", "arm", "-o", Out("a.bvh").string(), "--format", "glb"});
-  EXPECT_EQ(forced.exit_code, 1);
-  EXPECT_NE(forced.err.find("not available yet"), std::string::npos) << forced.err;
-  EXPECT_FALSE(fs::exists(Out("a.bvh")));
+  ASSERT_EQ(forced.exit_code, 0) << forced.err;
+  EXPECT_EQ(ReadFile(Out("a.bvh")).substr(0, 4), "glTF");
+  // --with-meshes: the demo character's body and its skin come along.
+  const CommandResult body =
+      Cli({"export", "demo_character.walk", "-o", Out("walk.gltf").string(), "--with-meshes"});
+  ASSERT_EQ(body.exit_code, 0) << body.err;
+  const json character = json::parse(ReadFile(Out("walk.gltf")));
+  ASSERT_EQ(character["meshes"].size(), 1u);
+  EXPECT_EQ(character["meshes"][0]["name"], "body");
+  EXPECT_EQ(character["skins"].size(), 1u);
+  // …which BVH cannot hold: refused before any call, writing nothing.
+  const CommandResult bvh_meshes = Cli({"export", "arm", "-o", Out("m.bvh").string(), "--with-meshes"});
+  EXPECT_EQ(bvh_meshes.exit_code, 1);
+  EXPECT_NE(bvh_meshes.err.find("--with-meshes needs glTF"), std::string::npos) << bvh_meshes.err;
+  EXPECT_FALSE(fs::exists(Out("m.bvh")));
+}
+
+TEST_F(CliFiles, ExportRefusesUnknownExtensionsWritingNothing) {
   // No or an unknown extension: refused, naming the formats there are.
   for (const std::string name : {"arm.txt", "arm"}) {
     const CommandResult r = Cli({"export", "arm", "-o", Out(name).string()});
     EXPECT_EQ(r.exit_code, 1) << name;
     EXPECT_NE(r.err.find("cannot tell the export format"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("--format bvh"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--format glb|gltf|bvh"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(Out(name))) << name;
   }
   const CommandResult fbx = Cli({"export", "arm", "-o", Out("a.bvh").string(), "--format", "fbx"});
