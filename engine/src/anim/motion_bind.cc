@@ -111,7 +111,8 @@ Status BindRoot(const Motion& motion, MotionPlan& plan) {
   return Status::Ok();
 }
 
-// Per joint, the layers with weight and a track there, in layer order.
+// Per joint, the layers with weight and a track there, in layer order. The weight itself is read
+// from layers[i].joint_weight when blending, so a caller (Playback) may rescale it without binding again.
 void IndexJointLayers(MotionPlan& plan) {
   const size_t n = plan.skeleton->size();
   plan.joint_begin.assign(n + 1, 0);
@@ -123,7 +124,7 @@ void IndexJointLayers(MotionPlan& plan) {
       const JointTrack& track = l.clip->joints[l.clip_joint[j]];
       if (!(l.joint_weight[j] > 0) || (track.translation.empty() && track.rotation.empty() && track.scale.empty()))
         continue;
-      plan.joint_layers.push_back({static_cast<uint32_t>(i), l.mode == LayerMode::kAdditive, l.joint_weight[j], &track});
+      plan.joint_layers.push_back({static_cast<uint32_t>(i), l.mode == LayerMode::kAdditive, &track});
     }
   }
   plan.joint_begin[n] = static_cast<uint32_t>(plan.joint_layers.size());

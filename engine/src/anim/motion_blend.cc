@@ -92,7 +92,7 @@ void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t
   if (begin == end) return;
   const bool is_root = static_cast<int>(j) == plan.root;
   // One override layer at full weight: the mixer takes its sample as it is.
-  if (end - begin == 1 && !begin->additive && begin->weight >= 1 && !is_root) {
+  if (end - begin == 1 && !begin->additive && plan.layers[begin->layer].joint_weight[j] >= 1 && !is_root) {
     SampleJoint(*begin->track, times[begin->layer].time, std::nullopt, out);
     return;
   }
@@ -104,14 +104,15 @@ void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t
       additive = true;
       continue;
     }
+    const double w = plan.layers[e->layer].joint_weight[j];
     const JointTrack& jt = *e->track;
     Trs v = rest;
     SampleJoint(jt, times[e->layer].time, std::nullopt, v);
     if (is_root) ApplyRootMotion(plan, plan.layers[e->layer], times[e->layer], root_mode, v);
     // Only the properties the clip animates take part (three.js binds tracks, not joints).
-    if (!jt.translation.empty()) t.Add(v.translation, e->weight);
-    if (!jt.rotation.empty()) r.Add(v.rotation, e->weight);
-    if (!jt.scale.empty()) s.Add(v.scale, e->weight);
+    if (!jt.translation.empty()) t.Add(v.translation, w);
+    if (!jt.rotation.empty()) r.Add(v.rotation, w);
+    if (!jt.scale.empty()) s.Add(v.scale, w);
   }
   out.translation = t.Finish(rest.translation);
   out.rotation = r.Finish(rest.rotation);
@@ -125,7 +126,7 @@ void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t
     if (!e->additive) continue;
     const JointTrack& jt = *e->track;
     const Trs& ref = plan.layers[e->layer].reference[j];
-    const double w = e->weight;
+    const double w = plan.layers[e->layer].joint_weight[j];
     Trs v = rest;
     SampleJoint(jt, times[e->layer].time, std::nullopt, v);
     if (!jt.translation.empty()) {

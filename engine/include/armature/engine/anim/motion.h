@@ -79,7 +79,6 @@ struct BoundLayer {
 struct JointLayer {
   uint32_t layer = 0;
   bool additive = false;
-  double weight = 0;                 // layer weight × mask weight, > 0
   const JointTrack* track = nullptr;  // the layer's clip's track of the joint
 };
 
