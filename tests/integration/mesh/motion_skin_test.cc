@@ -12,22 +12,15 @@
 #include "armature/client.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
+#include "support/server_suite.h"
 
 namespace armature::testing {
 namespace {
 
 constexpr char kMesh[] = "demo_character.body";
 
-class MotionSkin : public ::testing::Test {
+class MotionSkin : public ServerSuite {
  protected:
-  static void SetUpTestSuite() {
-    data_ = new TempDir;
-    server_ = new ServerProcess(data_->path());
-  }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete data_;
-  }
   static v1::SkinMeshResponse Skin(v1::SkinMeshRequest r) {
     r.set_mesh(kMesh);
     return Client(OptionsFor(*server_)).SkinMesh(r);
@@ -38,8 +31,6 @@ class MotionSkin : public ::testing::Test {
     for (int i = 0; i < a.positions_size(); ++i) ASSERT_NEAR(a.positions(i), b.positions(i), tolerance) << i;
     for (int i = 0; i < a.normals_size(); ++i) ASSERT_NEAR(a.normals(i), b.normals(i), tolerance) << i;
   }
-  static inline TempDir* data_ = nullptr;
-  static inline ServerProcess* server_ = nullptr;
 };
 
 TEST_F(MotionSkin, OneLayerMotionSkinsAsItsClip) {

@@ -13,6 +13,7 @@
 #include "armature/client.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
+#include "support/server_suite.h"
 
 namespace armature::testing {
 namespace {
@@ -22,17 +23,12 @@ struct Point {
 };
 double Distance(const Point& a, const Point& b) { return std::hypot(a.x - b.x, a.y - b.y, a.z - b.z); }
 
-class MotionLoop : public ::testing::Test {
+class MotionLoop : public ServerSuite {
  protected:
   static void SetUpTestSuite() {
-    data_ = new TempDir;
-    server_ = new ServerProcess(data_->path());
+    ServerSuite::SetUpTestSuite();
     const std::string robot = SharedData("gltf/RobotExpressive/RobotExpressive.glb");
     if (!robot.empty()) Client(OptionsFor(*server_)).ImportFile(robot, "robot");
-  }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete data_;
   }
   // World positions of `joint` under a one-layer motion of `clip` at `times`.
   static std::vector<Point> RootPath(const std::string& clip, const std::string& joint, v1::Motion::RootMotion mode,
@@ -98,8 +94,6 @@ class MotionLoop : public ::testing::Test {
   }
   static bool HasRobot() { return !SharedData("gltf/RobotExpressive/RobotExpressive.glb").empty(); }
 
-  static inline TempDir* data_ = nullptr;
-  static inline ServerProcess* server_ = nullptr;
 };
 
 TEST_F(MotionLoop, DemoWalkAccumulateDoesNotJumpAtTheLoopPoint) {

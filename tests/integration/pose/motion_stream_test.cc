@@ -11,20 +11,13 @@
 #include "armature/engine/io/demo_walk.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
+#include "support/server_suite.h"
 
 namespace armature::testing {
 namespace {
 
-class MotionStream : public ::testing::Test {
+class MotionStream : public ServerSuite {
  protected:
-  static void SetUpTestSuite() {
-    data_ = new TempDir;
-    server_ = new ServerProcess(data_->path());
-  }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete data_;
-  }
   // Walk and the same walk 0.5 s later at weight 0.5 (a real blend), looping.
   static v1::Motion TwoLayers(v1::Motion::RootMotion mode) {
     v1::Motion m;
@@ -44,8 +37,6 @@ class MotionStream : public ::testing::Test {
     });
     return frames;
   }
-  static inline TempDir* data_ = nullptr;
-  static inline ServerProcess* server_ = nullptr;
 };
 
 // Streamed past the first layer's end (3 s) with loop: frame times are

@@ -16,22 +16,18 @@
 #include "armature/client.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
+#include "support/server_suite.h"
 
 namespace armature::testing {
 namespace {
 using nlohmann::json;
 
-class Motion : public ::testing::Test {
+class Motion : public ServerSuite {
  protected:
   static void SetUpTestSuite() {
-    data_ = new TempDir;
-    server_ = new ServerProcess(data_->path());
+    ServerSuite::SetUpTestSuite();
     Client client(OptionsFor(*server_));
     client.ImportFile(WriteTemp(*data_, "arm.bvh", kArmBvh), "arm");
-  }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete data_;
   }
   static v1::MotionLayer* AddLayer(v1::Motion& m, const std::string& clip) {
     v1::MotionLayer* l = m.add_layers();
@@ -57,8 +53,6 @@ class Motion : public ::testing::Test {
     r.set_wrap(v1::LOOP);
     return client.EvaluateClip(r);
   }
-  static inline TempDir* data_ = nullptr;
-  static inline ServerProcess* server_ = nullptr;
 };
 
 TEST_F(Motion, OneLayerIsTheLoopingClip) {

@@ -17,6 +17,7 @@
 #include "support/client_helpers.h"
 #include "support/metrics_scrape.h"
 #include "support/server_process.h"
+#include "support/server_suite.h"
 
 namespace armature::testing {
 namespace {
@@ -90,11 +91,10 @@ double MaxDifference(const v1::Pose& a, const v1::Pose& b) {
   return d;
 }
 
-class Playback : public ::testing::Test {
+class Playback : public ServerSuite {
  protected:
   static void SetUpTestSuite() {
-    data_ = new TempDir;
-    server_ = new ServerProcess(data_->path());
+    ServerSuite::SetUpTestSuite();
     Client(OptionsFor(*server_)).ImportFile(WriteTemp(*data_, "arm.bvh", kArmBvh), "arm");
     const std::string glb = SharedData("gltf/RobotExpressive/RobotExpressive.glb");
     if (glb.empty()) return;
@@ -106,10 +106,6 @@ class Playback : public ::testing::Test {
       if (n.size() >= 7 && n.substr(n.size() - 7) == "Running") running_ = n;
     }
   }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete data_;
-  }
   void RequireRobot() {
     if (walking_.empty() || running_.empty())
       GTEST_SKIP() << "RobotExpressive.glb (Walking, Running) not found in the shared data (ARMATURE_SHARED_DATA)";
@@ -120,8 +116,6 @@ class Playback : public ::testing::Test {
     r.set_space(v1::LOCAL);
     return client.EvaluateMotion(r).poses(0);
   }
-  static inline TempDir* data_ = nullptr;
-  static inline ServerProcess* server_ = nullptr;
   static inline std::string walking_, running_, skeleton_;
 };
 
