@@ -6,7 +6,7 @@
 // connect-web does not speak, goes through fetch with the generated codecs.
 //   node grpc_web_client.test.mjs <armature-server> <protoc> <proto dir>
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, readdirSync, rmSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 import assert from 'node:assert/strict';
@@ -28,7 +28,8 @@ const gen = mkdtempSync(path.join(HERE, '.gen-'));
 execFileSync(protoc, [
   `-I${protoDir}`, `--plugin=protoc-gen-es=${path.join(HERE, 'node_modules/.bin/protoc-gen-es')}`,
   `--es_out=${gen}`, '--es_opt=target=js,import_extension=js',
-  ...['assets', 'meshes', 'poses', 'types', 'motion', 'ik', 'deform'].map((f) => `armature/v1/${f}.proto`),
+  // Every API file: a new one imported by poses.proto (playback.proto) must not be missed.
+  ...readdirSync(path.join(protoDir, 'armature/v1')).filter((f) => f.endsWith('.proto')).map((f) => `armature/v1/${f}`),
   'google/api/annotations.proto', 'google/api/http.proto',
 ], { stdio: 'inherit' });
 const poses = await import(path.join(gen, 'armature/v1/poses_pb.js'));
