@@ -13,6 +13,7 @@
 #include "armature/client.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
+#include "ik/ik_rig.h"
 
 namespace armature::testing {
 namespace {
@@ -22,17 +23,6 @@ constexpr double kTime = 1.0;
 // The README tour's target: in reach of the left arm and spine at 1.0 s.
 const Eigen::Vector3d kWristTarget(25, 100, 125);
 const char* const kStill[] = {"Hips", "LeftHip", "LeftKnee", "LeftAnkle", "RightHip", "RightKnee", "RightAnkle"};
-
-Eigen::Vector3d At3(const google::protobuf::RepeatedField<float>& v, int joint) {
-  return {v[3 * joint], v[3 * joint + 1], v[3 * joint + 2]};
-}
-
-v1::IkEffector Effector(const std::string& joint, const Eigen::Vector3d& target) {
-  v1::IkEffector e;
-  e.set_joint(joint);
-  for (int k = 0; k < 3; ++k) e.add_target_position(target[k]);
-  return e;
-}
 
 v1::SolveIkRequest WristReach(const Eigen::Vector3d& target) {
   v1::SolveIkRequest r;
