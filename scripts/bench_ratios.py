@@ -37,11 +37,11 @@ def main(path):
         label = "%s vs %s" % (what, variant)
         if ours in skipped or theirs in skipped or ours not in times or theirs not in times:
             why = skipped.get(theirs) or skipped.get(ours) or "not run"
-            print("  %-32s skipped: %s" % (label, why))
+            print("  %-36s skipped: %s" % (label, why))
             continue
         ratios = [a / b for a, b in zip(times[ours], times[theirs])]
         a, b = statistics.median(times[ours]), statistics.median(times[theirs])
-        print("  %-32s %6.2fx  (min %.2fx, median %.2fx over %d run%s; %.1f vs %.1f ns)" %
+        print("  %-36s %6.2fx  (min %.2fx, median %.2fx over %d run%s; %.1f vs %.1f ns)" %
               (label, a / b, min(ratios), statistics.median(ratios), len(ratios), "" if len(ratios) == 1 else "s", a, b))
 
 
