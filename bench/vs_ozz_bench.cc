@@ -5,7 +5,8 @@
 // SamplingJob + LocalToModelJob. Both skin the skinning benchmark's cylinder
 // (cylinder_rig.h, 16,384 vertices, 4 influences, normals): our LBS against
 // ozz's SkinningJob. Pairs are BM_VsOzz_<what>_Armature / _Ozz (and
-// RandomSeek_OzzIframes, ozz built with an iframe every 0.1 s);
+// RandomSeek_OzzIframes, ozz built with an iframe every 0.1 s; Fk, the
+// hierarchy alone: our ComputeWorld against ozz's LocalToModelJob);
 // scripts/bench_ratios.py prints each pair's ratio after `make bench`.
 //
 // ozz is built only with -DARMATURE_BENCH_OZZ=ON (make bench) and the tarball
@@ -118,6 +119,23 @@ void BM_VsOzz_SampleFk_Armature(benchmark::State& state, bool sequential) {
     benchmark::DoNotOptimize(world.data());
     benchmark::ClobberMemory();
     if (sequential && (t += kStep) > clip.duration) t -= clip.duration;
+  }
+  SetJoints(state, n);
+}
+
+// The hierarchy alone: one pose (sampled once, at a third of the clip) to world.
+void BM_VsOzz_Fk_Armature(benchmark::State& state) {
+  const Cmu& cmu = LoadCmu();
+  if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
+  const Clip& clip = *cmu.clip;
+  const size_t n = clip.skeleton->size();
+  std::vector<Trs> local(n);
+  std::vector<Eigen::Affine3d> world(n);
+  if (!SampleClip(clip, clip.duration / 3, {}, local).ok()) return state.SkipWithError("sampling failed");
+  for (auto _ : state) {
+    ComputeWorld(*clip.skeleton, local, world);
+    benchmark::DoNotOptimize(world.data());
+    benchmark::ClobberMemory();
   }
   SetJoints(state, n);
 }
@@ -318,6 +336,32 @@ void BM_VsOzz_SampleFk_Ozz(benchmark::State& state, bool sequential, bool iframe
   state.counters["max_rel_error"] = r.max_relative_error;
 }
 
+void BM_VsOzz_Fk_Ozz(benchmark::State& state) {
+  const Cmu& cmu = LoadCmu();
+  if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
+  const OzzCmuResult& r = LoadOzzCmu();
+  const oa::Skeleton& skeleton = *r.ozz.skeleton;
+  oa::SamplingJob::Context context(skeleton.num_joints());
+  ozz::vector<om::SoaTransform> locals(static_cast<size_t>(skeleton.num_soa_joints()));
+  ozz::vector<om::Float4x4> models(static_cast<size_t>(skeleton.num_joints()));
+  oa::SamplingJob sampling;
+  sampling.animation = r.ozz.animation.get();
+  sampling.context = &context;
+  sampling.ratio = 1.f / 3;
+  sampling.output = ozz::make_span(locals);
+  if (!sampling.Run()) return state.SkipWithError("ozz sampling failed");
+  oa::LocalToModelJob ltm;
+  ltm.skeleton = &skeleton;
+  ltm.input = ozz::make_span(locals);
+  ltm.output = ozz::make_span(models);
+  for (auto _ : state) {
+    if (!ltm.Run()) return state.SkipWithError("ozz LocalToModelJob failed");
+    benchmark::DoNotOptimize(models.data());
+    benchmark::ClobberMemory();
+  }
+  SetJoints(state, static_cast<size_t>(skeleton.num_joints()));
+}
+
 // ozz's SkinningJob on the same mesh: per call, the skinning matrices
 // (model × inverse bind, which our job also computes per call) and the
 // positions and normals of every vertex. Checked once against our LBS.
@@ -400,6 +444,7 @@ void BM_VsOzz_Skin_Ozz(benchmark::State& state) {
 void BM_VsOzz_SampleFk_Ozz(benchmark::State& state, bool, bool) {
   state.SkipWithError("ozz-animation not built: " ARMATURE_NO_OZZ_REASON);
 }
+void BM_VsOzz_Fk_Ozz(benchmark::State& state) { state.SkipWithError("ozz-animation not built: " ARMATURE_NO_OZZ_REASON); }
 void BM_VsOzz_Skin_Ozz(benchmark::State& state) { state.SkipWithError("ozz-animation not built: " ARMATURE_NO_OZZ_REASON); }
 
 #endif
@@ -409,6 +454,8 @@ BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, Sequential, true, false)->Name("BM_VsOz
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Armature, RandomSeek, false)->Name("BM_VsOzz_SampleFk_RandomSeek_Armature");
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeek, false, false)->Name("BM_VsOzz_SampleFk_RandomSeek_Ozz");
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeekIframes, false, true)->Name("BM_VsOzz_SampleFk_RandomSeek_OzzIframes");
+BENCHMARK(BM_VsOzz_Fk_Armature);
+BENCHMARK(BM_VsOzz_Fk_Ozz);
 BENCHMARK(BM_VsOzz_Skin_Armature);
 BENCHMARK(BM_VsOzz_Skin_Ozz);
 
