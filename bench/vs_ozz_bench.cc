@@ -100,44 +100,47 @@ void SetVertices(benchmark::State& state, size_t vertices) {
                                                     benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+// Our per-call state for a clip: local and world poses.
+struct ArmaturePose {
+  explicit ArmaturePose(const Clip& c) : clip(c), local(c.skeleton->size()), world(c.skeleton->size()) {}
+  bool Sample(double t) { return SampleClip(clip, t, {}, local).ok(); }
+  void Fk() { ComputeWorld(*clip.skeleton, local, world); }
+  const Clip& clip;
+  std::vector<Trs> local;
+  std::vector<Eigen::Affine3d> world;
+};
+
 // Our sampling + FK: one pose per iteration, at t += kStep (sequential) or
 // at the next of the fixed random times (random seek).
 void BM_VsOzz_SampleFk_Armature(benchmark::State& state, bool sequential) {
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
-  const Clip& clip = *cmu.clip;
-  const size_t n = clip.skeleton->size();
-  std::vector<Trs> local(n);
-  std::vector<Eigen::Affine3d> world(n);
-  const SampleOptions options;
+  ArmaturePose pose(*cmu.clip);
   double t = 0;
   size_t i = 0;
   for (auto _ : state) {
     if (!sequential) t = cmu.seek_times[i++ % kSeekTimes];
-    if (!SampleClip(clip, t, options, local).ok()) return state.SkipWithError("sampling failed");
-    ComputeWorld(*clip.skeleton, local, world);
-    benchmark::DoNotOptimize(world.data());
+    if (!pose.Sample(t)) return state.SkipWithError("sampling failed");
+    pose.Fk();
+    benchmark::DoNotOptimize(pose.world.data());
     benchmark::ClobberMemory();
-    if (sequential && (t += kStep) > clip.duration) t -= clip.duration;
+    if (sequential && (t += kStep) > cmu.clip->duration) t -= cmu.clip->duration;
   }
-  SetJoints(state, n);
+  SetJoints(state, pose.world.size());
 }
 
 // The hierarchy alone: one pose (sampled once, at a third of the clip) to world.
 void BM_VsOzz_Fk_Armature(benchmark::State& state) {
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
-  const Clip& clip = *cmu.clip;
-  const size_t n = clip.skeleton->size();
-  std::vector<Trs> local(n);
-  std::vector<Eigen::Affine3d> world(n);
-  if (!SampleClip(clip, clip.duration / 3, {}, local).ok()) return state.SkipWithError("sampling failed");
+  ArmaturePose pose(*cmu.clip);
+  if (!pose.Sample(cmu.clip->duration / 3)) return state.SkipWithError("sampling failed");
   for (auto _ : state) {
-    ComputeWorld(*clip.skeleton, local, world);
-    benchmark::DoNotOptimize(world.data());
+    pose.Fk();
+    benchmark::DoNotOptimize(pose.world.data());
     benchmark::ClobberMemory();
   }
-  SetJoints(state, n);
+  SetJoints(state, pose.world.size());
 }
 
 void BM_VsOzz_Skin_Armature(benchmark::State& state) {
@@ -213,28 +216,44 @@ struct OzzCmu {
   std::vector<int> ours;  // ozz joint → our joint
 };
 
+// ozz's per-call state: a sampling context (its cursor), SoA locals, model
+// matrices, and the two jobs wired to them.
+struct OzzPose {
+  OzzPose(const oa::Skeleton& skeleton, const oa::Animation& animation)
+      : context(skeleton.num_joints()),
+        locals(static_cast<size_t>(skeleton.num_soa_joints())),
+        models(static_cast<size_t>(skeleton.num_joints())) {
+    sampling.animation = &animation;
+    sampling.context = &context;
+    sampling.output = ozz::make_span(locals);
+    ltm.skeleton = &skeleton;
+    ltm.input = ozz::make_span(locals);
+    ltm.output = ozz::make_span(models);
+  }
+  bool Sample(float ratio) {
+    sampling.ratio = ratio;
+    return sampling.Run();
+  }
+  bool Fk() { return ltm.Run(); }
+  oa::SamplingJob::Context context;
+  ozz::vector<om::SoaTransform> locals;
+  ozz::vector<om::Float4x4> models;
+  oa::SamplingJob sampling;
+  oa::LocalToModelJob ltm;
+};
+
 // Samples both at `time` and compares world positions; returns the largest
 // difference relative to the pose's bounding-box diagonal, aborting above
 // kMaxRelativeError.
 double CheckAgreement(const Clip& clip, const OzzCmu& o, const oa::Animation& animation, double time) {
-  const size_t n = clip.skeleton->size();
-  std::vector<Trs> local(n);
-  std::vector<Eigen::Affine3d> world(n);
-  if (!SampleClip(clip, time, {}, local).ok()) Fail("SampleClip failed");
-  ComputeWorld(*clip.skeleton, local, world);
-  oa::SamplingJob::Context context(o.skeleton->num_joints());
-  ozz::vector<om::SoaTransform> locals(static_cast<size_t>(o.skeleton->num_soa_joints()));
-  ozz::vector<om::Float4x4> models(static_cast<size_t>(o.skeleton->num_joints()));
-  oa::SamplingJob sampling;
-  sampling.animation = &animation;
-  sampling.context = &context;
-  sampling.ratio = static_cast<float>(time / clip.duration);
-  sampling.output = ozz::make_span(locals);
-  oa::LocalToModelJob ltm;
-  ltm.skeleton = o.skeleton.get();
-  ltm.input = ozz::make_span(locals);
-  ltm.output = ozz::make_span(models);
-  if (!sampling.Run() || !ltm.Run()) Fail("ozz SamplingJob or LocalToModelJob failed");
+  ArmaturePose ours(clip);
+  if (!ours.Sample(time)) Fail("SampleClip failed");
+  ours.Fk();
+  OzzPose theirs(*o.skeleton, animation);
+  if (!theirs.Sample(static_cast<float>(time / clip.duration)) || !theirs.Fk())
+    Fail("ozz SamplingJob or LocalToModelJob failed");
+  const std::vector<Eigen::Affine3d>& world = ours.world;
+  const ozz::vector<om::Float4x4>& models = theirs.models;
   Eigen::AlignedBox3d box;
   for (const Eigen::Affine3d& w : world) box.extend(w.translation());
   const double size = box.diagonal().norm();
@@ -309,30 +328,18 @@ void BM_VsOzz_SampleFk_Ozz(benchmark::State& state, bool sequential, bool iframe
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
   const OzzCmuResult& r = LoadOzzCmu();
-  const oa::Skeleton& skeleton = *r.ozz.skeleton;
+  OzzPose pose(*r.ozz.skeleton, iframes ? *r.ozz.animation_iframes : *r.ozz.animation);
   const double duration = cmu.clip->duration;
-  oa::SamplingJob::Context context(skeleton.num_joints());
-  ozz::vector<om::SoaTransform> locals(static_cast<size_t>(skeleton.num_soa_joints()));
-  ozz::vector<om::Float4x4> models(static_cast<size_t>(skeleton.num_joints()));
-  oa::SamplingJob sampling;
-  sampling.animation = iframes ? r.ozz.animation_iframes.get() : r.ozz.animation.get();
-  sampling.context = &context;
-  sampling.output = ozz::make_span(locals);
-  oa::LocalToModelJob ltm;
-  ltm.skeleton = &skeleton;
-  ltm.input = ozz::make_span(locals);
-  ltm.output = ozz::make_span(models);
   double t = 0;
   size_t i = 0;
   for (auto _ : state) {
     if (!sequential) t = cmu.seek_times[i++ % kSeekTimes];
-    sampling.ratio = static_cast<float>(t / duration);
-    if (!sampling.Run() || !ltm.Run()) return state.SkipWithError("ozz sampling failed");
-    benchmark::DoNotOptimize(models.data());
+    if (!pose.Sample(static_cast<float>(t / duration)) || !pose.Fk()) return state.SkipWithError("ozz sampling failed");
+    benchmark::DoNotOptimize(pose.models.data());
     benchmark::ClobberMemory();
     if (sequential && (t += kStep) > duration) t -= duration;
   }
-  SetJoints(state, static_cast<size_t>(skeleton.num_joints()));
+  SetJoints(state, pose.models.size());
   state.counters["max_rel_error"] = r.max_relative_error;
 }
 
@@ -340,26 +347,14 @@ void BM_VsOzz_Fk_Ozz(benchmark::State& state) {
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
   const OzzCmuResult& r = LoadOzzCmu();
-  const oa::Skeleton& skeleton = *r.ozz.skeleton;
-  oa::SamplingJob::Context context(skeleton.num_joints());
-  ozz::vector<om::SoaTransform> locals(static_cast<size_t>(skeleton.num_soa_joints()));
-  ozz::vector<om::Float4x4> models(static_cast<size_t>(skeleton.num_joints()));
-  oa::SamplingJob sampling;
-  sampling.animation = r.ozz.animation.get();
-  sampling.context = &context;
-  sampling.ratio = 1.f / 3;
-  sampling.output = ozz::make_span(locals);
-  if (!sampling.Run()) return state.SkipWithError("ozz sampling failed");
-  oa::LocalToModelJob ltm;
-  ltm.skeleton = &skeleton;
-  ltm.input = ozz::make_span(locals);
-  ltm.output = ozz::make_span(models);
+  OzzPose pose(*r.ozz.skeleton, *r.ozz.animation);
+  if (!pose.Sample(1.f / 3)) return state.SkipWithError("ozz sampling failed");
   for (auto _ : state) {
-    if (!ltm.Run()) return state.SkipWithError("ozz LocalToModelJob failed");
-    benchmark::DoNotOptimize(models.data());
+    if (!pose.Fk()) return state.SkipWithError("ozz LocalToModelJob failed");
+    benchmark::DoNotOptimize(pose.models.data());
     benchmark::ClobberMemory();
   }
-  SetJoints(state, static_cast<size_t>(skeleton.num_joints()));
+  SetJoints(state, pose.models.size());
 }
 
 // ozz's SkinningJob on the same mesh: per call, the skinning matrices
