@@ -38,6 +38,8 @@ inline void Store4(float* p, v4 v) { __builtin_memcpy(p, &v, sizeof v); }
 
 inline v4 Select(v4i mask, v4 yes, v4 no) { return mask ? yes : no; }
 
+inline v4 Max(v4 x, v4 y) { return Select(x > y, x, y); }
+
 inline v4 Sqrt(v4 x) {
 #if defined(__SSE__)
   return _mm_sqrt_ps(x);
@@ -66,27 +68,43 @@ inline v4 SlerpWeight(v4 t, v4 t2, v4 xm1) {
   return s + c;
 }
 
+// Replaces the arc p → q (cos = d ≥ −1, per lane) by the half that holds
+// parameter s, rescaling s to it; returns the new arc's cosine.
+inline v4 HalveArc(v4 p[4], v4 q[4], v4& s, v4 d) {
+  // m = (p + q)/|p + q|, |p + q| = √(2 + 2d); p·m = cos(θ/2) = (1 + d)/|p + q|.
+  const v4 inv = Splat(1.f) / Sqrt(Max(Splat(2.f) + Splat(2.f) * d, Splat(1e-30f)));
+  const v4i low = s < Splat(0.5f);
+  for (int c = 0; c < 4; ++c) {
+    const v4 m = (p[c] + q[c]) * inv;
+    p[c] = Select(low, p[c], m);
+    q[c] = Select(low, m, q[c]);
+  }
+  s = Select(low, s + s, s + s - Splat(1.f));
+  return (Splat(1.f) + d) * inv;
+}
+
 // Four slerps, SoA: a[c], b[c] are component c (x, y, z, w) of four unit
-// quaternions; u is each lane's parameter in [0, 1]. Shortest arc; the result
-// is normalized and in a's hemisphere (as Slerp in math/rotation.h).
-inline void Slerp4(const v4 a[4], const v4 b_in[4], v4 u, v4 out[4]) {
-  v4 d = a[0] * b_in[0] + a[1] * b_in[1] + a[2] * b_in[2] + a[3] * b_in[3];
-  const v4 sign = Select(d < Splat(0.f), Splat(-1.f), Splat(1.f));
+// quaternions; u is each lane's parameter in [0, 1]. kShortest: along the
+// shorter arc, the result in a's hemisphere (Slerp in math/rotation.h);
+// otherwise along the arc as given (squad's inner slerps), halved twice so
+// arcs up to 180° stay within the series' 45°. The result is normalized.
+template <bool kShortest>
+inline void Slerp4(const v4 a[4], const v4 b[4], v4 u, v4 out[4]) {
+  v4 d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+  v4 p[4], q[4];
+  const v4 sign = kShortest ? Select(d < Splat(0.f), Splat(-1.f), Splat(1.f)) : Splat(1.f);
   d *= sign;
-  v4 b[4];
-  for (int c = 0; c < 4; ++c) b[c] = b_in[c] * sign;
-  // m = (a + b)/|a + b|, |a + b| = √(2 + 2d) ≥ √2; a·m = cos(θ/2) = (1 + d)/|a + b|.
-  const v4 inv = Splat(1.f) / Sqrt(Splat(2.f) + Splat(2.f) * d);
-  const v4 xm1 = (Splat(1.f) + d) * inv - Splat(1.f);
-  const v4i low = u < Splat(0.5f);
-  const v4 s = Select(low, u + u, u + u - Splat(1.f));
-  const v4 s1 = Splat(1.f) - s;
+  for (int c = 0; c < 4; ++c) {
+    p[c] = a[c];
+    q[c] = b[c] * sign;
+  }
+  v4 s = u;
+  v4 x = HalveArc(p, q, s, d);
+  if (!kShortest) x = HalveArc(p, q, s, x);
+  const v4 xm1 = x - Splat(1.f), s1 = Splat(1.f) - s;
   const v4 w_end = SlerpWeight(s, s * s, xm1), w_start = SlerpWeight(s1, s1 * s1, xm1);
   v4 r[4];
-  for (int c = 0; c < 4; ++c) {
-    const v4 m = (a[c] + b[c]) * inv;
-    r[c] = w_start * Select(low, a[c], m) + w_end * Select(low, m, b[c]);
-  }
+  for (int c = 0; c < 4; ++c) r[c] = w_start * p[c] + w_end * q[c];
   const v4 n = Splat(1.f) / Sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
   for (int c = 0; c < 4; ++c) out[c] = r[c] * n;
 }

@@ -127,6 +127,7 @@ TEST(CompiledClipTest, MatchesSampleClipOnTheCmuClip) {
   ASSERT_TRUE(compiled.ok()) << compiled.status().message();
   const CompiledClip& c = **compiled;
   EXPECT_TRUE(c.fallback_joints.empty()) << "every BVH track is uniform";
+  EXPECT_EQ(c.rotation_controls.size(), c.rotations.keys.size()) << "CUBIC is compiled";
   EXPECT_EQ(c.times.size(), bvh->clip->frame_count);
   const double d = bvh->clip->duration;
   std::mt19937 rng(3);
@@ -137,8 +138,8 @@ TEST(CompiledClipTest, MatchesSampleClipOnTheCmuClip) {
     ExpectSamePose(c, t, {}, 1e-6, 1e-6);
     ExpectSamePose(c, t, {.interpolation = Interpolation::kStep}, 1e-6, 1e-6);
     ExpectSamePose(c, 3 * d + t, {.wrap = WrapMode::kLoop}, 1e-6, 1e-6);
+    ExpectSamePose(c, t, {.interpolation = Interpolation::kCubic}, 1e-6, 1e-6);
   }
-  ExpectSamePose(c, 5.55, {.interpolation = Interpolation::kCubic}, 0, 0);
 }
 
 // Tracks outside the uniform group (uneven times, a single key, CUBIC) are
@@ -177,8 +178,33 @@ TEST(CompiledClipTest, MixedTracksMatchSampleClip) {
     ExpectSamePose(**compiled, t, {}, 1e-6, 1e-6);
     ExpectSamePose(**compiled, t, {.interpolation = Interpolation::kLinear}, 1e-6, 1e-6);
     ExpectSamePose(**compiled, t, {.interpolation = Interpolation::kStep}, 1e-6, 1e-6);
+    ExpectSamePose(**compiled, t, {.interpolation = Interpolation::kCubic}, 1e-6, 1e-6);
   }
   for (double key : even) ExpectSamePose(**compiled, key, {}, 1e-6, 1e-6);
+}
+
+// Keys 25 % off even spacing still share one group (direct indexing plus one
+// correcting step), but squad's in and out control points differ there, so
+// CUBIC samples the source.
+TEST(CompiledClipTest, UnevenTimesKeepDirectIndexingAndSampleCubicFromTheSource) {
+  auto clip = std::make_shared<Clip>();
+  clip->skeleton = Chain(2);
+  clip->joints.resize(2);
+  clip->duration = 1;
+  std::mt19937 rng(2);
+  for (JointTrack& jt : clip->joints) {
+    jt.rotation.times = {0, 0.2, 0.45, 0.6, 0.8, 1.0};
+    for (size_t k = 0; k < 6; ++k) jt.rotation.values.push_back(RandomRotation(rng));
+  }
+  auto compiled = CompileClip(clip);
+  ASSERT_TRUE(compiled.ok());
+  EXPECT_TRUE((*compiled)->fallback_joints.empty());
+  EXPECT_TRUE((*compiled)->rotation_controls.empty());
+  for (double t = 0; t <= 1.0; t += 0.01) {
+    ExpectSamePose(**compiled, t, {}, 1e-6, 1e-6);
+    ExpectSamePose(**compiled, t, {.interpolation = Interpolation::kCubic}, 0, 0);
+  }
+  for (double key : clip->joints[0].rotation.times) ExpectSamePose(**compiled, key, {.interpolation = Interpolation::kStep}, 1e-6, 1e-6);
 }
 
 TEST(CompiledClipTest, RejectsWhatSampleClipRejects) {

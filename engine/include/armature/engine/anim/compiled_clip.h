@@ -35,6 +35,9 @@ struct CompiledClip {
   std::vector<double> times;
   double start = 0, frame_time = 0;
   CompiledLanes rotations, translations, scales;
+  // Squad's control point per rotation key, laid out as `rotations.keys`
+  // (CUBIC); empty when uneven times give a key two: CUBIC samples `source`.
+  std::vector<float> rotation_controls;
   // Joints with a track outside the uniform group (uneven or single-key
   // times, glTF tangents, CUBIC): sampled from `source` with SampleJoint.
   std::vector<uint32_t> fallback_joints;
@@ -49,7 +52,8 @@ StatusOr<std::shared_ptr<const CompiledClip>> CompileClip(std::shared_ptr<const 
 // SampleClip on the runtime form: the same arguments, checks and poses (float
 // keys: within 1e-6 of SampleClip's, relative for translations and scales,
 // in radians for rotations). LINEAR rotations use a trig-free slerp (see
-// src/anim/fast_slerp.h); CUBIC samples `source`. No allocation.
+// src/anim/fast_slerp.h), CUBIC ones squad through the precomputed control
+// points with the same slerp; vectors use CUBIC's Hermite weights. No allocation.
 Status SampleCompiledClip(const CompiledClip& clip, double time, const SampleOptions& options, std::span<Trs> out);
 
 }  // namespace armature
