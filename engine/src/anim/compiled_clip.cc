@@ -191,7 +191,7 @@ void SampleLanes(const CompiledLanes& lanes, const Segment& seg, LaneMode mode, 
 // which agree at interior keys when the neighbouring segments are equally
 // long. Empty when they do not agree (uneven times): CUBIC then samples the
 // source.
-std::vector<float> RotationControls(const Clip& clip, const CompiledLanes& lanes, const std::vector<double>& times) {
+std::vector<float> BuildRotationControls(const Clip& clip, const CompiledLanes& lanes, const std::vector<double>& times) {
   const size_t n = times.size(), frame_stride = lanes.groups * 16;
   std::vector<float> controls(lanes.keys.size());
   for (size_t g = 0; g < lanes.groups; ++g)
@@ -204,7 +204,7 @@ std::vector<float> RotationControls(const Clip& clip, const CompiledLanes& lanes
       }
       const std::vector<Eigen::Quaterniond>& q = clip.joints[lanes.joints[i]].rotation.values;
       for (size_t k = 0; k < n; ++k) {
-        Eigen::Quaterniond s_out, s_in;
+        Eigen::Quaterniond s_out = Eigen::Quaterniond::Identity(), s_in = s_out;
         const Eigen::Quaterniond key = q[k].normalized();
         if (k + 1 < n) {  // as SampleRotation for the segment k → k + 1
           const Eigen::Quaterniond a1 = SameHemisphere(q[k + 1].normalized(), key);
@@ -234,9 +234,18 @@ size_t LaneBytes(const CompiledLanes& l) {
 }  // namespace
 
 size_t CompiledClip::KeyBytes() const {
-  return times.size() * sizeof(double) + LaneBytes(rotations) + rotation_controls.size() * sizeof(float) +
+  return times.size() * sizeof(double) + LaneBytes(rotations) +
+         (controls_ready_.load(std::memory_order_acquire) ? rotation_controls_.size() * sizeof(float) : 0) +
          LaneBytes(translations) + LaneBytes(scales) +
          fallback_joints.size() * sizeof(uint32_t);
+}
+
+const std::vector<float>& CompiledClip::RotationControls() const {
+  std::call_once(controls_once_, [this] {
+    rotation_controls_ = BuildRotationControls(*source, rotations, times);
+    controls_ready_.store(true, std::memory_order_release);
+  });
+  return rotation_controls_;
 }
 
 StatusOr<std::shared_ptr<const CompiledClip>> CompileClip(std::shared_ptr<const Clip> clip) {
@@ -277,7 +286,6 @@ StatusOr<std::shared_ptr<const CompiledClip>> CompileClip(std::shared_ptr<const 
       [](const JointTrack& jt, size_t k, float* v) {
         for (int c = 0; c < 3; ++c) v[c] = static_cast<float>(jt.scale.values[k][c]);
       });
-  out->rotation_controls = RotationControls(*clip, out->rotations, out->times);
   MarkStep(*clip, out->rotations, [](const JointTrack& jt) -> const QuatTrack& { return jt.rotation; });
   MarkStep(*clip, out->translations, [](const JointTrack& jt) -> const Vec3Track& { return jt.translation; });
   MarkStep(*clip, out->scales, [](const JointTrack& jt) -> const Vec3Track& { return jt.scale; });
@@ -289,8 +297,8 @@ Status SampleCompiledClip(const CompiledClip& compiled, double time, const Sampl
   const Clip& clip = *compiled.source;
   ARMATURE_RETURN_IF_ERROR(anim_internal::CheckSampleArguments(clip, time, options, out.size()));
   const bool cubic = options.interpolation == Interpolation::kCubic;
-  if (cubic && compiled.rotation_controls.size() != compiled.rotations.keys.size())
-    return SampleClip(clip, time, options, out);
+  const std::vector<float>* controls = cubic ? &compiled.RotationControls() : nullptr;
+  if (cubic && controls->size() != compiled.rotations.keys.size()) return SampleClip(clip, time, options, out);
   const Skeleton& sk = *clip.skeleton;
   std::copy(sk.rest.begin(), sk.rest.end(), out.begin());
   const double t = WrapTime(time, clip.duration, options.wrap);
@@ -300,7 +308,7 @@ Status SampleCompiledClip(const CompiledClip& compiled, double time, const Sampl
                           : *options.interpolation == Interpolation::kStep   ? LaneMode::kStep
                           : *options.interpolation == Interpolation::kLinear ? LaneMode::kLinear
                                                                              : LaneMode::kCubic;
-    SampleLanes(compiled.rotations, seg, mode, compiled.rotation_controls.data(), [&](uint32_t j, const float* v) {
+    SampleLanes(compiled.rotations, seg, mode, controls ? controls->data() : nullptr, [&](uint32_t j, const float* v) {
       out[j].rotation = Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
     });
     SampleLanes(compiled.translations, seg, mode, nullptr,

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -127,7 +128,9 @@ TEST(CompiledClipTest, MatchesSampleClipOnTheCmuClip) {
   ASSERT_TRUE(compiled.ok()) << compiled.status().message();
   const CompiledClip& c = **compiled;
   EXPECT_TRUE(c.fallback_joints.empty()) << "every BVH track is uniform";
-  EXPECT_EQ(c.rotation_controls.size(), c.rotations.keys.size()) << "CUBIC is compiled";
+  const size_t linear_bytes = c.KeyBytes();
+  EXPECT_EQ(c.RotationControls().size(), c.rotations.keys.size()) << "CUBIC is compiled";
+  EXPECT_EQ(c.KeyBytes(), linear_bytes + c.rotations.keys.size() * sizeof(float)) << "control points on first use";
   EXPECT_EQ(c.times.size(), bvh->clip->frame_count);
   const double d = bvh->clip->duration;
   std::mt19937 rng(3);
@@ -199,12 +202,41 @@ TEST(CompiledClipTest, UnevenTimesKeepDirectIndexingAndSampleCubicFromTheSource)
   auto compiled = CompileClip(clip);
   ASSERT_TRUE(compiled.ok());
   EXPECT_TRUE((*compiled)->fallback_joints.empty());
-  EXPECT_TRUE((*compiled)->rotation_controls.empty());
+  EXPECT_TRUE((*compiled)->RotationControls().empty());
   for (double t = 0; t <= 1.0; t += 0.01) {
     ExpectSamePose(**compiled, t, {}, 1e-6, 1e-6);
     ExpectSamePose(**compiled, t, {.interpolation = Interpolation::kCubic}, 0, 0);
   }
   for (double key : clip->joints[0].rotation.times) ExpectSamePose(**compiled, key, {.interpolation = Interpolation::kStep}, 1e-6, 1e-6);
+}
+
+// The control points are computed on the first CUBIC sample, once, even when
+// several threads ask at the same time (a shared clip in the server).
+TEST(CompiledClipTest, ConcurrentFirstCubicSamplesAgree) {
+  auto clip = std::make_shared<Clip>();
+  clip->skeleton = Chain(5);
+  clip->joints.resize(5);
+  clip->duration = 2;
+  std::mt19937 rng(9);
+  for (JointTrack& jt : clip->joints)
+    for (int k = 0; k <= 20; ++k) {
+      jt.rotation.times.push_back(0.1 * k);
+      jt.rotation.values.push_back(RandomRotation(rng));
+    }
+  auto compiled = CompileClip(clip);
+  ASSERT_TRUE(compiled.ok());
+  const size_t before = (*compiled)->KeyBytes();
+  std::vector<std::thread> threads;
+  std::vector<std::vector<Trs>> poses(4, std::vector<Trs>(5));
+  for (size_t i = 0; i < 4; ++i)
+    threads.emplace_back([&, i] {
+      EXPECT_TRUE(SampleCompiledClip(**compiled, 0.77, {.interpolation = Interpolation::kCubic}, poses[i]).ok());
+    });
+  for (std::thread& t : threads) t.join();
+  EXPECT_GT((*compiled)->KeyBytes(), before);
+  for (size_t i = 1; i < 4; ++i)
+    for (size_t j = 0; j < 5; ++j) EXPECT_EQ(poses[i][j].rotation.coeffs(), poses[0][j].rotation.coeffs());
+  ExpectSamePose(**compiled, 0.77, {.interpolation = Interpolation::kCubic}, 1e-6, 1e-6);
 }
 
 TEST(CompiledClipTest, RejectsWhatSampleClipRejects) {

@@ -5,9 +5,11 @@
 // and samples what the runtime form does not hold.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -35,15 +37,25 @@ struct CompiledClip {
   std::vector<double> times;
   double start = 0, frame_time = 0;
   CompiledLanes rotations, translations, scales;
-  // Squad's control point per rotation key, laid out as `rotations.keys`
-  // (CUBIC); empty when uneven times give a key two: CUBIC samples `source`.
-  std::vector<float> rotation_controls;
+
   // Joints with a track outside the uniform group (uneven or single-key
   // times, glTF tangents, CUBIC): sampled from `source` with SampleJoint.
   std::vector<uint32_t> fallback_joints;
 
-  // Bytes of the runtime keys and times (not `source`).
+  // Squad's control point per rotation key, laid out as `rotations.keys`,
+  // for CUBIC; empty when uneven times give a key two (CUBIC then samples
+  // `source`). Computed on first use (thread-safe), so clips only sampled
+  // LINEAR or STEP never hold them.
+  const std::vector<float>& RotationControls() const;
+
+  // Bytes of the runtime keys and times (not `source`), control points
+  // included once computed.
   size_t KeyBytes() const;
+
+ private:
+  mutable std::once_flag controls_once_;
+  mutable std::vector<float> rotation_controls_;
+  mutable std::atomic<bool> controls_ready_{false};  // KeyBytes reads the size only once written
 };
 
 // Builds the runtime form of a valid clip (Clip::Validate passes).
