@@ -44,6 +44,20 @@ Eigen::Quaterniond RandomRotation(std::mt19937& rng) {
   return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
 }
 
+// A chain of `joints` with a random rotation track at `times` on every joint.
+std::shared_ptr<Clip> RandomRotationClip(size_t joints, const std::vector<double>& times, unsigned seed) {
+  auto clip = std::make_shared<Clip>();
+  clip->skeleton = Chain(joints);
+  clip->joints.resize(joints);
+  clip->duration = times.back();
+  std::mt19937 rng(seed);
+  for (JointTrack& jt : clip->joints) {
+    jt.rotation.times = times;
+    for (size_t k = 0; k < times.size(); ++k) jt.rotation.values.push_back(RandomRotation(rng));
+  }
+  return clip;
+}
+
 // Every joint's pose from both forms agrees: rotations within `radians`,
 // translations and scales within `relative` of their size (at least 1).
 void ExpectSamePose(const CompiledClip& compiled, double time, const SampleOptions& options, double radians,
@@ -148,16 +162,11 @@ TEST(CompiledClipTest, MatchesSampleClipOnTheCmuClip) {
 // Tracks outside the uniform group (uneven times, a single key, CUBIC) are
 // sampled from the source; STEP and per-track interpolation are kept.
 TEST(CompiledClipTest, MixedTracksMatchSampleClip) {
-  auto clip = std::make_shared<Clip>();
-  clip->skeleton = Chain(6);
-  clip->joints.resize(6);
-  clip->duration = 1.2;
-  std::mt19937 rng(11);
   const std::vector<double> even = {0, 0.3, 0.6, 0.9, 1.2};
+  std::shared_ptr<Clip> clip = RandomRotationClip(6, even, 11);
+  clip->joints[2] = RandomRotationClip(1, {0, 0.1, 1.0}, 12)->joints[0];
   for (size_t j = 0; j < 6; ++j) {
     JointTrack& jt = clip->joints[j];
-    jt.rotation.times = j == 2 ? std::vector<double>{0, 0.1, 1.0} : even;
-    for (size_t k = 0; k < jt.rotation.times.size(); ++k) jt.rotation.values.push_back(RandomRotation(rng));
     if (j == 1) jt.rotation.interpolation = Interpolation::kStep;
     if (j == 3) jt.rotation.interpolation = Interpolation::kCubic;
     if (j == 0 || j == 4) {
@@ -190,15 +199,7 @@ TEST(CompiledClipTest, MixedTracksMatchSampleClip) {
 // correcting step), but squad's in and out control points differ there, so
 // CUBIC samples the source.
 TEST(CompiledClipTest, UnevenTimesKeepDirectIndexingAndSampleCubicFromTheSource) {
-  auto clip = std::make_shared<Clip>();
-  clip->skeleton = Chain(2);
-  clip->joints.resize(2);
-  clip->duration = 1;
-  std::mt19937 rng(2);
-  for (JointTrack& jt : clip->joints) {
-    jt.rotation.times = {0, 0.2, 0.45, 0.6, 0.8, 1.0};
-    for (size_t k = 0; k < 6; ++k) jt.rotation.values.push_back(RandomRotation(rng));
-  }
+  std::shared_ptr<Clip> clip = RandomRotationClip(2, {0, 0.2, 0.45, 0.6, 0.8, 1.0}, 2);
   auto compiled = CompileClip(clip);
   ASSERT_TRUE(compiled.ok());
   EXPECT_TRUE((*compiled)->fallback_joints.empty());
@@ -213,16 +214,9 @@ TEST(CompiledClipTest, UnevenTimesKeepDirectIndexingAndSampleCubicFromTheSource)
 // The control points are computed on the first CUBIC sample, once, even when
 // several threads ask at the same time (a shared clip in the server).
 TEST(CompiledClipTest, ConcurrentFirstCubicSamplesAgree) {
-  auto clip = std::make_shared<Clip>();
-  clip->skeleton = Chain(5);
-  clip->joints.resize(5);
-  clip->duration = 2;
-  std::mt19937 rng(9);
-  for (JointTrack& jt : clip->joints)
-    for (int k = 0; k <= 20; ++k) {
-      jt.rotation.times.push_back(0.1 * k);
-      jt.rotation.values.push_back(RandomRotation(rng));
-    }
+  std::vector<double> times;
+  for (int k = 0; k <= 20; ++k) times.push_back(0.1 * k);
+  std::shared_ptr<Clip> clip = RandomRotationClip(5, times, 9);
   auto compiled = CompileClip(clip);
   ASSERT_TRUE(compiled.ok());
   const size_t before = (*compiled)->KeyBytes();
