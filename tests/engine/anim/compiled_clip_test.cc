@@ -14,6 +14,7 @@
 
 #include "armature/engine/anim/compiled_clip.h"
 #include "armature/engine/io/bvh.h"
+#include "armature/engine/io/gltf.h"
 #include "armature/engine/math/rotation.h"
 #include "../testing/test_files.h"
 
@@ -156,6 +157,34 @@ TEST(CompiledClipTest, MatchesSampleClipOnTheCmuClip) {
     ExpectSamePose(c, t, {.interpolation = Interpolation::kStep}, 1e-6, 1e-6);
     ExpectSamePose(c, 3 * d + t, {.wrap = WrapMode::kLoop}, 1e-6, 1e-6);
     ExpectSamePose(c, t, {.interpolation = Interpolation::kCubic}, 1e-6, 1e-6);
+  }
+}
+
+// glTF clips: channels sharing one set of key times are compiled, the rest
+// sampled from the source; either way the poses are SampleClip's.
+TEST(CompiledClipTest, MatchesSampleClipOnRobotExpressive) {
+  const std::string file = test_util::SharedData("gltf/RobotExpressive/RobotExpressive.glb").string();
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "shared data " << file << " is absent";
+  std::ifstream in(file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto asset = ParseGltf(bytes, true, "robot");
+  ASSERT_TRUE(asset.ok()) << asset.status().message();
+  ASSERT_FALSE(asset->clips.empty());
+  for (const NamedClip& named : asset->clips) {
+    SCOPED_TRACE(named.name);
+    auto compiled = CompileClip(named.clip);
+    ASSERT_TRUE(compiled.ok()) << compiled.status().message();
+    const CompiledClip& c = **compiled;
+    std::cout << named.name << ": " << c.times.size() << " keys, " << c.rotations.joints.size() << " rotation and "
+              << c.translations.joints.size() << " translation tracks compiled, " << c.fallback_joints.size()
+              << " joints from the source\n";
+    const double d = named.clip->duration;
+    for (int i = -2; i <= 42; ++i) {
+      const double t = d * i / 40.0;
+      ExpectSamePose(c, t, {}, 1e-6, 1e-6);
+      ExpectSamePose(c, t, {.interpolation = Interpolation::kStep}, 1e-6, 1e-6);
+      ExpectSamePose(c, t, {.interpolation = Interpolation::kCubic}, 1e-6, 1e-6);
+    }
   }
 }
 
