@@ -83,7 +83,8 @@ inline v4 HalveArc(v4 p[4], v4 q[4], v4& s, v4 d) {
 // quaternions; u is each lane's parameter in [0, 1]. kShortest: along the
 // shorter arc, the result in a's hemisphere (Slerp in math/rotation.h);
 // otherwise along the arc as given (squad's inner slerps), halved twice so
-// arcs up to 180° stay within the series' 45°. The result is normalized.
+// arcs up to 180° stay within the series' 45°. The result is unit length
+// (normalized along the given arc).
 template <bool kShortest>
 inline void Slerp4(const v4 a[4], const v4 b[4], v4 u, v4 out[4]) {
   v4 d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
@@ -99,10 +100,11 @@ inline void Slerp4(const v4 a[4], const v4 b[4], v4 u, v4 out[4]) {
   if (!kShortest) x = HalveArc(p, q, s, x);
   const v4 xm1 = x - Splat(1.f), s1 = Splat(1.f) - s;
   const v4 w_end = SlerpWeight(s, s * s, xm1), w_start = SlerpWeight(s1, s1 * s1, xm1);
-  v4 r[4];
-  for (int c = 0; c < 4; ++c) r[c] = w_start * p[c] + w_end * q[c];
-  const v4 n = Splat(1.f) / Sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
-  for (int c = 0; c < 4; ++c) out[c] = r[c] * n;
+  for (int c = 0; c < 4; ++c) out[c] = w_start * p[c] + w_end * q[c];
+  if (kShortest) return;  // unit to float precision: unit keys, |a + b| ≥ √2, weights exact to 4e-9
+  // Along the given arc |a + b| can vanish and the midpoint lose its length.
+  const v4 n = Splat(1.f) / Sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2] + out[3] * out[3]);
+  for (int c = 0; c < 4; ++c) out[c] *= n;
 }
 
 }  // namespace armature::compiled_internal
