@@ -4,8 +4,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <initializer_list>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -14,12 +15,12 @@
 #include "armature/engine/io/bvh.h"
 #include "armature/engine/math/rotation.h"
 #include "armature/base/utf8.h"
+#include "euler_degrees.h"
 
 namespace armature {
 namespace {
 
 constexpr int kMaxChannelsPerJoint = 64;
-constexpr double kDegree = std::numbers::pi / 180.0;
 
 bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
@@ -67,6 +68,35 @@ bool ParseCount(std::string_view s, long long* out) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   const auto r = std::from_chars(s.data(), s.data() + s.size(), *out);
   return r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
+// Frame lines are almost all plain decimals ("-12.345678"): read them with one
+// IEEE division, exactly rounded (Clinger's fast path: a mantissa of at most
+// 2^53 and a power of ten of at most 10^22 are both exact doubles), so the
+// result is the one from_chars gives. Returns the end of the number, or null
+// when the text is anything else (exponent, too many digits, no digit, ...)
+// and the caller must take the general path.
+const char* ParsePlainDecimal(const char* p, const char* end, double* out) {
+  static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  bool negative = false;
+  if (p < end && (*p == '-' || *p == '+')) negative = *p++ == '-';
+  uint64_t mantissa = 0;
+  const char* digits_start = p;
+  while (p < end && static_cast<unsigned>(*p - '0') < 10) mantissa = mantissa * 10 + static_cast<unsigned>(*p++ - '0');
+  size_t digits = static_cast<size_t>(p - digits_start), fraction = 0;
+  if (p < end && *p == '.') {
+    const char* fraction_start = ++p;
+    while (p < end && static_cast<unsigned>(*p - '0') < 10) mantissa = mantissa * 10 + static_cast<unsigned>(*p++ - '0');
+    fraction = static_cast<size_t>(p - fraction_start);
+    digits += fraction;
+  }
+  // 19 digits cannot overflow 64 bits; the mantissa must be exact as a double.
+  if (digits == 0 || digits > 19 || fraction > 22 || mantissa > (uint64_t{1} << 53)) return nullptr;
+  // A multiplication by ±1 (exact), not a branch on a sign that is random.
+  static constexpr double kSign[2] = {1.0, -1.0};
+  *out = static_cast<double>(mantissa) / kPow10[fraction] * kSign[negative];
+  return p;
 }
 
 // Splits the text into whitespace-separated tokens ('{' and '}' always stand
@@ -119,6 +149,15 @@ class Scanner {
 
   int token_line() const { return token_line_; }
   size_t remaining() const { return text_.size() - pos_; }
+  std::string_view text() const { return text_; }
+  size_t pos() const { return pos_; }
+  // Continues at `pos`, which is on line `line` (for a reader that scanned
+  // the text itself).
+  void Seek(size_t pos, int line) {
+    pos_ = pos;
+    line_ = line;
+    token_line_ = line;
+  }
   int line() const { return line_; }
 
  private:
@@ -143,6 +182,12 @@ struct JointDef {
   int position_columns[3] = {-1, -1, -1};  // x, y, z (−1: none)
   bool has_position = false;
 };
+
+// The line break that ends the line `p` is on, or `end`.
+const char* LineEnd(const char* p, const char* end) {
+  const void* nl = std::memchr(p, '\n', static_cast<size_t>(end - p));
+  return nl != nullptr ? static_cast<const char*>(nl) : end;
+}
 
 class BvhParser {
  public:
@@ -364,24 +409,34 @@ class BvhParser {
       if (joints_[j].has_position) clip_->joints[j].translation.values.reserve(capacity);
     }
 
+    // Frame lines in one pass over the bytes: no line is scanned twice, and
+    // plain decimals take ParsePlainDecimal's fast path.
     std::vector<double> row(columns);
-    std::vector<double> angles(kMaxChannelsPerJoint);
+    const std::string_view text = scan_.text();
+    const char* p = LineEnd(text.data() + scan_.pos(), text.data() + text.size());  // past "Frame Time:"
+    const char* const end = text.data() + text.size();
+    int line = scan_.line();
     for (long long f = 0; f < frames; ++f) {
-      const std::string_view line = scan_.NextLine();
-      if (line.empty())
-        return Error("file ends after " + std::to_string(f) + " of the " + std::to_string(frames) +
-                     " frames that 'Frames:' on line " + std::to_string(frames_line) + " declares");
-      ARMATURE_RETURN_IF_ERROR(ReadFrameLine(line, f, &row));
+      size_t count = 0;
+      while (count == 0) {  // blank lines hold no frame
+        if (p >= end) {
+          scan_.Seek(text.size(), line);
+          return Error("file ends after " + std::to_string(f) + " of the " + std::to_string(frames) +
+                       " frames that 'Frames:' on line " + std::to_string(frames_line) + " declares");
+        }
+        ++p;  // the line break
+        ++line;
+        ARMATURE_RETURN_IF_ERROR(ReadFrameValues(&p, end, line, f, &row, &count));
+      }
+      if (count != columns)
+        return ErrorAt(line, "frame " + std::to_string(f) + " has " + std::to_string(count) + " values, expected " +
+                                 std::to_string(columns));
       times.push_back(static_cast<double>(f) * dt);
       for (size_t j = 0; j < n_joints; ++j) {
         const JointDef& def = joints_[j];
         JointTrack& track = clip_->joints[j];
-        const size_t n_rot = def.rotation_axes.size();
-        if (n_rot > 0) {
-          for (size_t r = 0; r < n_rot; ++r) angles[r] = row[static_cast<size_t>(def.rotation_columns[r])] * kDegree;
-          track.rotation.values.push_back(
-              EulerToQuaternion(def.rotation_axes, std::span<const double>(angles.data(), n_rot)));
-        }
+        if (!def.rotation_axes.empty()) track.rotation.values.push_back(bvh_detail::EulerDegreesToQuaternion(
+              def.rotation_axes.data(), def.rotation_columns.data(), def.rotation_axes.size(), row.data()));
         if (def.has_position) {
           Eigen::Vector3d t = def.offset;
           for (int k = 0; k < 3; ++k)
@@ -390,6 +445,7 @@ class BvhParser {
         }
       }
     }
+    scan_.Seek(static_cast<size_t>(p - text.data()), line);
     // Lines beyond the declared count are ignored, as three.js, assimp and
     // Blender do (real exporters write one too many).
     if (std::string_view extra = scan_.NextLine(); !extra.empty()) {
@@ -414,28 +470,33 @@ class BvhParser {
     return Status::Ok();
   }
 
-  Status ReadFrameLine(std::string_view line, long long frame, std::vector<double>* row) {
-    size_t count = 0, i = 0;
-    const size_t n = line.size();
-    while (i < n) {
-      while (i < n && IsSpace(line[i])) ++i;
-      if (i >= n) break;
-      const size_t start = i;
-      while (i < n && !IsSpace(line[i])) ++i;
-      const std::string_view tok = line.substr(start, i - start);
+  // The values of the frame line that starts at `*p`, up to its line break
+  // (left for the caller) or the end of the text, into `row` (counted in
+  // `*count`, also beyond the row so that the message can say how many).
+  Status ReadFrameValues(const char** p, const char* end, int line, long long frame, std::vector<double>* row,
+                         size_t* count) const {
+    const char* q = *p;
+    for (;;) {
+      while (q < end && *q != '\n' && IsSpace(*q)) ++q;
+      if (q >= end || *q == '\n') break;
       double v = 0;
-      if (!ParseDouble(tok, &v))
-        return Error("frame " + std::to_string(frame) + " value " + std::to_string(count + 1) + " " + Quoted(tok) +
-                     " is not a number");
-      if (!std::isfinite(v))
-        return Error("frame " + std::to_string(frame) + " value " + std::to_string(count + 1) + " " + Quoted(tok) +
-                     " is not finite");
-      if (count < row->size()) (*row)[count] = v;
-      ++count;
+      const char* number_end = ParsePlainDecimal(q, end, &v);
+      if (number_end == nullptr || (number_end < end && !IsSpace(*number_end))) {
+        number_end = q;
+        while (number_end < end && !IsSpace(*number_end)) ++number_end;
+        const std::string_view tok(q, static_cast<size_t>(number_end - q));
+        if (!ParseDouble(tok, &v))
+          return ErrorAt(line, "frame " + std::to_string(frame) + " value " + std::to_string(*count + 1) + " " +
+                                   Quoted(tok) + " is not a number");
+        if (!std::isfinite(v))
+          return ErrorAt(line, "frame " + std::to_string(frame) + " value " + std::to_string(*count + 1) + " " +
+                                   Quoted(tok) + " is not finite");
+      }
+      if (*count < row->size()) (*row)[*count] = v;
+      ++*count;
+      q = number_end;
     }
-    if (count != row->size())
-      return Error("frame " + std::to_string(frame) + " has " + std::to_string(count) + " values, expected " +
-                   std::to_string(row->size()));
+    *p = q;
     return Status::Ok();
   }
 
