@@ -16,6 +16,7 @@
 #include "armature/engine/math/rotation.h"
 #include "armature/base/utf8.h"
 #include "euler_degrees.h"
+#include "plain_decimal.h"
 
 namespace armature {
 namespace {
@@ -68,35 +69,6 @@ bool ParseCount(std::string_view s, long long* out) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   const auto r = std::from_chars(s.data(), s.data() + s.size(), *out);
   return r.ec == std::errc() && r.ptr == s.data() + s.size();
-}
-
-// Frame lines are almost all plain decimals ("-12.345678"): read them with one
-// IEEE division, exactly rounded (Clinger's fast path: a mantissa of at most
-// 2^53 and a power of ten of at most 10^22 are both exact doubles), so the
-// result is the one from_chars gives. Returns the end of the number, or null
-// when the text is anything else (exponent, too many digits, no digit, ...)
-// and the caller must take the general path.
-const char* ParsePlainDecimal(const char* p, const char* end, double* out) {
-  static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-  bool negative = false;
-  if (p < end && (*p == '-' || *p == '+')) negative = *p++ == '-';
-  uint64_t mantissa = 0;
-  const char* digits_start = p;
-  while (p < end && static_cast<unsigned>(*p - '0') < 10) mantissa = mantissa * 10 + static_cast<unsigned>(*p++ - '0');
-  size_t digits = static_cast<size_t>(p - digits_start), fraction = 0;
-  if (p < end && *p == '.') {
-    const char* fraction_start = ++p;
-    while (p < end && static_cast<unsigned>(*p - '0') < 10) mantissa = mantissa * 10 + static_cast<unsigned>(*p++ - '0');
-    fraction = static_cast<size_t>(p - fraction_start);
-    digits += fraction;
-  }
-  // 19 digits cannot overflow 64 bits; the mantissa must be exact as a double.
-  if (digits == 0 || digits > 19 || fraction > 22 || mantissa > (uint64_t{1} << 53)) return nullptr;
-  // A multiplication by ±1 (exact), not a branch on a sign that is random.
-  static constexpr double kSign[2] = {1.0, -1.0};
-  *out = static_cast<double>(mantissa) / kPow10[fraction] * kSign[negative];
-  return p;
 }
 
 // Splits the text into whitespace-separated tokens ('{' and '}' always stand
@@ -410,7 +382,7 @@ class BvhParser {
     }
 
     // Frame lines in one pass over the bytes: no line is scanned twice, and
-    // plain decimals take ParsePlainDecimal's fast path.
+    // plain decimals take plain_decimal.h's fast path.
     std::vector<double> row(columns);
     const std::string_view text = scan_.text();
     const char* p = LineEnd(text.data() + scan_.pos(), text.data() + text.size());  // past "Frame Time:"
@@ -480,7 +452,7 @@ class BvhParser {
       while (q < end && *q != '\n' && IsSpace(*q)) ++q;
       if (q >= end || *q == '\n') break;
       double v = 0;
-      const char* number_end = ParsePlainDecimal(q, end, &v);
+      const char* number_end = io_detail::ParsePlainDecimal(q, end, &v);
       if (number_end == nullptr || (number_end < end && !IsSpace(*number_end))) {
         number_end = q;
         while (number_end < end && !IsSpace(*number_end)) ++number_end;
