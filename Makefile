@@ -63,6 +63,9 @@ image-test: configure
 # with the Armature/ozz ratio of each BM_VsOzz_* pair (scripts/bench_ratios.py).
 bench: BENCH_OZZ = ON
 bench: build
+	./scripts/setup.sh bench
+	$(MAKE) configure BENCH_OZZ=ON
+	cmake --build $(BUILD) -j $(JOBS) --target armature-bench
 	$(BUILD)/bin/armature-bench --benchmark_counters_tabular=true \
 	  --benchmark_out=$(BUILD)/bench.json --benchmark_out_format=json $(ARGS)
 	@if command -v python3 >/dev/null; then python3 scripts/bench_ratios.py $(BUILD)/bench.json; \
