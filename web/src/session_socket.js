@@ -5,60 +5,92 @@
 // the requests waiting then reject with an Error carrying that message and
 // `code`. With a bearer token, browsers (which cannot set Authorization on a
 // WebSocket) send it as the subprotocol "bearer.<token>".
+//
+// The socket lives in a small dedicated worker, so answers are received (and
+// their round trips timed) as they arrive, even while the page's thread is
+// busy drawing; the page then handles them in order.
 const MAX_LOG = 512;  // requests and round trips kept for inspection
+
+// The worker: owns the WebSocket, stamps each answer with its round trip.
+function socketWorker() {
+  let socket = null;
+  const sentAt = [];  // send times of the requests not yet answered, in order
+  self.onmessage = ({ data }) => {
+    if (data.open) {
+      socket = new WebSocket(data.open, data.protocols);
+      socket.onopen = () => self.postMessage({ opened: true });
+      socket.onerror = () => self.postMessage({ failed: true });
+      socket.onmessage = (e) => self.postMessage({ answer: e.data, ms: performance.now() - sentAt.shift() });
+      socket.onclose = (e) => self.postMessage({ closed: { code: e.code, reason: e.reason } });
+    } else if (data.send !== undefined) {
+      sentAt.push(performance.now());
+      socket.send(data.send);
+    } else if (data.close) {
+      socket?.close(1000);
+    }
+  };
+}
+let workerUrl = null;
 
 export class SessionSocket {
   // Resolves once the connection is open.
   static open(path, { token } = {}) {
     const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
-    const socket = new WebSocket(`${scheme}://${location.host}${path}`, token ? [`bearer.${token}`] : []);
+    workerUrl ??= URL.createObjectURL(new Blob([`(${socketWorker})()`], { type: 'text/javascript' }));
+    const worker = new Worker(workerUrl);
+    const url = `${scheme}://${location.host}${path}`;
     return new Promise((resolve, reject) => {
-      socket.onopen = () => resolve(new SessionSocket(socket));
-      socket.onerror = () => reject(new Error(`could not open a session at ${path}`));
+      worker.onmessage = ({ data }) => {
+        if (data.opened) return resolve(new SessionSocket(worker, url));
+        worker.terminate();
+        reject(new Error(`could not open a session at ${path}`));
+      };
+      worker.postMessage({ open: url, protocols: token ? [`bearer.${token}`] : [] });
     });
   }
 
-  constructor(socket) {
-    this.socket = socket;
-    this.waiting = [];      // { resolve, reject, sent } per request, in order
-    this.status = null;     // the final status frame, once received
-    this.sent = [];         // the requests (JSON text), the latest MAX_LOG
-    this.roundTrips = [];   // ms from sending a request to its answer arriving
-    socket.onmessage = (event) => this.onMessage(event.data);
-    socket.onclose = (event) => this.onClose(event);
-    socket.onerror = null;
+  constructor(worker, url) {
+    this.worker = worker;
+    this.url = url;
+    this.isOpen = true;
+    this.waiting = [];         // { resolve, reject } per request, in order
+    this.status = null;        // the final status frame, once received
+    this.sent = [];            // the requests (JSON text), the latest MAX_LOG
+    this.roundTrips = [];      // ms from sending a request to its answer arriving (timed in the worker)
+    this.pageRoundTrips = [];  // the same, until the page's thread handled the answer
+    worker.onmessage = ({ data }) => (data.closed ? this.onClose(data.closed) : this.onAnswer(data));
   }
 
   get open() {
-    return this.socket.readyState === WebSocket.OPEN;
+    return this.isOpen;
   }
 
   // Sends one request message; resolves with its answer.
   request(message) {
-    if (!this.open) return Promise.reject(this.failure() ?? new Error('the session is closed'));
+    if (!this.isOpen) return Promise.reject(this.failure() ?? new Error('the session is closed'));
     const text = JSON.stringify(message);
     return new Promise((resolve, reject) => {
       this.waiting.push({ resolve, reject, sent: performance.now() });
-      this.socket.send(text);
+      this.worker.postMessage({ send: text });
       keep(this.sent, text);
     });
   }
 
   // Ends the session (the server answers what is left, then closes).
   close() {
-    if (this.socket.readyState <= WebSocket.OPEN) this.socket.close(1000);
+    if (this.isOpen) this.worker.postMessage({ close: true });
   }
 
-  onMessage(data) {
-    const arrived = performance.now();
-    const message = JSON.parse(data);
+  onAnswer({ answer, ms }) {
+    const message = JSON.parse(answer);
     if (typeof message.code === 'number' && Array.isArray(message.details) && !('positions' in message)) {
       this.status = message;  // the session failed: the close follows
       return;
     }
     const next = this.waiting.shift();
     if (!next) return;
-    keep(this.roundTrips, arrived - next.sent);
+    keep(this.roundTrips, ms);
+    keep(this.pageRoundTrips, performance.now() - next.sent);
     next.resolve(message);
   }
 
@@ -69,9 +101,11 @@ export class SessionSocket {
     return error;
   }
 
-  onClose(event) {
+  onClose({ code, reason }) {
+    this.isOpen = false;
+    this.worker.terminate();
     const error = this.failure() ??
-      new Error(event.code === 1000 ? 'the session ended' : `the session closed (${event.code} ${event.reason})`);
+      new Error(code === 1000 ? 'the session ended' : `the session closed (${code} ${reason})`);
     for (const w of this.waiting.splice(0)) w.reject(error);
   }
 }

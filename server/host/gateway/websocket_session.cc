@@ -17,6 +17,8 @@
 // and counts as one of the gateway's open streams, so REST keeps its share.
 #include <netdb.h>
 #include <openssl/ssl.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -217,6 +219,9 @@ void Gateway::HandleWebSocket(const httplib::Request& req, httplib::Response& re
       WebSocketAccept(key) + "\r\n";
   if (!protocol.empty()) handshake += "Sec-WebSocket-Protocol: " + protocol + "\r\n";
   handshake += "\r\n";
+  // Each frame goes out at once (no Nagle wait for the ACK of the previous one).
+  const int one = 1;
+  ::setsockopt(wire.fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
   SetSocketTimeout(wire.fd, SO_SNDTIMEO, options_.websocket_write_timeout);
   SetSocketTimeout(wire.fd, SO_RCVTIMEO, options_.websocket_write_timeout);  // a TLS record cut short
   if (wire.Write(handshake)) RunWebSocketSession(wire.fd, wire.ssl, binding, route->variables, *call);
