@@ -1,6 +1,7 @@
 // One bidirectional session (IkSession, DeformSession) over a WebSocket on
 // its REST path, e.g. ws://host/v1/skeletons/walk:ikSession. Each request is
-// a JSON text frame and gets one JSON answer, in order. A failed session
+// a JSON text frame and gets one JSON answer, in order; a request in binary
+// (its proto encoding) gets its answer's encoding. A failed session
 // sends its status ({code, message, details}) and closes with 4000 + code:
 // the requests waiting then reject with an Error carrying that message and
 // `code`. With a bearer token, browsers (which cannot set Authorization on a
@@ -18,9 +19,13 @@ function socketWorker() {
   self.onmessage = ({ data }) => {
     if (data.open) {
       socket = new WebSocket(data.open, data.protocols);
+      socket.binaryType = 'arraybuffer';
       socket.onopen = () => self.postMessage({ opened: true });
       socket.onerror = () => self.postMessage({ failed: true });
-      socket.onmessage = (e) => self.postMessage({ answer: e.data, ms: performance.now() - sentAt.shift() });
+      socket.onmessage = (e) => {
+        const answer = { answer: e.data, ms: performance.now() - sentAt.shift() };
+        self.postMessage(answer, e.data instanceof ArrayBuffer ? [e.data] : []);
+      };
       socket.onclose = (e) => self.postMessage({ closed: { code: e.code, reason: e.reason } });
     } else if (data.send !== undefined) {
       sentAt.push(performance.now());
@@ -55,7 +60,7 @@ export class SessionSocket {
     this.isOpen = true;
     this.waiting = [];         // { resolve, reject } per request, in order
     this.status = null;        // the final status frame, once received
-    this.sent = [];            // the requests (JSON text), the latest MAX_LOG
+    this.sent = [];            // the requests (JSON text or encodings), the latest MAX_LOG
     this.roundTrips = [];      // ms from sending a request to its answer arriving (timed in the worker)
     this.pageRoundTrips = [];  // the same, until the page's thread handled the answer
     worker.onmessage = ({ data }) => (data.closed ? this.onClose(data.closed) : this.onAnswer(data));
@@ -65,14 +70,17 @@ export class SessionSocket {
     return this.isOpen;
   }
 
-  // Sends one request message; resolves with its answer.
+  // Sends one request message (an object: JSON; a Uint8Array: its proto
+  // encoding); resolves with its answer (an object, or for a binary request
+  // the answer's encoding as an ArrayBuffer).
   request(message) {
     if (!this.isOpen) return Promise.reject(this.failure() ?? new Error('the session is closed'));
-    const text = JSON.stringify(message);
+    const binary = message instanceof Uint8Array;
+    const payload = binary ? message : JSON.stringify(message);
     return new Promise((resolve, reject) => {
       this.waiting.push({ resolve, reject, sent: performance.now() });
-      this.worker.postMessage({ send: text });
-      keep(this.sent, text);
+      this.worker.postMessage({ send: payload });
+      keep(this.sent, payload);
     });
   }
 
@@ -82,8 +90,8 @@ export class SessionSocket {
   }
 
   onAnswer({ answer, ms }) {
-    const message = JSON.parse(answer);
-    if (typeof message.code === 'number' && Array.isArray(message.details) && !('positions' in message)) {
+    const message = answer instanceof ArrayBuffer ? answer : JSON.parse(answer);
+    if (!(message instanceof ArrayBuffer) && typeof message.code === 'number' && Array.isArray(message.details) && !('positions' in message)) {
       this.status = message;  // the session failed: the close follows
       return;
     }

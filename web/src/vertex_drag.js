@@ -5,7 +5,8 @@
 // it. Every vertex dragged so far stays a handle at its last target, so edits
 // accumulate. The handles, options and region are one DeformSession over a
 // WebSocket (session_socket.js), factored once when it opens: each drag
-// step sends the handles' targets and gets every vertex back; a new handle,
+// step sends the handles' targets and gets every vertex back (in the proto
+// encoding, deform_wire.js); a new handle,
 // option or radius opens a new session. At most one step is in flight, with
 // only the latest targets kept.
 //
@@ -17,6 +18,7 @@
 // Emits 'deform' ({ response, ms, regionSize }) and 'error' (message).
 import * as THREE from 'three';
 import { LatestWins } from './latest_wins.js';
+import { decodeDeformResponse, encodeDeformMove } from './deform_wire.js';
 import { SessionSocket } from './session_socket.js';
 
 const HANDLE_COLOR = 0x2ec4ff;
@@ -219,7 +221,8 @@ export class VertexDrag extends EventTarget {
     const started = performance.now();
     try {
       const session = await this.sessionFor(mesh, handles, regionOfInterest);
-      const response = await session.request({ move: { positions } });
+      // Moves in binary: the answers (every vertex) come back as floats, not JSON.
+      const response = decodeDeformResponse(await session.request(encodeDeformMove(positions)));
       if (edit !== this.edits) return;  // stopped, reset or restarted meanwhile
       const ms = performance.now() - started;
       this.stats.deforms++;

@@ -54,7 +54,30 @@ async function dragInSteps(page, from, dx, dy, drag, counter) {
 // The latest session of `drag` ('ik' or 'vertexDrag'): its URL, requests and round trips.
 function lastSession(drag) {
   const s = window.armatureViewer[drag].stats.sessions.at(-1);
-  return { url: s.url, sent: s.sent, roundTrips: s.roundTrips, pageRoundTrips: s.pageRoundTrips };
+  const sent = s.sent.map((m) => (typeof m === 'string' ? m : Array.from(m)));
+  return { url: s.url, sent, roundTrips: s.roundTrips, pageRoundTrips: s.pageRoundTrips };
+}
+
+// A DeformSessionRequest{move} encoding (bytes) as JSON, read by hand:
+// 0x12 <len> 0x0a <len> <doubles, little-endian>.
+function moveJson(bytes) {
+  const b = Uint8Array.from(bytes);
+  let at = 0;
+  const varint = () => {
+    let v = 0, scale = 1, byte;
+    do {
+      byte = b[at++];
+      v += (byte & 0x7f) * scale;
+      scale *= 128;
+    } while (byte & 0x80);
+    return v;
+  };
+  if (b[at++] !== 0x12) throw new Error('not a move');
+  varint();
+  if (b[at++] !== 0x0a) throw new Error('not packed positions');
+  const n = varint() / 8;
+  const view = new DataView(b.buffer, at, n * 8);
+  return { move: { positions: Array.from({ length: n }, (_, i) => view.getFloat64(8 * i, true)) } };
 }
 
 // Replays `requests` over gRPC (3 times) and compares the step round trips;
@@ -129,7 +152,9 @@ await runViewerTest('session_e2e.mjs', async ({ page, server, screenshot }) => {
   const deform = await page.evaluate(lastSession, 'vertexDrag');
   check(deform.url.startsWith('ws://') && deform.url.endsWith('/v1/meshes:deformSession'),
         `the vertex drag runs over a WebSocket (${deform.url})`);
-  const deformRequests = deform.sent.map((text) => JSON.parse(text));
+  check(deform.sent.slice(1).every((m) => typeof m !== 'string'), 'its moves travel as binary frames');
+  // The setup is JSON; the moves are binary (DeformSessionRequest encodings): read them back as JSON.
+  const deformRequests = deform.sent.map((sent) => (typeof sent === 'string' ? JSON.parse(sent) : moveJson(sent)));
   check(deformRequests[0].start?.handleIndices?.[0] === vertex && deformRequests.length === STEPS + 1,
         `one session: the setup with handle ${vertex} and ${deformRequests.length - 1} moves, each answered ` +
         `(${deform.roundTrips.length} round trips)`);
