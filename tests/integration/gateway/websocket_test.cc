@@ -457,5 +457,23 @@ TEST_F(WebSocketSession, SessionsLeaveHttpThreadsForRest) {
   EXPECT_TRUE(WaitFor([&] { return WsClient(server.http_port(), path).status() == 101; }, 10));
 }
 
+TEST_F(WebSocketSession, RunsOverTls) {
+  // A self-signed certificate for localhost; the client (Python's ssl) trusts it.
+  TempDir files;
+  const auto cert = files.path() / "server.crt", key = files.path() / "server.key";
+  const CommandResult made = RunCommand("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=localhost"
+                                        " -addext subjectAltName=DNS:localhost,IP:127.0.0.1 -keyout " +
+                                        ShellQuote(key.string()) + " -out " + ShellQuote(cert.string()));
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  ServerProcess server(data_.path(), {"--tls-cert", cert.string(), "--tls-key", key.string()});
+  const CommandResult r = RunCommand(std::string(ARMATURE_PYTHON) + " " +
+                                     ShellQuote(std::string(ARMATURE_TEST_DIR) +
+                                                "/integration/gateway/websocket_tls_client.py") +
+                                     " " + std::to_string(server.http_port()) + " " + ShellQuote(cert.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  // The 101, four answers with a pose (the start, three moves), then the server's close 1000.
+  EXPECT_EQ(r.out, "HTTP/1.1 101 Switching Protocols\n1 True\n1 True\n1 True\n1 True\n8 1000\n") << r.err;
+}
+
 }  // namespace
 }  // namespace armature::testing
