@@ -281,6 +281,9 @@ TEST_F(WebSocketSession, IkSessionAnswersEqualTheGrpcSessionInJsonAndBinaryFrame
     grpc_session->Close();
     std::printf("  IK drag, %zu steps (%s): round trip median %.3f ms over the WebSocket, %.3f ms over gRPC\n",
                 drag.path.size(), binary ? "binary" : "JSON", Median(ws_ms), Median(grpc_ms));
+    // In binary frames the WebSocket path adds only framing and a thread hop to the same call:
+    // within the 2× of gRPC (JSON adds printing the pose, about 0.3 ms here).
+    if (binary) EXPECT_LE(Median(ws_ms), 2 * Median(grpc_ms));
   }
   EXPECT_TRUE(client.Healthy());
 }
