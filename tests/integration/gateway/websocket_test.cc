@@ -460,6 +460,31 @@ TEST_F(WebSocketSession, SessionsLeaveHttpThreadsForRest) {
   EXPECT_TRUE(WaitFor([&] { return WsClient(server.http_port(), path).status() == 101; }, 10));
 }
 
+TEST_F(WebSocketSession, PlaybackSessionStreamsPacedFramesAndTakesCommandsBesideThem) {
+  ServerProcess server(data_.path());
+  WsClient ws(server.http_port(), "/v1/skeletons/demo_walk:playbackSession");
+  ASSERT_EQ(ws.status(), 101);
+  // Not one answer per message: frames come at the start's fps until the client closes.
+  ws.SendText(R"({"start": {"fps": 60, "space": "WORLD", "play": {"clip": "demo_walk"}}})");
+  std::vector<json> frames;
+  for (int i = 0; i < 10; ++i) {
+    const Frame f = ws.Receive();
+    ASSERT_EQ(f.opcode, 0x1) << f.payload.substr(0, 200);
+    frames.push_back(json::parse(f.payload));
+  }
+  ws.SendText(R"({"pause": {}})");  // a command between frames
+  for (int i = 0; i < 3; ++i) frames.push_back(json::parse(ws.Receive().payload));
+  for (size_t i = 0; i < frames.size(); ++i)
+    EXPECT_EQ(frames[i].value("index", std::string("0")), std::to_string(i)) << frames[i].dump().substr(0, 200);
+  EXPECT_TRUE(frames[0]["pose"].contains("translations"));
+  ws.SendClose(1000);
+  // Frames already on their way may come first; then the close.
+  Frame f;
+  do f = ws.Receive(); while (f.opcode == 0x1);
+  EXPECT_EQ(f.opcode, 0x8);
+  EXPECT_EQ(f.close_code(), 1000);
+}
+
 TEST_F(WebSocketSession, RunsOverTls) {
   // A self-signed certificate for localhost; the client (Python's ssl) trusts it.
   TempDir files;
