@@ -97,8 +97,8 @@ function compare(server, kind, session, requests) {
     ws.forEach((ms, i) => console.log(`  step ${String(i + 1).padStart(2)}: WebSocket ${ms.toFixed(3)} ms ` +
       `(page ${page[i].toFixed(1)} ms) | gRPC ` + [0, 1, 2].map((r) => grpc[r * steps + i].toFixed(3)).join(', ') + ' ms'));
     const [wsMedian, grpcMedian] = [median(ws), median(grpc)];
-    console.log(`${kind}: median WebSocket ${wsMedian.toFixed(3)} ms (handled by the page after ${median(page).toFixed(1)} ` +
-                `ms: the page's thread draws with SwiftShader), median gRPC ${grpcMedian.toFixed(3)} ms, ` +
+    console.log(`${kind}: median WebSocket ${wsMedian.toFixed(3)} ms (handled by the page's thread after ` +
+                `${median(page).toFixed(1)} ms), median gRPC ${grpcMedian.toFixed(3)} ms, ` +
                 `ratio ${(wsMedian / grpcMedian).toFixed(2)}`);
     return { kind, wsMedian, grpcMedian };
   } finally {
