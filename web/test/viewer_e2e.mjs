@@ -70,7 +70,7 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
         `playing at 2× from the scrubbed time steps ${steps.map((d) => d.toFixed(4)).join(', ')} s per frame`);
 
   // IK: drag the left wrist with the mouse; the skeleton follows through
-  // SolveIk calls, the other end joints stay pinned.
+  // an IkSession over a WebSocket, the other end joints stay pinned.
   const beforeIk = await page.evaluate(() => window.armatureViewer.player.stats.evaluations);
   await page.$eval('#scrub', (s) => {
     s.value = '1.0';
@@ -114,7 +114,7 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
   const pinShift = Math.hypot(...dragged.pinned.map((v, k) => v - grab.pinned[k]));
   const miss = Math.hypot(dragged.at.x - drop.x, dragged.at.y - drop.y);
   check(dragged.joint === 'LeftWrist' && dragged.stats.solves >= 2,
-        `dragging solves IK for the wrist (${dragged.stats.solves} SolveIk calls, ${dragged.stats.converged} converged)`);
+        `dragging solves IK for the wrist (${dragged.stats.solves} IkSession steps over a WebSocket, ${dragged.stats.converged} converged)`);
   check(dragged.converged && /LeftWrist reached/.test(dragged.message), `the last solve converged (${dragged.message})`);
   check(moved > 10, `the wrist moved ${moved.toFixed(1)} units in the world`);
   check(miss < 2, `the wrist is drawn under the pointer (${miss.toFixed(2)} px away)`);
