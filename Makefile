@@ -57,8 +57,11 @@ image-test: configure
 	cmake --build $(BUILD) -j $(JOBS) --target armature
 	./deploy/image-test.sh --cli $(BUILD)/bin/armature
 
+# Google Benchmark (bench/*.cc), then armature-load against a real server
+# (bench/load/run_load_bench.sh: closed loop at concurrency 1-128, 100-1000 streams).
 bench: build
 	$(BUILD)/bin/armature-bench --benchmark_counters_tabular=true $(ARGS)
+	sh bench/load/run_load_bench.sh $(BUILD)/bin/armature-server $(BUILD)/bin/armature-load
 
 clean:
 	rm -rf $(BUILD)
