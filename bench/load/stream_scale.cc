@@ -20,6 +20,7 @@ namespace v1 = armature::v1;
 struct Arrival {
   Clock::time_point at;
   uint64_t index;
+  double wall_time;  // the server's: when it wrote the frame, since the stream started
 };
 
 // Ends when every stream is done.
@@ -52,7 +53,7 @@ class PacedStream final : public grpc::ClientReadReactor<v1::PoseFrame> {
   void OnReadDone(bool ok) override {
     if (!ok) return;
     const auto now = Clock::now();
-    if (arrivals_.size() < arrivals_.capacity()) arrivals_.push_back({now, frame_.index()});
+    if (arrivals_.size() < arrivals_.capacity()) arrivals_.push_back({now, frame_.index(), frame_.wall_time()});
     if (!first_.load(std::memory_order_relaxed)) first_.store(true, std::memory_order_release);
     StartRead(&frame_);
   }
@@ -133,7 +134,7 @@ StreamScaleOutcome RunStreamScale(const std::vector<std::shared_ptr<grpc::Channe
   }
 
   const double period_ms = 1000.0 / o.fps;
-  std::vector<double> intervals, deviations, stream_deviations;
+  std::vector<double> intervals, deviations, stream_deviations, server_late;
   intervals.reserve(static_cast<size_t>(o.streams * o.seconds * o.fps * 1.2));
   deviations.reserve(intervals.capacity());
   for (size_t i = 0; i < streams.size(); ++i) {
@@ -158,6 +159,8 @@ StreamScaleOutcome RunStreamScale(const std::vector<std::shared_ptr<grpc::Channe
       const double late_ms = 1000 * (Seconds(a[k].at - open_start) - a[k].index / o.fps - anchor);
       out.max_late_ms = std::max(out.max_late_ms, late_ms);
       if (late_ms > o.late_ms) ++out.frames_late;
+      // The server's own lateness: when it wrote frame k against k/fps.
+      server_late.push_back(std::max(0.0, 1000 * (a[k].wall_time - a[k].index / o.fps)));
       if (k == 0 || a[k - 1].at < window_start) continue;
       const double interval = 1000 * Seconds(a[k].at - a[k - 1].at);
       intervals.push_back(interval);
@@ -169,6 +172,7 @@ StreamScaleOutcome RunStreamScale(const std::vector<std::shared_ptr<grpc::Channe
   out.frames_expected = static_cast<int64_t>(std::llround(out.window_seconds * o.fps)) * o.streams;
   out.interval_ms = Summarize(intervals);
   out.deviation_ms = Summarize(deviations);
+  out.server_late_ms = Summarize(server_late);
   return out;
 }
 

@@ -36,6 +36,10 @@ struct StreamScaleOutcome {
   Percentiles interval_ms;     // inter-frame arrival interval, all streams
   Percentiles deviation_ms;    // |interval − 1/fps|
   double worst_stream_p99_deviation_ms = 0;
+  // How late the server wrote frames by its own clock (PoseFrame.wall_time −
+  // index/fps): beside the arrival figures, it tells a server that falls
+  // behind from a transport or client that does.
+  Percentiles server_late_ms;
   double window_seconds = 0;
   double server_cpu_percent = -1;  // of one core, over the window
   double client_cpu_percent = -1;
