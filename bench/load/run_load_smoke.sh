@@ -41,5 +41,5 @@ echo "$out"
 within "$(field "$out" interval_mean_ms)" 15 18.5 || fail "mean interval not near 16.67 ms"
 within "$(field "$out" frames)" 400 520 || fail "frames received not near the 480 due"
 [ "$(field "$out" lost)" = 0 ] || fail "frames lost"
-within "$(field "$out" server_cpu_pct)" 0.01 400 || fail "server CPU not read"
+within "$(field "$out" server_cpu_pct)" 0 400 || fail "server CPU not read (-1: /proc/<pid>/stat unreadable)"
 echo PASS
