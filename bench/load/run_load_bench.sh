@@ -21,7 +21,7 @@ fi
 echo "== armature-load: closed loop, EvaluateClip (one pose) vs grpc.health.v1.Health/Check"
 # shellcheck disable=SC2086
 sh "$here/with_server.sh" "$server_bin" -- "$load_bin" --target 127.0.0.1:@PORT@ $clip_flags --rpc evaluate \
-  --concurrency "${CONCURRENCY:-1,8,32,128}" --seconds "$seconds" --rounds 5
+  --concurrency "${CONCURRENCY:-1,8,32,128}" --seconds "$seconds" --rounds 5 --server-pid @PID@
 echo "== armature-load: StreamClip streams at 60 fps"
 # shellcheck disable=SC2086
 sh "$here/with_server.sh" "$server_bin" --max-streams-per-client 5000 -- "$load_bin" --target 127.0.0.1:@PORT@ \
