@@ -60,7 +60,9 @@ image-test: configure
 	./deploy/image-test.sh --cli $(BUILD)/bin/armature
 
 # Builds ozz-animation beside the benchmarks (bench/CMakeLists.txt) and ends
-# with the Armature/ozz ratio of each BM_VsOzz_* pair (scripts/bench_ratios.py).
+# with the Armature/ozz ratio of each BM_VsOzz_* pair (scripts/bench_ratios.py),
+# then armature-load against a real server (bench/load/run_load_bench.sh:
+# closed loop at concurrency 1-128, 100-1000 streams).
 bench: BENCH_OZZ = ON
 bench: build
 	./scripts/setup.sh bench
@@ -70,6 +72,7 @@ bench: build
 	  --benchmark_out=$(BUILD)/bench.json --benchmark_out_format=json $(ARGS)
 	@if command -v python3 >/dev/null; then python3 scripts/bench_ratios.py $(BUILD)/bench.json; \
 	else echo "python3 not found: Armature/ozz ratios not printed (see $(BUILD)/bench.json)"; fi
+	sh bench/load/run_load_bench.sh $(BUILD)/bin/armature-server $(BUILD)/bin/armature-load
 
 clean:
 	rm -rf $(BUILD)

@@ -32,6 +32,26 @@ class JsonFormatter final : public spdlog::formatter {
   std::unique_ptr<spdlog::formatter> clone() const override { return std::make_unique<JsonFormatter>(); }
 };
 
+// " key=value" of the text format for a string value. Strings with spaces
+// (error messages) are quoted, so a line still splits into key=value pairs.
+void AppendTextField(std::string& line, std::string_view key, std::string_view value) {
+  line += ' ';
+  line.append(key);
+  line += '=';
+  if (value.find_first_of(" =\"") == std::string_view::npos)
+    line.append(value);
+  else
+    line += nlohmann::json(value).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // never throws
+}
+
+// " key=value" for any other value: its JSON text as it is.
+void AppendTextDump(std::string& line, std::string_view key, const std::string& dump) {
+  line += ' ';
+  line.append(key);
+  line += '=';
+  line += dump;
+}
+
 }  // namespace
 
 void ConfigureLogging(const std::string& level, const std::string& format) {
@@ -57,9 +77,30 @@ void LogEvent(spdlog::level::level_enum level, std::string_view message, const n
   }
   std::string line(message);
   for (const auto& [key, value] : fields.items()) {
-    // Strings with spaces (error messages) are quoted, so a line still splits into key=value pairs.
-    const bool bare = value.is_string() && value.get<std::string>().find_first_of(" =\"") == std::string::npos;
-    line += " " + key + "=" + (bare ? value.get<std::string>() : value.dump());
+    if (value.is_string())
+      AppendTextField(line, key, value.get_ref<const std::string&>());
+    else
+      AppendTextDump(line, key, value.dump());
+  }
+  spdlog::log(level, "{}", line);
+}
+
+void LogFields(spdlog::level::level_enum level, std::string_view message, std::span<const LogField> fields) {
+  if (!spdlog::should_log(level)) return;
+  if (g_json) {
+    nlohmann::json object = nlohmann::json::object();
+    for (const LogField& f : fields)
+      std::visit([&](const auto& v) { object[std::string(f.key)] = v; }, f.value);
+    return LogEvent(level, message, object);
+  }
+  std::string line;
+  line.reserve(256);
+  line.append(message);
+  for (const LogField& f : fields) {
+    if (const auto* text = std::get_if<std::string_view>(&f.value))
+      AppendTextField(line, f.key, *text);
+    else
+      AppendTextDump(line, f.key, nlohmann::json(std::get<double>(f.value)).dump());  // LogEvent's number format
   }
   spdlog::log(level, "{}", line);
 }

@@ -10,8 +10,11 @@ void FrameScheduler::Schedule(Clock::time_point due, std::function<void()> task)
   {
     std::lock_guard lock(mu_);
     if (!stopping_) {
+      // The thread sleeps until the earliest due time: only a new earliest
+      // task changes when it must wake.
+      const bool earliest = queue_.empty() || due < queue_.top().due;
       queue_.push({due, sequence_++, std::move(task)});
-      cv_.notify_one();
+      if (earliest) cv_.notify_one();
       return;
     }
   }
@@ -27,7 +30,13 @@ void FrameScheduler::Stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+FrameScheduler::Counts FrameScheduler::counts() const {
+  std::lock_guard lock(mu_);
+  return counts_;
+}
+
 void FrameScheduler::Run() {
+  std::vector<std::function<void()>> batch;  // reused: no allocation per wake-up once grown
   std::unique_lock lock(mu_);
   while (true) {
     if (queue_.empty()) {
@@ -36,14 +45,22 @@ void FrameScheduler::Run() {
       continue;
     }
     // When stopping, what is left runs at once.
-    if (!stopping_ && queue_.top().due > Clock::now()) {
+    const auto now = Clock::now();
+    if (!stopping_ && queue_.top().due > now) {
       cv_.wait_until(lock, queue_.top().due);
       continue;
     }
-    auto task = std::move(const_cast<Entry&>(queue_.top()).task);
-    queue_.pop();
+    // Everything due by now, in due order, outside the lock (a task may
+    // Schedule the next one).
+    while (!queue_.empty() && (stopping_ || queue_.top().due <= now)) {
+      batch.push_back(std::move(const_cast<Entry&>(queue_.top()).task));
+      queue_.pop();
+    }
+    ++counts_.wakeups;
+    counts_.tasks += batch.size();
     lock.unlock();
-    task();
+    for (auto& task : batch) task();
+    batch.clear();
     lock.lock();
   }
 }

@@ -1,5 +1,9 @@
 // Runs tasks at given times on one shared thread: how pose streams are paced
 // without a sleeping thread per stream. Tasks must be short.
+//
+// At scale (1,000 streams at 60 fps: 60,000 tasks a second) the thread must
+// not wake per task: Schedule wakes it only when the new task is due before
+// everything queued, and each wake-up runs every task then due as one batch.
 #pragma once
 
 #include <chrono>
@@ -24,6 +28,14 @@ class FrameScheduler {
   // thread; later tasks run inline.
   void Stop();
 
+  // How often the thread has woken up to run tasks, and how many it ran: at
+  // scale the ratio shows the batching.
+  struct Counts {
+    uint64_t wakeups = 0;
+    uint64_t tasks = 0;
+  };
+  Counts counts() const;
+
  private:
   struct Entry {
     Clock::time_point due;
@@ -33,11 +45,12 @@ class FrameScheduler {
   };
   void Run();
 
-  std::mutex mu_;
+  mutable std::mutex mu_;
   std::condition_variable cv_;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue_;
   uint64_t sequence_ = 0;
   bool stopping_ = false;
+  Counts counts_;
   std::thread thread_;
 };
 
