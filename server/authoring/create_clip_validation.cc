@@ -16,6 +16,14 @@ namespace {
 constexpr double kUnitTolerance = 1e-3;
 constexpr double kMaxFloat = std::numeric_limits<float>::max();
 
+// The 32-bit float at or below `t`: glTF stores times as floats, and rounding
+// down keeps each key in effect from its own time on (a STEP key included).
+double FloatAtOrBelow(double t) {
+  float f = static_cast<float>(t);
+  if (static_cast<double>(f) > t) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
 std::string Num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", v);
@@ -47,7 +55,7 @@ Status CheckTimes(const google::protobuf::RepeatedField<double>& times, const En
     const double p = times[k - 1];
     if (t == p) return e.BadKey(k, "time " + Num(t) + " repeats key " + std::to_string(k - 1));
     if (t < p) return e.BadKey(k, "time " + Num(t) + " does not increase (key " + std::to_string(k - 1) + " is at " + Num(p) + "); times must be sorted");
-    if (static_cast<float>(t) <= static_cast<float>(p))
+    if (FloatAtOrBelow(t) <= FloatAtOrBelow(p))
       return e.BadKey(k, "time " + Num(t) + " equals key " + std::to_string(k - 1) + "'s " + Num(p) +
                              " as a 32-bit float (glTF stores times as floats)");
   }
@@ -100,7 +108,8 @@ Status ReadTangents(bool has, const v1::KeyTangents& tangents, bool has_channel,
 
 template <class V>
 void SetTimes(Track<V>& track, const google::protobuf::RepeatedField<double>& times, Interpolation mode) {
-  track.times.assign(times.begin(), times.end());
+  track.times.clear();
+  for (double t : times) track.times.push_back(FloatAtOrBelow(t));
   track.interpolation = mode;
 }
 
