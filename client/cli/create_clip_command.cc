@@ -1,29 +1,21 @@
 // create-clip: a clip from a keys file (the CreateClipRequest as proto3 JSON).
-#include <fstream>
-#include <iostream>
-#include <sstream>
-#include <stdexcept>
-
-#include <google/protobuf/util/json_util.h>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "armature/create_clip.h"
 #include "cli_context.h"
+#include "motion_file.h"
 
 namespace armature::cli {
 namespace {
 
 // FILE.json as a CreateClipRequest; throws naming the file and the problem.
 v1::CreateClipRequest ReadKeysFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("--keys " + path + ": cannot read the file");
-  std::ostringstream text;
-  text << in.rdbuf();
   v1::CreateClipRequest request;
-  const auto status = google::protobuf::util::JsonStringToMessage(text.str(), &request);
-  if (!status.ok())
-    throw std::runtime_error("--keys " + path + ": not keys (proto3 JSON of armature.v1.CreateClipRequest, e.g. " +
-                             "{\"tracks\":[{\"joint\":\"Head\",\"times\":[0,0.5],\"rotations\":[1,0,0,0,1,0,0,0]}]}): " +
-                             std::string(status.message()));
+  ReadJsonMessageFile(path, "--keys", "keys (proto3 JSON of armature.v1.CreateClipRequest, e.g. "
+                      "{\"tracks\":[{\"joint\":\"Head\",\"times\":[0,0.5],\"rotations\":[1,0,0,0,1,0,0,0]}]})",
+                      request);
   return request;
 }
 
