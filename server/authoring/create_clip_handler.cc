@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "armature/engine/anim/cubic_tangents.h"
 #include "server/assets/asset_convert.h"
+#include "server/authoring/clip_bake.h"
 #include "server/authoring/create_clip_validation.h"
 #include "server/authoring/derived_clip.h"
 #include "server/rpc/request_validation.h"
@@ -59,6 +61,8 @@ Status CreateClip(AssetStore& store, const Limits& limits, const v1::CreateClipR
   ARMATURE_RETURN_IF_ERROR(ValidateRequired(request.name(), "name"));
   ARMATURE_RETURN_IF_ERROR(ValidateAssetName(request.name()));
   const std::shared_ptr<const Catalog> catalog = store.Snapshot();
+  if (request.has_bake() && request.merge())
+    return Status::InvalidArgument("bake: not with merge (bake makes every joint's track anew)");
 
   std::optional<PartRef<NamedClip>> stored;
   if (request.merge()) {
@@ -66,9 +70,21 @@ Status CreateClip(AssetStore& store, const Limits& limits, const v1::CreateClipR
     if (!found.ok()) return found.status();
     stored = *found;
   }
+  std::optional<BakedClip> baked;
+  if (request.has_bake()) {
+    auto made = BakeMotion(*catalog, request.bake(), limits);
+    if (!made.ok()) return made.status();
+    if (!request.skeleton().empty() && request.skeleton() != made->skeleton)
+      return Status::InvalidArgument("skeleton: '" + request.skeleton() + "', but bake.motion animates skeleton '" +
+                                     made->skeleton + "' (leave skeleton out or name that one)");
+    baked = std::move(*made);
+  }
   std::shared_ptr<const Skeleton> skeleton;
   std::string skeleton_name = request.skeleton();
-  if (!skeleton_name.empty()) {
+  if (baked) {
+    skeleton = baked->clip.skeleton;
+    skeleton_name = baked->skeleton;
+  } else if (!skeleton_name.empty()) {
     auto found = catalog->FindSkeleton(skeleton_name);
     if (!found.ok()) return found.status();
     skeleton = found->part->skeleton;
@@ -85,6 +101,7 @@ Status CreateClip(AssetStore& store, const Limits& limits, const v1::CreateClipR
   Clip clip;
   clip.skeleton = skeleton;
   clip.joints.resize(skeleton->size());
+  if (baked) clip.joints = std::move(baked->clip.joints);
   if (stored) ARMATURE_RETURN_IF_ERROR(CarryOver(*stored->part->clip, *skeleton, skeleton_name, clip));
   for (KeyedJoint& k : *keyed) {
     JointTrack& t = clip.joints[static_cast<size_t>(k.joint)];

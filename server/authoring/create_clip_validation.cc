@@ -16,14 +16,6 @@ namespace {
 constexpr double kUnitTolerance = 1e-3;
 constexpr double kMaxFloat = std::numeric_limits<float>::max();
 
-// The 32-bit float at or below `t`: glTF stores times as floats, and rounding
-// down keeps each key in effect from its own time on (a STEP key included).
-double FloatAtOrBelow(double t) {
-  float f = static_cast<float>(t);
-  if (static_cast<double>(f) > t) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-
 std::string Num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", v);
@@ -55,7 +47,7 @@ Status CheckTimes(const google::protobuf::RepeatedField<double>& times, const En
     const double p = times[k - 1];
     if (t == p) return e.BadKey(k, "time " + Num(t) + " repeats key " + std::to_string(k - 1));
     if (t < p) return e.BadKey(k, "time " + Num(t) + " does not increase (key " + std::to_string(k - 1) + " is at " + Num(p) + "); times must be sorted");
-    if (FloatAtOrBelow(t) <= FloatAtOrBelow(p))
+    if (StoredKeyTime(t) <= StoredKeyTime(p))
       return e.BadKey(k, "time " + Num(t) + " equals key " + std::to_string(k - 1) + "'s " + Num(p) +
                              " as a 32-bit float (glTF stores times as floats)");
   }
@@ -109,7 +101,7 @@ Status ReadTangents(bool has, const v1::KeyTangents& tangents, bool has_channel,
 template <class V>
 void SetTimes(Track<V>& track, const google::protobuf::RepeatedField<double>& times, Interpolation mode) {
   track.times.clear();
-  for (double t : times) track.times.push_back(FloatAtOrBelow(t));
+  for (double t : times) track.times.push_back(StoredKeyTime(t));
   track.interpolation = mode;
 }
 
@@ -123,7 +115,7 @@ StatusOr<Interpolation> InterpolationOf(v1::Interpolation i, const EntryErrors& 
 }
 
 StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleton& skeleton,
-                               const std::string& skeleton_name, bool merge, const Limits& limits) {
+                               const std::string& skeleton_name, bool may_delete, const Limits& limits) {
   const EntryErrors e(index, in.joint());
   if (in.joint().empty()) return e.Bad("joint is empty (name the joint the keys animate)");
   KeyedJoint out;
@@ -140,7 +132,7 @@ StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleto
   const bool has_t = !in.translations().empty(), has_s = !in.scales().empty();
   if (n == 0) {
     if (has_rot || has_euler || has_t || has_s) return e.Bad("values without times (give one time per key)");
-    if (!merge) return e.Bad("no times: an entry without times deletes a stored track, with merge: true only");
+    if (!may_delete) return e.Bad("no times: an entry without times deletes a stored or baked track, with merge or bake only");
     out.remove = true;
     return out;
   }
@@ -199,13 +191,19 @@ StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleto
 
 }  // namespace
 
+double StoredKeyTime(double t) {
+  float f = static_cast<float>(t);
+  if (static_cast<double>(f) > t) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
 StatusOr<std::vector<KeyedJoint>> KeyedJointsFromRequest(const v1::CreateClipRequest& request,
                                                          const Skeleton& skeleton, const std::string& skeleton_name,
                                                          const Limits& limits) {
   std::vector<KeyedJoint> out;
   std::set<int> seen;
   for (int i = 0; i < request.tracks_size(); ++i) {
-    auto entry = ReadEntry(request.tracks(i), i, skeleton, skeleton_name, request.merge(), limits);
+    auto entry = ReadEntry(request.tracks(i), i, skeleton, skeleton_name, request.merge() || request.has_bake(), limits);
     if (!entry.ok()) return entry.status();
     if (!seen.insert(entry->joint).second)
       return Status::InvalidArgument("tracks[" + std::to_string(i) + "] (joint '" + request.tracks(i).joint() +

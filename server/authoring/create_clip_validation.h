@@ -21,6 +21,11 @@ struct KeyedJoint {
   JointTrack track;  // rotations normalized; CUBIC tracks without tangents have none yet
 };
 
+// The 32-bit float at or below `t`: the time a key at `t` is stored at. glTF
+// stores times as floats, and rounding down keeps each key in effect from
+// its own time on (a STEP key included).
+double StoredKeyTime(double t);
+
 // Every entry of `request.tracks` against `skeleton` (named `skeleton_name`
 // in errors): a known joint named once; times finite, >= 0 and strictly
 // increasing, also as 32-bit floats; rotations (w, x, y, z) within 1e-3 of
