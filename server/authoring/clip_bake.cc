@@ -25,6 +25,16 @@ StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake,
   auto plan = BindMotionProto(catalog, bake.motion(), limits, "bake.motion");
   if (!plan.ok()) return plan.status();
 
+  // The stored file holds per joint and key two times, a rotation and a
+  // translation (float32: 4 + 4 + 16 + 12 bytes): refuse one over
+  // --max-upload-mb before sampling, so memory stays bounded too.
+  const double file_bytes = (frames + 2) * static_cast<double>(plan->skeleton->size()) * 36;
+  if (file_bytes > static_cast<double>(limits.max_upload_bytes))
+    return Status::ResourceExhausted("bake: " + std::to_string(static_cast<int64_t>(frames) + 1) + " keys × " +
+                                     std::to_string(plan->skeleton->size()) + " joints would be a file of about " +
+                                     std::to_string(static_cast<int64_t>(file_bytes) >> 20) +
+                                     " MB, over --max-upload-mb (" + std::to_string(limits.max_upload_bytes >> 20) +
+                                     " MB); lower fps or duration");
   std::vector<double> times;
   for (int64_t k = 0; k <= static_cast<int64_t>(frames); ++k) times.push_back(StoredKeyTime(static_cast<double>(k) / fps));
   if (StoredKeyTime(bake.duration()) > times.back()) times.push_back(StoredKeyTime(bake.duration()));

@@ -103,6 +103,8 @@ TEST_F(CreateClipBake, TracksReplaceBakedJointsAndBadBakesAreNamed) {
       {[](auto& r) { r.mutable_bake()->set_fps(-1); }, grpc::StatusCode::INVALID_ARGUMENT, "bake.fps"},
       {[](auto& r) { r.mutable_bake()->set_duration(0); }, grpc::StatusCode::INVALID_ARGUMENT, "bake.duration"},
       {[](auto& r) { r.mutable_bake()->set_duration(1e9); }, grpc::StatusCode::RESOURCE_EXHAUSTED, "--max-clip-frames"},
+      {[](auto& r) { r.mutable_bake()->set_duration(500000 / 30.0); }, grpc::StatusCode::RESOURCE_EXHAUSTED,
+       "--max-upload-mb"},  // under --max-clip-frames, but 500001 keys × 19 joints is a file over 256 MB
       {[](auto& r) { r.mutable_bake()->mutable_motion()->mutable_layers(0)->set_clip("nope"); },
        grpc::StatusCode::NOT_FOUND, "bake.motion.layers[0]"},
       {[](auto& r) { r.set_skeleton("demo_character"); }, grpc::StatusCode::INVALID_ARGUMENT, "demo_walk"},
