@@ -5,8 +5,6 @@
 
 namespace armature::cli {
 
-namespace {
-
 nlohmann::json ImportSummary(const v1::AssetInfo& a) {
   nlohmann::json j = {{"asset", a.name()}, {"skeletons", nlohmann::json::array()},
                       {"clips", nlohmann::json::array()}, {"meshes", nlohmann::json::array()}};
@@ -20,8 +18,6 @@ nlohmann::json ImportSummary(const v1::AssetInfo& a) {
   for (const auto& m : a.meshes()) j["meshes"].push_back({{"name", m.name()}, {"vertexCount", m.vertex_count()}});
   return j;
 }
-
-}  // namespace
 
 void AddImportCommand(CLI::App& app, CliContext& ctx) {
   auto* cmd = app.add_subcommand("import", "Import a BVH, glTF/GLB or OBJ file; prints what it created as JSON");

@@ -28,6 +28,9 @@ nlohmann::json ToJson(const google::protobuf::Message& message);
 // Prints JSON on stdout, indented when `pretty`.
 void PrintJson(const nlohmann::json& j, bool pretty = true);
 
+// What `import` prints of a new asset: {"asset":…,"skeletons":[…],"clips":[…],"meshes":[…]}.
+nlohmann::json ImportSummary(const v1::AssetInfo& asset);
+
 // Each subcommand registers itself on the app.
 void AddImportCommand(CLI::App& app, CliContext& ctx);
 void AddListCommand(CLI::App& app, CliContext& ctx);
@@ -41,5 +44,6 @@ void AddHealthCommand(CLI::App& app, CliContext& ctx);
 void AddDeformCommand(CLI::App& app, CliContext& ctx);
 void AddIkCommand(CLI::App& app, CliContext& ctx);
 void AddSkinCommand(CLI::App& app, CliContext& ctx);
+void AddCreateClipCommand(CLI::App& app, CliContext& ctx);
 
 }  // namespace armature::cli

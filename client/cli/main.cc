@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   AddPlayCommand(app, ctx);
   AddIkCommand(app, ctx);
   AddExportCommand(app, ctx);
+  AddCreateClipCommand(app, ctx);
   AddDeleteCommand(app, ctx);
   AddHealthCommand(app, ctx);
   AddDeformCommand(app, ctx);

@@ -8,16 +8,19 @@
 
 namespace armature::cli {
 
-v1::Motion ReadMotionFile(const std::string& path) {
+void ReadJsonMessageFile(const std::string& path, const std::string& flag, const std::string& what,
+                         google::protobuf::Message& message) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("--motion " + path + ": cannot read the file");
+  if (!in) throw std::runtime_error(flag + " " + path + ": cannot read the file");
   std::ostringstream text;
   text << in.rdbuf();
+  const auto status = google::protobuf::util::JsonStringToMessage(text.str(), &message);
+  if (!status.ok()) throw std::runtime_error(flag + " " + path + ": not " + what + ": " + std::string(status.message()));
+}
+
+v1::Motion ReadMotionFile(const std::string& path) {
   v1::Motion motion;
-  const auto status = google::protobuf::util::JsonStringToMessage(text.str(), &motion);
-  if (!status.ok())
-    throw std::runtime_error("--motion " + path + ": not a motion (proto3 JSON of armature.v1.Motion): " +
-                             std::string(status.message()));
+  ReadJsonMessageFile(path, "--motion", "a motion (proto3 JSON of armature.v1.Motion)", motion);
   return motion;
 }
 

@@ -1,10 +1,133 @@
 #include "server/authoring/create_clip_handler.h"
 
-namespace armature::server {
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
-// Placeholder until keyframe authoring lands (issue 14); answers, never crashes.
-Status CreateClip(AssetStore&, const Limits&, const v1::CreateClipRequest&, v1::CreateClipResponse*) {
-  return Status::FailedPrecondition("CreateClip is not available in this build");
+#include "armature/engine/anim/cubic_tangents.h"
+#include "server/assets/asset_convert.h"
+#include "server/authoring/clip_bake.h"
+#include "server/authoring/create_clip_validation.h"
+#include "server/authoring/derived_clip.h"
+#include "server/rpc/request_validation.h"
+
+namespace armature::server {
+namespace {
+
+// With merge: the clip stored under `name`, which CreateClip named "<name>.<name>".
+StatusOr<PartRef<NamedClip>> StoredClipToEdit(const Catalog& catalog, const std::string& name) {
+  if (catalog.assets.find(name) == catalog.assets.end())
+    return Status::NotFound("merge: there is no asset '" + name + "' to edit (create it first, without merge)");
+  auto clip = catalog.FindClip(name + "." + name);
+  if (!clip.ok())
+    return Status::NotFound("merge: asset '" + name + "' has no clip '" + name + "." + name +
+                            "' (only clips made by CreateClip can be merged into)");
+  return clip;
+}
+
+// The stored clip's tracks moved onto `skeleton` by joint name.
+Status CarryOver(const Clip& stored, const Skeleton& skeleton, const std::string& skeleton_name, Clip& clip) {
+  const Skeleton& from = *stored.skeleton;
+  for (size_t j = 0; j < stored.joints.size(); ++j) {
+    const JointTrack& t = stored.joints[j];
+    if (t.translation.empty() && t.rotation.empty() && t.scale.empty()) continue;
+    const int to = skeleton.Find(from.names[j]);
+    if (to < 0)
+      return Status::InvalidArgument("merge: the stored clip animates joint '" + from.names[j] +
+                                     "', which skeleton '" + skeleton_name + "' does not have");
+    clip.joints[static_cast<size_t>(to)] = t;
+  }
+  return Status::Ok();
+}
+
+// CUBIC tracks without tangents get the ones the cubic rules imply, so the
+// stored glTF CUBICSPLINE curve is C¹ through the keys.
+void CompleteCubicTangents(JointTrack& t) {
+  auto needs = [](const auto& track) {
+    return !track.empty() && track.interpolation == Interpolation::kCubic && track.in_tangents.empty();
+  };
+  if (needs(t.translation)) FillCubicTangents(t.translation);
+  if (needs(t.rotation)) FillCubicTangents(t.rotation);
+  if (needs(t.scale)) FillCubicTangents(t.scale);
+}
+
+}  // namespace
+
+Status CreateClip(AssetStore& store, const Limits& limits, const v1::CreateClipRequest& request,
+                  v1::CreateClipResponse* response) {
+  ARMATURE_RETURN_IF_ERROR(ValidateRequired(request.name(), "name"));
+  ARMATURE_RETURN_IF_ERROR(ValidateAssetName(request.name()));
+  const std::shared_ptr<const Catalog> catalog = store.Snapshot();
+  if (request.has_bake() && request.merge())
+    return Status::InvalidArgument("bake: not with merge (bake makes every joint's track anew)");
+
+  std::optional<PartRef<NamedClip>> stored;
+  if (request.merge()) {
+    auto found = StoredClipToEdit(*catalog, request.name());
+    if (!found.ok()) return found.status();
+    stored = *found;
+  }
+  std::optional<BakedClip> baked;
+  if (request.has_bake()) {
+    auto made = BakeMotion(*catalog, request.bake(), limits);
+    if (!made.ok()) return made.status();
+    if (!request.skeleton().empty() && request.skeleton() != made->skeleton)
+      return Status::InvalidArgument("skeleton: '" + request.skeleton() + "', but bake.motion animates skeleton '" +
+                                     made->skeleton + "' (leave skeleton out or name that one)");
+    baked = std::move(*made);
+  }
+  std::shared_ptr<const Skeleton> skeleton;
+  std::string skeleton_name = request.skeleton();
+  if (baked) {
+    skeleton = baked->clip.skeleton;
+    skeleton_name = baked->skeleton;
+  } else if (!skeleton_name.empty()) {
+    auto found = catalog->FindSkeleton(skeleton_name);
+    if (!found.ok()) return found.status();
+    skeleton = found->part->skeleton;
+  } else if (stored) {
+    skeleton = stored->part->clip->skeleton;
+    skeleton_name = stored->part->skeleton;
+  } else {
+    return Status::InvalidArgument("skeleton: required (the skeleton the clip animates)");
+  }
+
+  auto keyed = KeyedJointsFromRequest(request, *skeleton, skeleton_name, limits);
+  if (!keyed.ok()) return keyed.status();
+
+  Clip clip;
+  clip.skeleton = skeleton;
+  clip.joints.resize(skeleton->size());
+  if (baked) clip.joints = std::move(baked->clip.joints);
+  if (stored) ARMATURE_RETURN_IF_ERROR(CarryOver(*stored->part->clip, *skeleton, skeleton_name, clip));
+  for (KeyedJoint& k : *keyed) {
+    JointTrack& t = clip.joints[static_cast<size_t>(k.joint)];
+    t = k.remove ? JointTrack{} : std::move(k.track);
+  }
+  for (JointTrack& t : clip.joints) {
+    CompleteCubicTangents(t);
+    for (const std::vector<double>* times : {&t.translation.times, &t.rotation.times, &t.scale.times}) {
+      if (times->empty()) continue;
+      clip.duration = std::max(clip.duration, times->back());
+      clip.frame_count = std::max(clip.frame_count, times->size());
+    }
+  }
+  if (clip.frame_count == 0)
+    return Status::InvalidArgument("tracks: the clip would have no keys (give at least one track with times)");
+  ARMATURE_RETURN_IF_ERROR(clip.Validate());
+
+  DerivedClipOptions options;
+  options.asset_name = request.name();
+  options.animation_name = request.name();
+  options.replace = request.replace() || request.merge();
+  auto derived = StoreDerivedClip(store, clip, options, limits);
+  if (!derived.ok()) return derived.status();
+  *response->mutable_clip() = ClipInfoOf(*derived->asset, *derived->clip, true);
+  *response->mutable_asset() = AssetInfoOf(*derived->asset);
+  return Status::Ok();
 }
 
 }  // namespace armature::server

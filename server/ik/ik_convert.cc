@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <numeric>
 #include <optional>
@@ -95,25 +94,6 @@ Status EffectorFromProto(const v1::IkEffector& in, int i, IkEffector& out) {
   return ReadVector3(in.up_hint(), f("up_hint"), out.up_hint);
 }
 
-StatusOr<std::array<Axis, 3>> EulerOrder(const std::string& order, int i) {
-  std::array<Axis, 3> axes = {Axis::kX, Axis::kY, Axis::kZ};
-  if (order.empty()) return axes;
-  auto bad = [&] {
-    return Status::InvalidArgument(Indexed("limits", i) + ".order: expected three of X, Y, Z such as \"ZXY\", got \"" +
-                                   order + "\"");
-  };
-  if (order.size() != 3) return bad();
-  for (int k = 0; k < 3; ++k) {
-    switch (std::toupper(static_cast<unsigned char>(order[k]))) {
-      case 'X': axes[k] = Axis::kX; break;
-      case 'Y': axes[k] = Axis::kY; break;
-      case 'Z': axes[k] = Axis::kZ; break;
-      default: return bad();
-    }
-  }
-  return axes;
-}
-
 Status LimitFromProto(const v1::JointLimit& in, int i, JointLimit& out) {
   auto f = [i](const char* name) { return [i, name] { return Indexed("limits", i) + "." + name; }; };
   out = JointLimit{};
@@ -131,7 +111,7 @@ Status LimitFromProto(const v1::JointLimit& in, int i, JointLimit& out) {
     ARMATURE_RETURN_IF_ERROR(only_for(in.has_cone_deg(), "cone_deg", "SWING_TWIST"));
     ARMATURE_RETURN_IF_ERROR(only_for(in.has_twist_min_deg(), "twist_min_deg", "SWING_TWIST"));
     ARMATURE_RETURN_IF_ERROR(only_for(in.has_twist_max_deg(), "twist_max_deg", "SWING_TWIST"));
-    auto order = EulerOrder(in.order(), i);
+    auto order = ParseEulerOrder(in.order(), Indexed("limits", i) + ".order");
     if (!order.ok()) return order.status();
     out.order = *order;
     // Finiteness and min <= max are the engine's (ValidateJointLimit).

@@ -1,5 +1,6 @@
 #include "server/rpc/request_validation.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
@@ -184,6 +185,24 @@ Status ValidateEnum(int value, const google::protobuf::EnumDescriptor* type, con
 Status ValidateRequired(const std::string& value, const std::string& field) {
   if (value.empty()) return Status::InvalidArgument(field + ": required");
   return Status::Ok();
+}
+
+StatusOr<std::array<Axis, 3>> ParseEulerOrder(const std::string& order, const std::string& field) {
+  std::array<Axis, 3> axes = {Axis::kX, Axis::kY, Axis::kZ};
+  if (order.empty()) return axes;
+  auto bad = [&] {
+    return Status::InvalidArgument(field + ": expected three of X, Y, Z such as \"ZXY\", got \"" + order + "\"");
+  };
+  if (order.size() != 3) return bad();
+  for (int k = 0; k < 3; ++k) {
+    switch (std::toupper(static_cast<unsigned char>(order[k]))) {
+      case 'X': axes[k] = Axis::kX; break;
+      case 'Y': axes[k] = Axis::kY; break;
+      case 'Z': axes[k] = Axis::kZ; break;
+      default: return bad();
+    }
+  }
+  return axes;
 }
 
 }  // namespace armature::server

@@ -2,6 +2,7 @@
 // INVALID_ARGUMENT (or NOT_FOUND / RESOURCE_EXHAUSTED) naming the field.
 #pragma once
 
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include <google/protobuf/repeated_field.h>
 
 #include "armature/engine/anim/skeleton.h"
+#include "armature/engine/math/rotation.h"
 #include "armature/base/status.h"
 #include "armature/v1/deform.pb.h"
 #include "armature/v1/meshes.pb.h"
@@ -77,5 +79,9 @@ Status ValidateEnum(int value, const google::protobuf::EnumDescriptor* type, con
 
 // A required string field (a name) is given.
 Status ValidateRequired(const std::string& value, const std::string& field);
+
+// An Euler axis order: three of X, Y, Z (any case) such as "ZXY"; empty is
+// "XYZ". INVALID_ARGUMENT naming `field` otherwise.
+StatusOr<std::array<Axis, 3>> ParseEulerOrder(const std::string& order, const std::string& field);
 
 }  // namespace armature::server

@@ -31,7 +31,21 @@ CASES = [
     ("robot.Walking", "walking.glb", ["--with-meshes"], [0.0, 0.13, 0.51, 0.97]),
     ("robot.Dance", "dance.glb", ["--with-meshes"], [0.07, 0.9, 1.61]),
     ("demo_character.walk", "demo.glb", ["--with-meshes"], [0.1, 1.45, 2.2]),
+    # A clip made by CreateClip (CUBIC without tangents: stored as CUBICSPLINE with the tangents the
+    # server computed), between and at its keys.
+    ("made.made", "made.glb", [], [0.0, 0.13, 0.4, 0.55, 0.9, 1.2]),
 ]
+
+# CreateClip keys on the demo walk's skeleton (centimetres): CUBIC swings, a LINEAR and a STEP track.
+MADE_KEYS = {"tracks": [
+    {"joint": "Hips", "times": [0, 0.4, 0.9, 1.2], "interpolation": "CUBIC",
+     "translations": [0, 90, 0, 10, 95, 20, -5, 85, 35, 0, 90, 50],
+     "euler": [0, 0, 0, 20, 35, -10, -15, -30, 5, 0, 10, 0], "eulerOrder": "ZXY"},
+    {"joint": "LeftKnee", "times": [0, 0.3, 0.6, 1.2], "interpolation": "CUBIC",
+     "euler": [10, 0, 0, 80, 0, 0, 5, 10, 0, 60, -10, 0]},
+    {"joint": "Spine", "times": [0, 1.2], "interpolation": "LINEAR", "euler": [0, 0, 0, 0, 90, 0]},
+    {"joint": "RightKnee", "times": [0, 0.5], "interpolation": "STEP", "euler": [0, 0, 0, 45, 0, 0]},
+]}
 
 
 def three_name(name):
@@ -76,6 +90,10 @@ def main():
     with Server(server_bin) as server:
         run([cli, "--server", server.target, "import", bvh, "--name", "cmu"])
         run([cli, "--server", server.target, "import", glb, "--name", "robot"])
+        keys = os.path.join(work, "made.json")
+        with open(keys, "w") as f:
+            json.dump(MADE_KEYS, f)
+        run([cli, "--server", server.target, "create-clip", "--skeleton", "demo_walk", "--keys", keys, "--name", "made"])
         for clip, filename, flags, times in CASES:
             out = os.path.join(work, filename)
             run([cli, "--server", server.target, "export", clip, "-o", out, *flags])

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "armature/engine/anim/cubic_tangents.h"
 #include "armature/engine/math/rotation.h"
 #include "sample_checks.h"
 
@@ -25,18 +26,6 @@ KeySpan Locate(std::span<const double> times, double t) {
   const size_t k0 = k1 - 1;
   const double h = times[k1] - times[k0];
   return {k0, k1, (t - times[k0]) / h, h};
-}
-
-// Slope at key i (units per second) of the parabola through keys i−1, i, i+1:
-// Catmull-Rom's tangent made aware of uneven key spacing, one-sided at the ends.
-template <class V, class ValueAt>
-V KeyTangent(std::span<const double> times, const ValueAt& value, size_t i) {
-  const size_t n = times.size();
-  if (i == 0) return (value(1) - value(0)) / (times[1] - times[0]);
-  if (i == n - 1) return (value(n - 1) - value(n - 2)) / (times[n - 1] - times[n - 2]);
-  const double hp = times[i] - times[i - 1], hn = times[i + 1] - times[i];
-  const V dp = (value(i) - value(i - 1)) / hp, dn = (value(i + 1) - value(i)) / hn;
-  return (dn * hp + dp * hn) / (hp + hn);
 }
 
 // Cubic Hermite on the unit segment; m0, m1 are slopes per unit of u.

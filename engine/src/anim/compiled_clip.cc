@@ -106,7 +106,7 @@ Segment Locate(const CompiledClip& c, double t) {
   s.kp = k0 > 0 ? k0 - 1 : k0;
   s.kn = k1 + 1 < frames ? k1 + 1 : k1;
   s.u = static_cast<float>(u);
-  // Tangent at key i: a·(v[i+1] − v[i]) + b·(v[i] − v[i−1]) (KeyTangent in clip.cc).
+  // Tangent at key i: a·(v[i+1] − v[i]) + b·(v[i] − v[i−1]) (KeyTangent, anim/cubic_tangents.h).
   auto coefficients = [&](size_t i, double& a, double& b) {
     if (i == 0) {
       a = 1 / (times[1] - times[0]), b = 0;

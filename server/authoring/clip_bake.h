@@ -1,0 +1,25 @@
+// CreateClip's `bake`: a motion sampled at a fps into LINEAR keys.
+#pragma once
+
+#include <string>
+
+#include "armature/base/status.h"
+#include "armature/engine/anim/clip.h"
+#include "armature/v1/clip_keys.pb.h"
+#include "server/assets/catalog.h"
+#include "server/rpc/limits.h"
+
+namespace armature::server {
+
+struct BakedClip {
+  Clip clip;             // on the motion's skeleton, every joint keyed
+  std::string skeleton;  // that skeleton's name
+};
+
+// The motion bound as EvaluateMotion binds it (errors name "bake.motion…"),
+// sampled at k / fps for k = 0, 1, … up to `duration`, plus `duration`.
+// INVALID_ARGUMENT for a bad fps or duration, RESOURCE_EXHAUSTED naming
+// --max-clip-frames when the keys would be more.
+StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake, const Limits& limits);
+
+}  // namespace armature::server
