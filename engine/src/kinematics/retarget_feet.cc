@@ -1,0 +1,145 @@
+#include "kinematics/retarget_feet.h"
+
+#include <cmath>
+#include <string>
+
+#include "armature/engine/kinematics/ik.h"
+
+namespace armature {
+namespace {
+
+constexpr const char* kSide[2] = {"left", "right"};
+
+}  // namespace
+
+Status PlanFeet(const Skeleton& target, const BodyParts& parts, std::span<const Eigen::Affine3d> rest_world,
+                FeetPlan& plan) {
+  double total = 0;
+  for (size_t side = 0; side < 2; ++side) {
+    const LimbJoints& leg = parts.legs[side];
+    const std::string which = std::string("feet: the target's ") + kSide[side] + " leg";
+    if (leg.upper < 0 || leg.lower < 0 || leg.end < 0)
+      return Status::InvalidArgument(which + " has no hip–knee–ankle chain (" +
+                                     (leg.upper < 0 ? "no thigh" : leg.lower < 0 ? "no shin" : "no foot") +
+                                     " joint found); map the leg's joints explicitly or retarget without feet");
+    if (target.parents[static_cast<size_t>(leg.lower)] != leg.upper)
+      return Status::InvalidArgument(which + " has no hip–knee–ankle chain: the shin '" +
+                                     target.names[static_cast<size_t>(leg.lower)] + "' does not hang from the thigh '" +
+                                     target.names[static_cast<size_t>(leg.upper)] + "'");
+    FeetPlan::Leg& out = plan.legs[side];
+    out.hip = leg.upper;
+    out.knee = leg.lower;
+    out.foot = leg.end;
+    if (target.parents[static_cast<size_t>(leg.end)] == leg.lower) {
+      out.effector = leg.end;
+    } else {
+      // The foot hangs elsewhere (an IK rig's control bone): reach with a child of the
+      // shin, offset to the foot's rest position.
+      for (size_t j = 0; j < target.size() && out.effector < 0; ++j)
+        if (target.parents[j] == leg.lower) out.effector = static_cast<int>(j);
+      if (out.effector < 0)
+        return Status::InvalidArgument(which + " has no hip–knee–ankle chain: the foot '" +
+                                       target.names[static_cast<size_t>(leg.end)] + "' does not hang from the shin '" +
+                                       target.names[static_cast<size_t>(leg.lower)] +
+                                       "', which has no child to reach with");
+      out.offset = rest_world[static_cast<size_t>(out.effector)].inverse() *
+                   rest_world[static_cast<size_t>(leg.end)].translation();
+    }
+    total += (rest_world[static_cast<size_t>(leg.lower)].translation() - rest_world[static_cast<size_t>(leg.upper)].translation()).norm() +
+             (rest_world[static_cast<size_t>(leg.end)].translation() - rest_world[static_cast<size_t>(leg.lower)].translation()).norm();
+    IkEffector effector;
+    effector.joint = target.names[static_cast<size_t>(out.effector)];
+    effector.local_offset = out.offset;
+    effector.target_position = Eigen::Vector3d::Zero();
+    out.request.solver = IkSolver::kTwoBone;
+    out.request.effectors = {effector};
+  }
+  plan.leg_length = total / 2;
+  return Status::Ok();
+}
+
+Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_parts, double scale,
+                       const Eigen::Quaterniond& yaw, const std::function<Status(double)>& sample,
+                       const std::vector<Eigen::Affine3d>& source_world, std::vector<FootPins>& pins) {
+  const size_t n = times.size();
+  pins.assign(2, FootPins{});
+  for (size_t side = 0; side < 2; ++side) {
+    const LimbJoints& leg = source_parts.legs[side];
+    if (leg.upper < 0 || leg.lower < 0 || leg.end < 0)
+      return Status::InvalidArgument(std::string("feet: the source clip's ") + kSide[side] +
+                                     " leg has no hip–knee–ankle chain to read its contacts from");
+  }
+  std::array<std::vector<Eigen::Vector3d>, 2> ankle;
+  double leg_length = 0;
+  for (size_t i = 0; i < n; ++i) {
+    ARMATURE_RETURN_IF_ERROR(sample(times[i]));
+    for (size_t side = 0; side < 2; ++side) {
+      const LimbJoints& leg = source_parts.legs[side];
+      ankle[side].push_back(source_world[static_cast<size_t>(leg.end)].translation());
+      if (i == 0)
+        leg_length += 0.5 * ((source_world[static_cast<size_t>(leg.lower)].translation() -
+                              source_world[static_cast<size_t>(leg.upper)].translation()).norm() +
+                             (source_world[static_cast<size_t>(leg.end)].translation() -
+                              source_world[static_cast<size_t>(leg.lower)].translation()).norm());
+    }
+  }
+  if (n < 3 || leg_length <= 0) {
+    for (FootPins& p : pins) p.at.assign(n, std::nullopt);
+    return Status::Ok();
+  }
+  for (size_t side = 0; side < 2; ++side) {
+    const std::vector<Eigen::Vector3d>& a = ankle[side];
+    double ground = a[0].y();
+    for (const auto& p : a) ground = std::min(ground, p.y());
+    std::vector<bool> planted(n);
+    for (size_t i = 0; i < n; ++i) {
+      const size_t lo = i == 0 ? 0 : i - 1, hi = i + 1 < n ? i + 1 : n - 1;
+      const double speed = (a[hi] - a[lo]).norm() / std::max(times[hi] - times[lo], 1e-9);
+      planted[i] = a[i].y() - ground < 0.10 * leg_length && speed < 0.30 * leg_length;
+    }
+    FootPins& out = pins[side];
+    out.at.assign(n, std::nullopt);
+    for (size_t i = 0; i < n;) {
+      if (!planted[i]) {
+        ++i;
+        continue;
+      }
+      size_t end = i;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      while (end < n && planted[end]) sum += a[end++];
+      if (end - i >= 3) {
+        const Eigen::Vector3d pin = scale * (yaw * (sum / static_cast<double>(end - i)));
+        for (size_t k = i; k < end; ++k) out.at[k] = pin;
+      }
+      i = end;
+    }
+  }
+  return Status::Ok();
+}
+
+Status PinFeet(const Skeleton& target, FeetPlan& plan, const std::vector<FootPins>& pins, size_t frame,
+               std::vector<Trs>& local, const std::vector<Eigen::Affine3d>& world,
+               const std::vector<Eigen::Quaterniond>& rotation, IkWorkspace& workspace, IkResult& result) {
+  (void)world;
+  for (size_t side = 0; side < 2; ++side) {
+    const auto& pin = pins[side].at[frame];
+    if (!pin) continue;
+    FeetPlan::Leg& leg = plan.legs[side];
+    leg.request.start_pose = local;
+    leg.request.effectors[0].target_position = *pin;
+    ARMATURE_RETURN_IF_ERROR(SolveIk(target, leg.request, workspace, result));
+    const Eigen::Quaterniond foot_world = rotation[static_cast<size_t>(leg.foot)];
+    local[static_cast<size_t>(leg.hip)].rotation = result.pose[static_cast<size_t>(leg.hip)].rotation;
+    local[static_cast<size_t>(leg.knee)].rotation = result.pose[static_cast<size_t>(leg.knee)].rotation;
+    if (leg.effector == leg.foot) {
+      const int hp = target.parents[static_cast<size_t>(leg.hip)];
+      const Eigen::Quaterniond knee_world = (hp < 0 ? Eigen::Quaterniond::Identity() : rotation[static_cast<size_t>(hp)]) *
+                                            local[static_cast<size_t>(leg.hip)].rotation *
+                                            local[static_cast<size_t>(leg.knee)].rotation;
+      local[static_cast<size_t>(leg.foot)].rotation = (knee_world.conjugate() * foot_world).normalized();
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace armature
