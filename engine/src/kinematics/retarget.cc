@@ -263,8 +263,9 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
 
   std::vector<FootPins> pins;
   if (options.feet) {
-    ARMATURE_RETURN_IF_ERROR(FindPlantedFeet(times, sp, plan.scale, plan.yaw, sample_source, f.source.world, pins));
-    for (const FootPins& p : pins) result.planted_frames += static_cast<size_t>(std::count_if(p.at.begin(), p.at.end(), [](const auto& x) { return x.has_value(); }));
+    ARMATURE_RETURN_IF_ERROR(FindPlantedFeet(times, sp, sample_source, f.source.world, pins));
+    for (const FootPins& p : pins)
+      result.planted_frames += static_cast<size_t>(std::count_if(p.stretch.begin(), p.stretch.end(), [](int s) { return s >= 0; }));
   }
 
   Clip& out = result.clip;
@@ -321,7 +322,7 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
       UpdateWorldFrom(target, plan.moved_root, f);
     }
     if (options.feet) {
-      ARMATURE_RETURN_IF_ERROR(PinFeet(target, feet, pins, fi, f.local, f.world, f.rotation, ik_workspace, ik_result));
+      ARMATURE_RETURN_IF_ERROR(PinFeet(target, feet, pins, fi, plan.moved_root, f.local, f.world, f.rotation, ik_workspace, ik_result));
       ComputeWorld(target, f.local, f.world);
       for (size_t j = 0; j < target.size(); ++j) {
         const int p = target.parents[j];

@@ -58,8 +58,8 @@ Status PlanFeet(const Skeleton& target, const BodyParts& parts, std::span<const 
   return Status::Ok();
 }
 
-Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_parts, double scale,
-                       const Eigen::Quaterniond& yaw, const std::function<Status(double)>& sample,
+Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_parts,
+                       const std::function<Status(double)>& sample,
                        const std::vector<Eigen::Affine3d>& source_world, std::vector<FootPins>& pins) {
   const size_t n = times.size();
   pins.assign(2, FootPins{});
@@ -84,7 +84,7 @@ Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_pa
     }
   }
   if (n < 3 || leg_length <= 0) {
-    for (FootPins& p : pins) p.at.assign(n, std::nullopt);
+    for (FootPins& p : pins) p.stretch.assign(n, -1);
     return Status::Ok();
   }
   for (size_t side = 0; side < 2; ++side) {
@@ -98,18 +98,18 @@ Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_pa
       planted[i] = a[i].y() - ground < 0.10 * leg_length && speed < 0.30 * leg_length;
     }
     FootPins& out = pins[side];
-    out.at.assign(n, std::nullopt);
+    out.stretch.assign(n, -1);
+    int stretches = 0;
     for (size_t i = 0; i < n;) {
       if (!planted[i]) {
         ++i;
         continue;
       }
       size_t end = i;
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      while (end < n && planted[end]) sum += a[end++];
+      while (end < n && planted[end]) ++end;
       if (end - i >= 3) {
-        const Eigen::Vector3d pin = scale * (yaw * (sum / static_cast<double>(end - i)));
-        for (size_t k = i; k < end; ++k) out.at[k] = pin;
+        for (size_t k = i; k < end; ++k) out.stretch[k] = stretches;
+        ++stretches;
       }
       i = end;
     }
@@ -117,16 +117,40 @@ Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_pa
   return Status::Ok();
 }
 
-Status PinFeet(const Skeleton& target, FeetPlan& plan, const std::vector<FootPins>& pins, size_t frame,
-               std::vector<Trs>& local, const std::vector<Eigen::Affine3d>& world,
+Status PinFeet(const Skeleton& target, FeetPlan& plan, std::vector<FootPins>& pins, size_t frame, int moved_root,
+               std::vector<Trs>& local, std::vector<Eigen::Affine3d>& world,
                const std::vector<Eigen::Quaterniond>& rotation, IkWorkspace& workspace, IkResult& result) {
-  (void)world;
+  // Lower the hips as far as the leg that is shortest of its pin needs.
+  double lower = 0;
+  for (size_t side = 0; side < 2 && moved_root >= 0; ++side) {
+    const FootPins& p = pins[side];
+    const int stretch = p.stretch[frame];
+    if (stretch < 0 || stretch != p.pinned_stretch) continue;
+    const FeetPlan::Leg& leg = plan.legs[side];
+    const Eigen::Vector3d hip = world[static_cast<size_t>(leg.hip)].translation();
+    const Eigen::Vector3d knee = world[static_cast<size_t>(leg.knee)].translation();
+    const double reach = 0.999 * ((knee - hip).norm() + (world[static_cast<size_t>(leg.effector)] * leg.offset - knee).norm());
+    const Eigen::Vector3d v = hip - p.pin;
+    const double horizontal2 = v.x() * v.x() + v.z() * v.z();
+    if (v.squaredNorm() <= reach * reach || horizontal2 >= reach * reach) continue;
+    lower = std::max(lower, v.y() - std::sqrt(reach * reach - horizontal2));
+  }
+  if (lower > 0) {
+    local[static_cast<size_t>(moved_root)].translation.y() -= lower;
+    for (auto& w : world) w.translation().y() -= lower;  // the hips' and knees' are all that is read below
+  }
   for (size_t side = 0; side < 2; ++side) {
-    const auto& pin = pins[side].at[frame];
-    if (!pin) continue;
+    FootPins& pins_of_leg = pins[side];
+    const int stretch = pins_of_leg.stretch[frame];
+    if (stretch < 0) continue;
     FeetPlan::Leg& leg = plan.legs[side];
+    if (stretch != pins_of_leg.pinned_stretch) {
+      pins_of_leg.pinned_stretch = stretch;
+      pins_of_leg.pin = world[static_cast<size_t>(leg.effector)] * leg.offset;
+      continue;
+    }
     leg.request.start_pose = local;
-    leg.request.effectors[0].target_position = *pin;
+    leg.request.effectors[0].target_position = pins_of_leg.pin;
     ARMATURE_RETURN_IF_ERROR(SolveIk(target, leg.request, workspace, result));
     const Eigen::Quaterniond foot_world = rotation[static_cast<size_t>(leg.foot)];
     local[static_cast<size_t>(leg.hip)].rotation = result.pose[static_cast<size_t>(leg.hip)].rotation;

@@ -43,25 +43,32 @@ struct FeetPlan {
 Status PlanFeet(const Skeleton& target, const BodyParts& parts, std::span<const Eigen::Affine3d> rest_world,
                 FeetPlan& plan);
 
-// Per frame, where the target's foot is pinned (nullopt: free).
+// Per frame, the planted stretch the source's foot is in (-1: free), and
+// while PinFeet runs, where the current stretch pins the target's foot.
 struct FootPins {
-  std::vector<std::optional<Eigen::Vector3d>> at;
+  std::vector<int> stretch;
+  int pinned_stretch = -1;
+  Eigen::Vector3d pin = Eigen::Vector3d::Zero();
 };
 
 // Samples the source's ankles at `times` (sample(t) fills `source_world`),
 // finds the planted stretches (height within 10 % of the leg length of the
 // clip's lowest, speed under 30 % of the leg length per second, at least
-// three frames) and pins each at the stretch's mean ankle position, turned by
-// `yaw` and scaled by `scale`. One FootPins per leg (left, right).
-Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_parts, double scale,
-                       const Eigen::Quaterniond& yaw, const std::function<Status(double)>& sample,
+// three frames). One FootPins per leg (left, right).
+Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_parts,
+                       const std::function<Status(double)>& sample,
                        const std::vector<Eigen::Affine3d>& source_world, std::vector<FootPins>& pins);
 
-// Two-bone IK on each pinned leg of frame `frame`: `local` is updated (hip and
-// knee, and the foot's local rotation so its world rotation is kept);
-// `world` and `rotation` are this frame's, before the IK.
-Status PinFeet(const Skeleton& target, FeetPlan& plan, const std::vector<FootPins>& pins, size_t frame,
-               std::vector<Trs>& local, const std::vector<Eigen::Affine3d>& world,
+// Two-bone IK on each leg of frame `frame` whose source foot is planted: the
+// target's foot stays where the retargeted motion put it on the stretch's
+// first frame (the source's contact, scaled and turned, with the target's own
+// proportions, so it is in reach). `local` is updated (hip and knee, and the
+// foot's local rotation so its world rotation is kept); `world` and
+// `rotation` are this frame's, before the IK. When a pin is out of the leg's
+// reach, `moved_root` (≥ 0) is lowered until it is in reach, as an animator
+// would bend the knees, rather than let the foot slide.
+Status PinFeet(const Skeleton& target, FeetPlan& plan, std::vector<FootPins>& pins, size_t frame, int moved_root,
+               std::vector<Trs>& local, std::vector<Eigen::Affine3d>& world,
                const std::vector<Eigen::Quaterniond>& rotation, IkWorkspace& workspace, IkResult& result);
 
 }  // namespace armature
