@@ -41,5 +41,6 @@ void AddHealthCommand(CLI::App& app, CliContext& ctx);
 void AddDeformCommand(CLI::App& app, CliContext& ctx);
 void AddIkCommand(CLI::App& app, CliContext& ctx);
 void AddSkinCommand(CLI::App& app, CliContext& ctx);
+void AddRetargetCommand(CLI::App& app, CliContext& ctx);
 
 }  // namespace armature::cli

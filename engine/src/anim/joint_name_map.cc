@@ -202,10 +202,9 @@ void PairLimb(const LimbJoints& s, const LimbJoints& t, std::vector<JointPairInd
     if (sj[k] >= 0 && tj[k] >= 0) pairs.push_back({sj[k], tj[k]});
 }
 
-Status UnknownJointIn(size_t entry, std::string_view field, std::string_view name, std::string_view side,
-                      const Skeleton& skeleton) {
+Status UnknownJointIn(size_t entry, std::string_view field, std::string_view name, const Skeleton& skeleton) {
   return Status::InvalidArgument("map[" + std::to_string(entry) + "]." + std::string(field) + ": " +
-                                 std::string(side) + " " + UnknownJoint(name, skeleton.names));
+                                 UnknownJoint(name, skeleton.names));
 }
 
 }  // namespace
@@ -293,9 +292,9 @@ StatusOr<JointNameMap> MapJointsByBodyParts(const Skeleton& source, const Skelet
   for (size_t e = 0; e < explicit_pairs.size(); ++e) {
     const JointNamePair& pair = explicit_pairs[e];
     const int sj = source.Find(pair.source);
-    if (sj < 0) return UnknownJointIn(e, "source", pair.source, "source", source);
+    if (sj < 0) return UnknownJointIn(e, "source", pair.source, source);
     const int tj = target.Find(pair.target);
-    if (tj < 0) return UnknownJointIn(e, "target", pair.target, "target", target);
+    if (tj < 0) return UnknownJointIn(e, "target", pair.target, target);
     if (const int prev = explicit_entry_of_target[static_cast<size_t>(tj)]; prev >= 0)
       return Status::InvalidArgument("map[" + std::to_string(e) + "]: target joint '" + pair.target +
                                      "' is already mapped from '" + explicit_pairs[static_cast<size_t>(prev)].source +
