@@ -283,7 +283,8 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
   const Quaterniond yaw_inv = plan.yaw.conjugate();
   IkWorkspace ik_workspace;
   IkResult ik_result;
-  for (size_t fi = 0; fi < times.size(); ++fi) {
+  // One frame retargeted, before the feet: f.local and f.world.
+  auto pose_frame = [&](size_t fi) -> Status {
     ARMATURE_RETURN_IF_ERROR(sample_source(times[fi]));
     // World rotations, parents first.
     for (size_t j = 0; j < target.size(); ++j) {
@@ -321,6 +322,20 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
       f.local[static_cast<size_t>(plan.moved_root)].translation += shift;
       UpdateWorldFrom(target, plan.moved_root, f);
     }
+    return Status::Ok();
+  };
+  if (options.feet) {
+    // The pins: each planted stretch's mean of where the retargeted motion puts the foot.
+    std::vector<std::vector<Vector3d>> natural(2);
+    for (size_t fi = 0; fi < times.size(); ++fi) {
+      ARMATURE_RETURN_IF_ERROR(pose_frame(fi));
+      for (size_t side = 0; side < 2; ++side)
+        natural[side].push_back(f.world[static_cast<size_t>(feet.legs[side].effector)] * feet.legs[side].offset);
+    }
+    SetPins(natural, pins);
+  }
+  for (size_t fi = 0; fi < times.size(); ++fi) {
+    ARMATURE_RETURN_IF_ERROR(pose_frame(fi));
     if (options.feet) {
       ARMATURE_RETURN_IF_ERROR(PinFeet(target, feet, pins, fi, plan.moved_root, f.local, f.world, f.rotation, ik_workspace, ik_result));
       ComputeWorld(target, f.local, f.world);

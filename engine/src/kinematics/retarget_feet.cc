@@ -1,5 +1,6 @@
 #include "kinematics/retarget_feet.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -97,6 +98,18 @@ Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_pa
       const double speed = (a[hi] - a[lo]).norm() / std::max(times[hi] - times[lo], 1e-9);
       planted[i] = a[i].y() - ground < 0.10 * leg_length && speed < 0.30 * leg_length;
     }
+    // Short gaps where the foot barely moved (a jitter in the speed) are not lifts.
+    for (size_t i = 1; i < n;) {
+      if (planted[i] || !planted[i - 1]) {
+        ++i;
+        continue;
+      }
+      size_t next = i;
+      while (next < n && !planted[next]) ++next;
+      if (next < n && times[next] - times[i - 1] < 0.1 && (a[next] - a[i - 1]).norm() < 0.05 * leg_length)
+        for (size_t k = i; k < next; ++k) planted[k] = true;
+      i = next;
+    }
     FootPins& out = pins[side];
     out.stretch.assign(n, -1);
     int stretches = 0;
@@ -117,6 +130,22 @@ Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_pa
   return Status::Ok();
 }
 
+void SetPins(const std::vector<std::vector<Eigen::Vector3d>>& natural, std::vector<FootPins>& pins) {
+  for (size_t side = 0; side < 2; ++side) {
+    FootPins& p = pins[side];
+    int count = 0;
+    for (int s : p.stretch) count = std::max(count, s + 1);
+    p.pin.assign(static_cast<size_t>(count), Eigen::Vector3d::Zero());
+    std::vector<int> frames(static_cast<size_t>(count), 0);
+    for (size_t i = 0; i < p.stretch.size(); ++i) {
+      if (p.stretch[i] < 0) continue;
+      p.pin[static_cast<size_t>(p.stretch[i])] += natural[side][i];
+      ++frames[static_cast<size_t>(p.stretch[i])];
+    }
+    for (size_t k = 0; k < p.pin.size(); ++k) p.pin[k] /= std::max(frames[k], 1);
+  }
+}
+
 Status PinFeet(const Skeleton& target, FeetPlan& plan, std::vector<FootPins>& pins, size_t frame, int moved_root,
                std::vector<Trs>& local, std::vector<Eigen::Affine3d>& world,
                const std::vector<Eigen::Quaterniond>& rotation, IkWorkspace& workspace, IkResult& result) {
@@ -125,12 +154,12 @@ Status PinFeet(const Skeleton& target, FeetPlan& plan, std::vector<FootPins>& pi
   for (size_t side = 0; side < 2 && moved_root >= 0; ++side) {
     const FootPins& p = pins[side];
     const int stretch = p.stretch[frame];
-    if (stretch < 0 || stretch != p.pinned_stretch) continue;
+    if (stretch < 0) continue;
     const FeetPlan::Leg& leg = plan.legs[side];
     const Eigen::Vector3d hip = world[static_cast<size_t>(leg.hip)].translation();
     const Eigen::Vector3d knee = world[static_cast<size_t>(leg.knee)].translation();
     const double reach = 0.999 * ((knee - hip).norm() + (world[static_cast<size_t>(leg.effector)] * leg.offset - knee).norm());
-    const Eigen::Vector3d v = hip - p.pin;
+    const Eigen::Vector3d v = hip - p.pin[static_cast<size_t>(stretch)];
     const double horizontal2 = v.x() * v.x() + v.z() * v.z();
     if (v.squaredNorm() <= reach * reach || horizontal2 >= reach * reach) continue;
     lower = std::max(lower, v.y() - std::sqrt(reach * reach - horizontal2));
@@ -144,13 +173,8 @@ Status PinFeet(const Skeleton& target, FeetPlan& plan, std::vector<FootPins>& pi
     const int stretch = pins_of_leg.stretch[frame];
     if (stretch < 0) continue;
     FeetPlan::Leg& leg = plan.legs[side];
-    if (stretch != pins_of_leg.pinned_stretch) {
-      pins_of_leg.pinned_stretch = stretch;
-      pins_of_leg.pin = world[static_cast<size_t>(leg.effector)] * leg.offset;
-      continue;
-    }
     leg.request.start_pose = local;
-    leg.request.effectors[0].target_position = pins_of_leg.pin;
+    leg.request.effectors[0].target_position = pins_of_leg.pin[static_cast<size_t>(stretch)];
     ARMATURE_RETURN_IF_ERROR(SolveIk(target, leg.request, workspace, result));
     const Eigen::Quaterniond foot_world = rotation[static_cast<size_t>(leg.foot)];
     local[static_cast<size_t>(leg.hip)].rotation = result.pose[static_cast<size_t>(leg.hip)].rotation;

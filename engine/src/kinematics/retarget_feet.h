@@ -43,26 +43,29 @@ struct FeetPlan {
 Status PlanFeet(const Skeleton& target, const BodyParts& parts, std::span<const Eigen::Affine3d> rest_world,
                 FeetPlan& plan);
 
-// Per frame, the planted stretch the source's foot is in (-1: free), and
-// while PinFeet runs, where the current stretch pins the target's foot.
+// Per frame, the planted stretch the source's foot is in (-1: free), and per
+// stretch where the target's foot is pinned.
 struct FootPins {
   std::vector<int> stretch;
-  int pinned_stretch = -1;
-  Eigen::Vector3d pin = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> pin;
 };
 
 // Samples the source's ankles at `times` (sample(t) fills `source_world`),
 // finds the planted stretches (height within 10 % of the leg length of the
 // clip's lowest, speed under 30 % of the leg length per second, at least
-// three frames). One FootPins per leg (left, right).
+// three frames; stretches less than 0.1 s apart whose ends are within 5 % of
+// the leg length of each other are one). One FootPins per leg (left, right).
 Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_parts,
                        const std::function<Status(double)>& sample,
                        const std::vector<Eigen::Affine3d>& source_world, std::vector<FootPins>& pins);
 
+// Each stretch's pin: the mean of `natural` (per leg, per frame: where the
+// retargeted motion puts the target's foot) over it, so the pin is the
+// source's contact, scaled and turned, with the target's own proportions.
+void SetPins(const std::vector<std::vector<Eigen::Vector3d>>& natural, std::vector<FootPins>& pins);
+
 // Two-bone IK on each leg of frame `frame` whose source foot is planted: the
-// target's foot stays where the retargeted motion put it on the stretch's
-// first frame (the source's contact, scaled and turned, with the target's own
-// proportions, so it is in reach). `local` is updated (hip and knee, and the
+// target's foot stays at its stretch's pin. `local` is updated (hip and knee, and the
 // foot's local rotation so its world rotation is kept); `world` and
 // `rotation` are this frame's, before the IK. When a pin is out of the leg's
 // reach, `moved_root` (≥ 0) is lowered until it is in reach, as an animator
