@@ -274,16 +274,23 @@ TEST_F(Retarget, TheMapAnswerListsPairsAndUnmappedJointsAndExplicitPairsOverride
 TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
   {
     Client client(OptionsFor(*server_));
+
     client.ImportFile(SharedData("bvh/cmu_01_01.bvh"), "cmu_copy");
+
     v1::RetargetClipRequest r;
+
     r.set_clip("cmu_copy");
+
     r.set_skeleton("robot");
+
     const auto made = RetargetClip(client, r);
+
     EXPECT_EQ(made.asset().name(), "cmu_copy_on_robot");  // the default name
   }
   const std::string clip = "cmu_copy_on_robot.retarget";
   auto sample = [&](Client& client) {
     v1::EvaluateClipRequest e;
+
     e.set_clip(clip);
     e.add_times(1.25);
     e.set_space(v1::WORLD);
@@ -292,33 +299,49 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
   v1::EvaluateClipResponse before;
   {
     Client client(OptionsFor(*server_));
+
     before = sample(client);
+
   }
+  ASSERT_EQ(before.poses_size(), 1);
   // A restart on the same data dir.
   delete server_;
   server_ = new ServerProcess(data_->path());
   Client client(OptionsFor(*server_));
   bool listed = false;
-  for (const auto& c : client.ListClips().clips()) listed |= c.name() == clip;
+  const auto clips = client.ListClips();  // held: a temporary's member would die before the loop
+  for (const auto& c : clips.clips()) listed |= c.name() == clip;
   EXPECT_TRUE(listed);
   const auto after = sample(client);
+  ASSERT_EQ(after.poses_size(), 1);
   ASSERT_EQ(after.poses(0).translations_size(), before.poses(0).translations_size());
   for (int k = 0; k < after.poses(0).translations_size(); ++k)
     EXPECT_NEAR(after.poses(0).translations(k), before.poses(0).translations(k), 1e-5);
+
   // The source deleted: the new clip still evaluates, skins and exports.
   client.DeleteAsset("cmu_copy");
   const auto still = sample(client);
+  ASSERT_EQ(still.poses_size(), 1);
   EXPECT_EQ(still.poses(0).translations(3), before.poses(0).translations(3));
   int skinned = 0;
-  for (const auto& m : client.ListMeshes().meshes()) {
+  const auto meshes = client.ListMeshes();
+  for (const auto& m : meshes.meshes()) {
     if (m.asset() != "robot" || m.skeleton().empty()) continue;
+
     v1::SkinMeshRequest s;
+
     s.set_mesh(m.name());
+
     s.set_clip(clip);
+
     s.set_time(1.25);
+
     const auto out = client.SkinMesh(s);
+
     EXPECT_EQ(out.vertex_count(), m.vertex_count());
+
     ++skinned;
+
   }
   EXPECT_GT(skinned, 0);
   const auto glb = client.ExportClip(clip, "glb", true);
