@@ -278,6 +278,11 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
   std::vector<unsigned char> keyed(target.size(), 0);
   for (size_t j = 0; j < target.size(); ++j)
     keyed[j] = plan.source_of[j] >= 0 || (options.feet && feet.Moves(static_cast<int>(j)));
+  const size_t animated = static_cast<size_t>(std::count(keyed.begin(), keyed.end(), 1)) + plan.carried.size() + 1;
+  if (animated * times.size() > options.max_keys)
+    return Status::ResourceExhausted("retargeting makes " + std::to_string(times.size()) + " frames × " +
+                                     std::to_string(animated) + " animated joints, over " +
+                                     std::to_string(options.max_keys) + " keys");
   for (int j : plan.carried) out.joints[static_cast<size_t>(j)].translation.times.reserve(times.size());
 
   const Quaterniond yaw_inv = plan.yaw.conjugate();

@@ -177,6 +177,30 @@ TEST(Retarget, BonesFollowTheSourceAcrossPosesFramesNamesFacingAndUnits) {
   EXPECT_EQ(result->clip.skeleton->names, target->names);
 }
 
+TEST(Retarget, RefusesOutputOverItsBoundsAndBadFrameTimes) {
+  const BvhData walk = MakeDemoWalk();
+  const Skeleton& skeleton = *walk.clip->skeleton;
+  auto map = MapJointsByBodyParts(skeleton, skeleton, {});
+  ASSERT_TRUE(map.ok());
+  RetargetOptions options;
+  options.max_keys = 100;
+  auto keys = RetargetClip(*walk.clip, skeleton, *map, options);
+  EXPECT_EQ(keys.status().code(), StatusCode::kResourceExhausted);
+  EXPECT_NE(keys.status().message().find("over 100 keys"), std::string::npos) << keys.status().message();
+  options = {};
+  options.frame_time = 1e-9;
+  EXPECT_EQ(RetargetClip(*walk.clip, skeleton, *map, options).status().code(), StatusCode::kResourceExhausted);
+  options.frame_time = -1;
+  EXPECT_EQ(RetargetClip(*walk.clip, skeleton, *map, options).status().code(), StatusCode::kInvalidArgument);
+  // Onto itself: every joint back where it was.
+  auto same = RetargetClip(*walk.clip, skeleton, *map);
+  ASSERT_TRUE(same.ok()) << same.status().message();
+  for (double t : {0.0, 0.3, 1.1}) {
+    const auto a = Positions(*walk.clip, t), b = Positions(same->clip, t);
+    for (size_t j = 0; j < a.size(); ++j) EXPECT_LT((a[j] - b[j]).norm(), 1e-6) << skeleton.names[j] << " t=" << t;
+  }
+}
+
 const Clip* Cmu() {
   static std::shared_ptr<const Clip> clip = [] {
     std::ifstream in(ARMATURE_SHARED_DATA "/bvh/cmu_01_01.bvh");

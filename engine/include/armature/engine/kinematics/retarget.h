@@ -38,7 +38,10 @@ struct RetargetOptions {
   // Seconds between output keys; 0 = the source's frame time, or 1/30 s for a
   // clip without one.
   double frame_time = 0.0;
-  size_t max_frames = 200000;  // RESOURCE_EXHAUSTED above
+  // RESOURCE_EXHAUSTED above either: frames, and keys (frames × animated joints)
+  // so the output's memory is bounded (4M keys ≈ 128 MB).
+  size_t max_frames = 200000;
+  size_t max_keys = 4000000;
 };
 
 struct RetargetResult {
