@@ -17,6 +17,7 @@
 #include "armature/engine/io/gltf.h"
 
 #include <gtest/gtest.h>
+#include <httplib.h>
 #include <nlohmann/json.hpp>
 
 #include "armature/client.h"
@@ -396,6 +397,24 @@ TEST_F(Retarget, BadInputIsInvalidArgumentNamingIt) {
   EXPECT_EQ(call("no_such_skeleton", {}).error_code(), grpc::StatusCode::NOT_FOUND);
   // Nothing was stored.
   EXPECT_EQ(StatusOf([&] { client.GetAsset("bad"); }).error_code(), grpc::StatusCode::NOT_FOUND);
+}
+
+TEST_F(Retarget, RestPostsToClipRetarget) {
+  httplib::Client http("127.0.0.1", server_->http_port());
+  const auto ok = http.Post("/v1/clips/cmu:retarget",
+                            R"({"skeleton":"demo_character","name":"rest_retarget","map":[{"source":"Neck1","target":"Neck"}]})",
+                            "application/json");
+  ASSERT_TRUE(ok);
+  ASSERT_EQ(ok->status, 200) << ok->body;
+  const auto body = nlohmann::json::parse(ok->body);
+  EXPECT_EQ(body["clip"]["name"], "rest_retarget.retarget");
+  EXPECT_EQ(body["asset"]["name"], "rest_retarget");
+  EXPECT_EQ(body["mapping"].size(), 19u);
+  const auto bad = http.Post("/v1/clips/cmu:retarget", R"({"skeleton":"robot","map":[{"source":"Nope","target":"Head"}]})",
+                             "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400) << bad->body;
+  EXPECT_NE(bad->body.find("map[0].source: unknown joint 'Nope'"), std::string::npos) << bad->body;
 }
 
 TEST_F(Retarget, TheCliPrintsTheClipTheMappingAndTheUnmappedJoints) {
