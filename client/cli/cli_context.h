@@ -45,5 +45,6 @@ void AddDeformCommand(CLI::App& app, CliContext& ctx);
 void AddIkCommand(CLI::App& app, CliContext& ctx);
 void AddSkinCommand(CLI::App& app, CliContext& ctx);
 void AddCreateClipCommand(CLI::App& app, CliContext& ctx);
+void AddRetargetCommand(CLI::App& app, CliContext& ctx);
 
 }  // namespace armature::cli

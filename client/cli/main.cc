@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   AddHealthCommand(app, ctx);
   AddDeformCommand(app, ctx);
   AddSkinCommand(app, ctx);
+  AddRetargetCommand(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -1,5 +1,6 @@
 #include "server/assets/asset_service.h"
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,15 +32,26 @@ StatusOr<AssetFormat> ExportFormat(const std::string& format) {
   return Status::InvalidArgument("format: unknown export format '" + format + "'; allowed: bvh, glb, gltf");
 }
 
-// The meshes of the clip's character: every mesh skinned to its skeleton.
+// The meshes of the clip's character: every mesh skinned to its skeleton, else
+// (a retargeted or authored clip, whose asset holds a copy of the
+// character's skeleton) the meshes of the first skeleton, by name, with the
+// same joint names in the same order.
 std::vector<const Mesh*> CharacterMeshes(const Catalog& catalog, const NamedClip& clip) {
-  std::vector<const Mesh*> meshes;
+  const Skeleton& own = *clip.clip->skeleton;
+  std::vector<const Mesh*> same_object;
+  std::map<std::string, std::vector<const Mesh*>> same_joints;  // by skeleton name
   for (const auto& [name, ref] : catalog.meshes) {
     if (ref.part->skeleton.empty() || !ref.part->mesh->skinned()) continue;
     auto skeleton = catalog.FindSkeleton(ref.part->skeleton);
-    if (skeleton.ok() && skeleton->part->skeleton == clip.clip->skeleton) meshes.push_back(ref.part->mesh.get());
+    if (!skeleton.ok()) continue;
+    const Skeleton& theirs = *skeleton->part->skeleton;
+    if (&theirs == &own)
+      same_object.push_back(ref.part->mesh.get());
+    else if (theirs.names == own.names && theirs.parents == own.parents)
+      same_joints[ref.part->skeleton].push_back(ref.part->mesh.get());
   }
-  return meshes;
+  if (!same_object.empty() || same_joints.empty()) return same_object;
+  return same_joints.begin()->second;
 }
 
 Status ExportGltfClip(const Catalog& catalog, const PartRef<NamedClip>& ref, bool binary, bool with_meshes,

@@ -1,6 +1,7 @@
 """glTF files written by `armature export` against three.js in node
-(tests/reference/export_reference.mjs): a BVH clip (CMU 01_01) and a glTF clip
-with its meshes (RobotExpressive's Walking and Dance) are exported as .glb (and
+(tests/reference/export_reference.mjs): a BVH clip (CMU 01_01), a glTF clip
+with its meshes (RobotExpressive's Walking and Dance) and CMU 01_01 retargeted
+onto RobotExpressive (`armature retarget`) with the robot's meshes are exported as .glb (and
 one as .gltf), loaded by GLTFLoader and played by AnimationMixer; every
 joint's world position at several times must equal `armature --json pose CLIP
 --time T --space world` of the original clip within 1e-4 of the model's size
@@ -24,8 +25,9 @@ from server_fixture import Server  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 RELATIVE_TOLERANCE = 1e-4
 
-# (clip, output file, extra export flags, times)
+# (clip, output file, extra export flags, times[, the skeleton whose meshes come along])
 CASES = [
+    ("cmu_on_robot.retarget", "retargeted.glb", ["--with-meshes"], [0.0, 2.5, 9.81, 17.3], "robot"),
     ("cmu", "cmu.glb", [], [0.0, 1.0 / 240, 3.3, 11.27, 22.9]),
     ("cmu", "cmu.gltf", [], [0.5, 7.77]),
     ("robot.Walking", "walking.glb", ["--with-meshes"], [0.0, 0.13, 0.51, 0.97]),
@@ -60,10 +62,10 @@ def run(args):
     return r.stdout
 
 
-def character_meshes(cli, target, clip):
-    """(meshes, vertices, morph targets) the server holds skinned to the clip's skeleton."""
+def character_meshes(cli, target, clip, skeleton=None):
+    """(meshes, vertices, morph targets) the server holds skinned to the clip's skeleton (or `skeleton`)."""
     assets = json.loads(run([cli, "--server", target, "--json", "list"]))["assets"]
-    skeleton = next(c["skeleton"] for a in assets for c in a["clips"] if c["name"] == clip)
+    skeleton = skeleton or next(c["skeleton"] for a in assets for c in a["clips"] if c["name"] == clip)
     meshes = [m for a in assets for m in a["meshes"] if m.get("skeleton") == skeleton]
     return len(meshes), sum(m["vertexCount"] for m in meshes), sum(len(m.get("targetNames", [])) for m in meshes)
 
@@ -94,7 +96,8 @@ def main():
         with open(keys, "w") as f:
             json.dump(MADE_KEYS, f)
         run([cli, "--server", server.target, "create-clip", "--skeleton", "demo_walk", "--keys", keys, "--name", "made"])
-        for clip, filename, flags, times in CASES:
+        run([cli, "--server", server.target, "retarget", "cmu", "--to", "robot"])
+        for clip, filename, flags, times, *meshes_of in CASES:
             out = os.path.join(work, filename)
             run([cli, "--server", server.target, "export", clip, "-o", out, *flags])
             times_file = os.path.join(work, filename + ".times.json")
@@ -102,7 +105,7 @@ def main():
                 json.dump(times, f)
             reference = json.loads(run([node, os.path.join(HERE, "export_reference.mjs"), out, times_file]))
             # With --with-meshes, three.js finds every mesh of the character, skinned, with its morph targets.
-            want = character_meshes(cli, server.target, clip) if flags else (0, 0, 0)
+            want = character_meshes(cli, server.target, clip, *meshes_of) if flags else (0, 0, 0)
             found = reference["meshes"]
             got = (len(found), sum(m["vertices"] for m in found), sum(m["morphTargets"] for m in found))
             if got != want:
