@@ -34,11 +34,8 @@ StatusOr<AssetFormat> ExportFormat(const std::string& format) {
 // The meshes of the clip's character: every mesh skinned to its skeleton.
 std::vector<const Mesh*> CharacterMeshes(const Catalog& catalog, const NamedClip& clip) {
   std::vector<const Mesh*> meshes;
-  for (const auto& [name, ref] : catalog.meshes) {
-    if (ref.part->skeleton.empty() || !ref.part->mesh->skinned()) continue;
-    auto skeleton = catalog.FindSkeleton(ref.part->skeleton);
-    if (skeleton.ok() && skeleton->part->skeleton == clip.clip->skeleton) meshes.push_back(ref.part->mesh.get());
-  }
+  for (const NamedMesh* mesh : catalog.MeshesOf(clip.skeleton))
+    if (mesh->mesh->skinned()) meshes.push_back(mesh->mesh.get());
   return meshes;
 }
 

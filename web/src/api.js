@@ -1,5 +1,6 @@
 // The REST gateway, as the viewer uses it. Every call rejects with an Error
 // carrying the server's message (and its gRPC `code`).
+import { decodeSkinCharacter } from './skin_wire.js';
 
 async function call(path, options = {}) {
   const res = await fetch(path, options);
@@ -61,6 +62,22 @@ export function getMeshGeometry(mesh) {
 // World-space positions (and normals) of `mesh` (a SkinMeshRequest as JSON, less the mesh).
 export function skinMesh(mesh, request) {
   return call(`${meshPath(mesh)}:skin`, postJson(request));
+}
+
+// Every mesh of skeleton `skeleton` (a character) posed alike (a
+// SkinCharacterRequest as JSON, less the skeleton): { skeleton, meshes: [SkinMesh
+// answers, with Float32Array positions and normals] }, asked for as proto (skin_wire.js says why).
+export async function skinCharacter(skeleton, request) {
+  const options = postJson(request);
+  options.headers.Accept = 'application/x-protobuf';
+  const res = await fetch(`/v1/skeletons/${encodeURIComponent(skeleton)}:skinCharacter`, options);
+  if (!res.ok) {
+    const body = await res.json().catch(() => null);
+    const error = new Error(body?.message ?? `${res.status} ${res.statusText}`);
+    error.code = body?.code;
+    throw error;
+  }
+  return decodeSkinCharacter(await res.arrayBuffer());
 }
 
 // One Laplacian/ARAP edit (a DeformRequest as JSON, less the mesh).
