@@ -114,8 +114,7 @@ TEST_F(SkinCharacterSuite, AMotionAndALocalPoseAreAppliedToEveryMeshAsSkinMeshAp
   *alone.mutable_motion() = request.motion();
   for (const auto& mesh : by_motion.meshes()) ExpectEqualsSkinMesh(mesh, alone);
 
-  // The rest pose given as a local pose: identity rotations would fold the
-  // robot, so take the skeleton's local rest pose from EvaluateClip's answer shape.
+  // A local pose sent by the client: Running's at 0.5 s, from EvaluateClip.
   Client client(OptionsFor(*server_));
   v1::EvaluateClipRequest evaluate;
   evaluate.set_clip(running_);
