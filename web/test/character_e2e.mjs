@@ -43,14 +43,7 @@ await runViewerTest('character_e2e.mjs', async ({ page, server, screenshot }) =>
   const skeleton = running?.skeleton;
   const meshNames = asset.meshes.filter((m) => m.skeleton === skeleton).map((m) => m.name).sort();
   check(running && meshNames.length === 19, `RobotExpressive imports with Running and 19 meshes on ${skeleton}`);
-  const rest = async (route, body) => {
-    const res = await fetch(server.url + route, body && {
-      method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body),
-    });
-    const json = await res.json();
-    if (!res.ok) throw new Error(`${route}: ${res.status} ${json.message}`);
-    return json;
-  };
+  const rest = server.call;
 
   await page.goto(`${server.url}/?character=${encodeURIComponent(skeleton)}&clip=${encodeURIComponent(running.name)}`);
   await page.waitForFunction((clip) => {
