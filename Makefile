@@ -2,6 +2,8 @@
 BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
+# ozz-animation (../shared/third_party) as the benchmarks' baseline: only `make bench` turns it on.
+BENCH_OZZ ?= OFF
 DATA_DIR ?= armature-data
 ARGS ?=
 
@@ -21,7 +23,7 @@ test-deps:
 	./scripts/setup.sh test
 
 configure:
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DARMATURE_BENCH_OZZ=$(BENCH_OZZ) $(CMAKE_FLAGS)
 
 build: deps configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -57,8 +59,17 @@ image-test: configure
 	cmake --build $(BUILD) -j $(JOBS) --target armature
 	./deploy/image-test.sh --cli $(BUILD)/bin/armature
 
+# Builds ozz-animation beside the benchmarks (bench/CMakeLists.txt) and ends
+# with the Armature/ozz ratio of each BM_VsOzz_* pair (scripts/bench_ratios.py).
+bench: BENCH_OZZ = ON
 bench: build
-	$(BUILD)/bin/armature-bench --benchmark_counters_tabular=true $(ARGS)
+	./scripts/setup.sh bench
+	$(MAKE) configure BENCH_OZZ=ON
+	cmake --build $(BUILD) -j $(JOBS) --target armature-bench
+	$(BUILD)/bin/armature-bench --benchmark_counters_tabular=true \
+	  --benchmark_out=$(BUILD)/bench.json --benchmark_out_format=json $(ARGS)
+	@if command -v python3 >/dev/null; then python3 scripts/bench_ratios.py $(BUILD)/bench.json; \
+	else echo "python3 not found: Armature/ozz ratios not printed (see $(BUILD)/bench.json)"; fi
 
 clean:
 	rm -rf $(BUILD)

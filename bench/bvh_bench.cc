@@ -1,11 +1,8 @@
 // BVH parse throughput and per-pose sampling + FK cost. Baselines in the
 // same run: from_chars over every token of the same bytes (the least any
 // text parser must do), and ComputeWorld alone (FK without sampling).
-#include <algorithm>
 #include <charconv>
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,40 +11,12 @@
 #include "armature/engine/io/bvh.h"
 #include "armature/engine/io/demo_walk.h"
 #include "armature/engine/kinematics/fk.h"
+#include "bvh_bench_texts.h"
 
 namespace armature {
 namespace {
 
-const std::optional<std::string>& CmuText() {
-  static const std::optional<std::string> text = []() -> std::optional<std::string> {
-    std::ifstream in(std::string(ARMATURE_SHARED_DATA) + "/bvh/cmu_01_01.bvh", std::ios::binary);
-    if (!in) return std::nullopt;
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }();
-  return text;
-}
-
-// ~2 MB of BVH made from the demo walk by repeating its frame lines, so the
-// benchmark runs without shared data.
-const std::string& SyntheticText() {
-  static const std::string text = [] {
-    const std::string walk = WriteBvh(*MakeDemoWalk().clip);
-    const size_t motion = walk.find("MOTION");
-    const size_t frames_start = walk.find('\n', walk.find("Frame Time:")) + 1;
-    const std::string frame_lines = walk.substr(frames_start);
-    const size_t lines_per_copy = static_cast<size_t>(std::count(frame_lines.begin(), frame_lines.end(), '\n'));
-    std::string body;
-    size_t frames = 0;
-    while (body.size() < 2'000'000) {
-      body += frame_lines;
-      frames += lines_per_copy;
-    }
-    return walk.substr(0, motion) + "MOTION\nFrames: " + std::to_string(frames) + "\nFrame Time: 0.0333333\n" + body;
-  }();
-  return text;
-}
+const std::optional<std::string>& CmuText() { return armature_bench::CmuBvhText(); }
 
 void ParseBench(benchmark::State& state, const std::string& text) {
   for (auto _ : state) {
@@ -86,21 +55,20 @@ const std::string* CmuTextOrSkip(benchmark::State& state) {
   return CmuText() ? &*CmuText() : nullptr;
 }
 
-void BM_BvhParse_Cmu(benchmark::State& state) {
-  if (const std::string* text = CmuTextOrSkip(state)) ParseBench(state, *text);
+// BM_BvhParse_Armature/<file>: ParseBvh's throughput (bytes_per_second);
+// BM_BvhParse_Assimp (bvh_assimp_bench.cc) reads the same bytes.
+void BM_BvhParse_Armature(benchmark::State& state, const std::string* (*text)(benchmark::State&)) {
+  if (const std::string* t = text(state)) ParseBench(state, *t);
 }
-BENCHMARK(BM_BvhParse_Cmu)->Unit(benchmark::kMillisecond);
+const std::string* LargeWalkText(benchmark::State&) { return &armature_bench::LargeWalkBvhText(); }
+BENCHMARK_CAPTURE(BM_BvhParse_Armature, cmu_01_01, CmuTextOrSkip)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_BvhParse_Armature, walk_16MB, LargeWalkText)->Unit(benchmark::kMillisecond);
 
-void BM_BvhTokenBaseline_Cmu(benchmark::State& state) {
-  if (const std::string* text = CmuTextOrSkip(state)) TokenBaseline(state, *text);
+void BM_BvhTokenBaseline(benchmark::State& state, const std::string* (*text)(benchmark::State&)) {
+  if (const std::string* t = text(state)) TokenBaseline(state, *t);
 }
-BENCHMARK(BM_BvhTokenBaseline_Cmu)->Unit(benchmark::kMillisecond);
-
-void BM_BvhParse_Synthetic2MB(benchmark::State& state) { ParseBench(state, SyntheticText()); }
-BENCHMARK(BM_BvhParse_Synthetic2MB)->Unit(benchmark::kMillisecond);
-
-void BM_BvhTokenBaseline_Synthetic2MB(benchmark::State& state) { TokenBaseline(state, SyntheticText()); }
-BENCHMARK(BM_BvhTokenBaseline_Synthetic2MB)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_BvhTokenBaseline, cmu_01_01, CmuTextOrSkip)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_BvhTokenBaseline, walk_16MB, LargeWalkText)->Unit(benchmark::kMillisecond);
 
 // One pose: SampleClip at a moving time, then ComputeWorld. arg 0 = the
 // tracks' own interpolation (LINEAR for BVH), 1 = CUBIC (squad) override.

@@ -2,6 +2,7 @@
 # Installs the Debian packages Armature needs that are missing. Idempotent.
 #   scripts/setup.sh        build and run
 #   scripts/setup.sh test   also what the tests use (browser, Python, KDL)
+#   scripts/setup.sh bench  also the benchmarks' peers (assimp)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

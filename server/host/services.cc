@@ -1,6 +1,7 @@
 #include "server/host/services.h"
 
 #include "server/assets/asset_service.h"
+#include "server/authoring/authoring_service.h"
 #include "server/deform/deform_service.h"
 #include "server/ik/ik_service.h"
 #include "server/mesh/mesh_service.h"
@@ -24,6 +25,7 @@ std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, 
   services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits, sessions, streams, deform_cache));
   services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions, streams));
   services.push_back(MakeService<v1::MeshService, MeshServiceImpl>(store, limits, streams));
+  services.push_back(MakeService<v1::AuthoringService, AuthoringServiceImpl>(store, limits));
   return services;
 }
 

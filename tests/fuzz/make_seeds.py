@@ -288,6 +288,19 @@ def main():
         "cut_short": b"\x0a" + frame(0, b"abc")[:6],
         "base64": b"\x0a" + b"AAAAAAA=Zm9v",
     }
+    # first byte: the message limit 1 << (byte % 20) and the split step; then client frames (masked)
+    def ws(op, payload, fin=True, mask=b"\x01\x02\x03\x04"):
+        n = len(payload)
+        size = bytes([0x80 | n]) if n < 126 else bytes([0x80 | 126]) + n.to_bytes(2, "big")
+        return bytes([(0x80 if fin else 0) | op]) + size + mask + bytes(c ^ mask[i % 4] for i, c in enumerate(payload))
+    seeds["websocket"] = {
+        "text": b"\x0a" + ws(1, b'{"targets": [{"effector": 0, "targetPosition": [1, 2, 3]}]}'),
+        "fragments_and_ping": b"\x2d" + ws(2, b"ab", False) + ws(9, b"p") + ws(0, b"cd"),
+        "close": b"\x05" + ws(8, b"\x03\xe8bye"),
+        "medium": b"\x10" + ws(2, bytes(300)),
+        "unmasked": b"\x0a" + b"\x81\x02{}",
+        "over_limit": b"\x02" + ws(1, b"12345"),
+    }
     for name, blob in seeds.get(kind, {}).items():
         write(out, name, blob)
     # Small real files, when the shared data is beside the clone.

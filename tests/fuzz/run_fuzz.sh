@@ -19,6 +19,7 @@ case $target in
   server_path_template_fuzz) format=path_template ;;
   server_import_upload_fuzz) format=import_upload ;;
   server_grpc_web_framing_fuzz) format=grpc_web ;;
+  server_websocket_framing_fuzz) format=websocket ;;
   *) format=$target ;;
 esac
 dir=$work/$target

@@ -13,7 +13,8 @@ if(ARMATURE_NODE AND ARMATURE_PROTOC AND EXISTS ${TS_CLIENT_DIR}/node_modules/ty
   set_tests_properties(typescript_client.build PROPERTIES
     TIMEOUT 180 FIXTURES_SETUP typescript_client_built RESOURCE_LOCK typescript_client_source)
   add_test(NAME typescript_client.api
-    COMMAND ${ARMATURE_NODE} --test-reporter=spec ${TS_CLIENT_DIR}/test/client.test.mjs $<TARGET_FILE:armature-server>)
+    COMMAND ${ARMATURE_NODE} --experimental-websocket --test-reporter=spec ${TS_CLIENT_DIR}/test/client.test.mjs
+      $<TARGET_FILE:armature-server>)
   set_tests_properties(typescript_client.api PROPERTIES
     TIMEOUT 180 FIXTURES_REQUIRED typescript_client_built RESOURCE_LOCK typescript_client_source)
 else()

@@ -3,7 +3,8 @@
 # OpenAPI 3 by @apidevtools/swagger-parser. The viewer tests skip only when
 # /usr/bin/chromium is absent; their screenshots land in build/web-e2e:
 # viewer_e2e (clip playback, IK drag), mesh_e2e (skinned mesh, LBS/DQS),
-# deform_e2e (dragging a vertex), blend_e2e (the blend panel on RobotExpressive
+# deform_e2e (dragging a vertex), session_e2e (both drags' WebSocket sessions
+# timed against gRPC), blend_e2e (the blend panel on RobotExpressive
 # from ../shared/data; it skips without it), character_e2e (RobotExpressive's
 # 19 meshes skinned together while Running plays; skips without it), drop_e2e
 # (files dropped on the page are imported).
@@ -17,6 +18,13 @@ if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
     set_tests_properties(web.${test} PROPERTIES TIMEOUT 180 SKIP_REGULAR_EXPRESSION "SKIP:"
       ENVIRONMENT ARMATURE_SHARED_DATA=${ARMATURE_SHARED_DATA})
   endforeach()
+  # The viewer's IK and vertex drags over WebSocket sessions, each step's round
+  # trip logged beside the same requests replayed over gRPC (tests/tools/session_replay).
+  add_test(NAME web.session_e2e
+    COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/session_e2e.mjs
+      $<TARGET_FILE:armature-server> ${ARMATURE_WEB_OUT} ${CMAKE_BINARY_DIR}/web-e2e/session.png
+      $<TARGET_FILE:session_replay>)
+  set_tests_properties(web.session_e2e PROPERTIES TIMEOUT 180 SKIP_REGULAR_EXPRESSION "SKIP:")
   add_test(NAME web.openapi_valid
     COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/openapi_validate.mjs $<TARGET_FILE:armature-server>)
   set_tests_properties(web.openapi_valid PROPERTIES TIMEOUT 120)
@@ -25,7 +33,7 @@ if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   set_tests_properties(web.blend_motion PROPERTIES TIMEOUT 60)
 else()
   # Not a skip: the setup provides node and web/node_modules.
-  foreach(test ${ARMATURE_VIEWER_TESTS} openapi_valid blend_motion)
+  foreach(test ${ARMATURE_VIEWER_TESTS} session_e2e openapi_valid blend_motion)
     add_test(NAME web.${test} COMMAND sh -c
       "echo 'FAIL: node or web/node_modules missing: run scripts/setup.sh test, then configure again'; exit 1")
   endforeach()

@@ -1,123 +1,123 @@
-// The REST gateway, as the viewer uses it. Every call rejects with an Error
-// carrying the server's message (and its gRPC `code`).
-import { decodeSkinCharacter } from './skin_wire.js';
+// The server, as the viewer uses it: every call goes through the TypeScript
+// client (clients/typescript) over gRPC-Web with binary protobuf on the HTTP
+// port, so big answers (skinned meshes, pose batches) travel as protobuf, not
+// JSON text. Requests and answers keep the REST gateway's JSON shape (proto3
+// JSON names, enums by name, every field present), so the rest of the viewer
+// reads the same objects it always has. Every call rejects with an Error
+// carrying the server's message and its gRPC `code`.
+import { fromJson, toJson } from '@bufbuild/protobuf';
 
-async function call(path, options = {}) {
-  const res = await fetch(path, options);
-  const body = await res.json().catch(() => null);
-  if (!res.ok) {
-    const error = new Error(body?.message ?? `${res.status} ${res.statusText}`);
-    error.code = body?.code;
-    throw error;
-  }
-  return body;
+import {
+  AssetService, DeformService, IkService, MeshService, PoseService, createArmatureClient,
+} from '../../clients/typescript/src/index.ts';
+
+const client = createArmatureClient(globalThis.location?.origin ?? '');
+
+// As the gateway prints them: default values too.
+const JSON_OUT = { alwaysEmitImplicit: true };
+
+function viewerError(e) {
+  const error = new Error(e.rawMessage ?? e.message);
+  error.code = e.code;
+  return error;
 }
 
-const clipPath = (clip) => `/v1/clips/${encodeURIComponent(clip)}`;
+// One unary call: `request` as proto3 JSON in, the answer as proto3 JSON out.
+async function unary(service, calls, name, request) {
+  const method = service.method[name];
+  try {
+    const answer = await calls[name](fromJson(method.input, request));
+    return toJson(method.output, answer, JSON_OUT);
+  } catch (e) {
+    throw viewerError(e);
+  }
+}
+
+const pose = (name, request) => unary(PoseService, client.pose, name, request);
+const asset = (name, request) => unary(AssetService, client.asset, name, request);
+const mesh = (name, request) => unary(MeshService, client.mesh, name, request);
 
 export async function listClips() {
-  return (await call('/v1/clips')).clips;
+  return (await asset('listClips', {})).clips;
 }
 
 export function getClip(clip) {
-  return call(clipPath(clip));
+  return asset('getClip', { clip });
 }
 
 export function getSkeleton(skeleton) {
-  return call(`/v1/skeletons/${encodeURIComponent(skeleton)}`);
+  return asset('getSkeleton', { skeleton });
 }
-
-const postJson = (body) => ({
-  method: 'POST',
-  headers: { 'Content-Type': 'application/json' },
-  body: JSON.stringify(body),
-});
 
 // Poses of every joint at `times`, in `space` ('WORLD' or 'LOCAL').
 export function evaluate(clip, times, space = 'WORLD') {
-  return call(`${clipPath(clip)}:evaluate`, postJson({ times, space }));
+  return pose('evaluateClip', { clip, times, space });
 }
 
 // Poses of a motion (motion.proto as JSON: layers, sync, ...) at `times`.
 export function evaluateMotion(motion, times, space = 'WORLD') {
-  return call('/v1/motions:evaluate', postJson({ motion, times, space }));
+  return pose('evaluateMotion', { motion, times, space });
 }
 
 // One inverse kinematics solve (a SolveIkRequest as JSON, less the skeleton).
 export function solveIk(skeleton, request) {
-  return call(`/v1/skeletons/${encodeURIComponent(skeleton)}:solveIk`, postJson(request));
+  return unary(IkService, client.ik, 'solveIk', { ...request, skeleton });
 }
 
-const meshPath = (mesh) => `/v1/meshes/${encodeURIComponent(mesh)}`;
-
 export async function listMeshes() {
-  return (await call('/v1/meshes')).meshes ?? [];
+  return (await mesh('listMeshes', {})).meshes ?? [];
 }
 
 // The rest mesh: { mesh, vertexCount, positions, normals, triangles }.
-export function getMeshGeometry(mesh) {
-  return call(`${meshPath(mesh)}:geometry`);
+export function getMeshGeometry(name) {
+  return mesh('getMeshGeometry', { mesh: name });
 }
 
 // World-space positions (and normals) of `mesh` (a SkinMeshRequest as JSON, less the mesh).
-export function skinMesh(mesh, request) {
-  return call(`${meshPath(mesh)}:skin`, postJson(request));
+export function skinMesh(name, request) {
+  return mesh('skinMesh', { ...request, mesh: name });
 }
 
 // Every mesh of skeleton `skeleton` (a character) posed alike (a
-// SkinCharacterRequest as JSON, less the skeleton): { skeleton, meshes: [SkinMesh
-// answers, with Float32Array positions and normals] }, asked for as proto (skin_wire.js says why).
-export async function skinCharacter(skeleton, request) {
-  const options = postJson(request);
-  options.headers.Accept = 'application/x-protobuf';
-  const res = await fetch(`/v1/skeletons/${encodeURIComponent(skeleton)}:skinCharacter`, options);
-  if (!res.ok) {
-    const body = await res.json().catch(() => null);
-    const error = new Error(body?.message ?? `${res.status} ${res.statusText}`);
-    error.code = body?.code;
-    throw error;
-  }
-  return decodeSkinCharacter(await res.arrayBuffer());
+// SkinCharacterRequest as JSON, less the skeleton): { skeleton, meshes: [SkinMesh answers] }.
+export function skinCharacter(skeleton, request) {
+  return mesh('skinCharacter', { ...request, skeleton });
 }
 
 // One Laplacian/ARAP edit (a DeformRequest as JSON, less the mesh).
-export function deform(mesh, request) {
-  return call(`${meshPath(mesh)}:deform`, postJson(request));
+export function deform(name, request) {
+  return unary(DeformService, client.deform, 'deform', { ...request, mesh: name });
 }
 
-// A server stream as Server-Sent Events: `onFrame(message)` per message,
-// `onEnd(status)` with the final {code, message} (code 0: the stream ended).
-// Returns a function that stops the stream.
-function stream(path, query, onFrame, onEnd) {
-  const source = new EventSource(`${path}?${new URLSearchParams(query)}`);
-  let open = true;
-  const close = () => {
-    open = false;
-    source.close();
-  };
-  source.onmessage = (event) => onFrame(JSON.parse(event.data));
-  source.addEventListener('status', (event) => {
-    close();  // the stream is over: no automatic reconnect
-    onEnd(JSON.parse(event.data));
-  });
-  source.onerror = () => {
-    if (!open) return;
-    close();
-    onEnd({ code: 14, message: 'the stream was interrupted' });
-  };
-  return close;
+// A server stream: `onFrame(message)` per message as JSON, `onEnd(status)`
+// with the final {code, message} (code 0: the stream ended). Returns a
+// function that stops the stream (then onEnd is not called).
+function stream(service, calls, name, request, onFrame, onEnd) {
+  const method = service.method[name];
+  const abort = new AbortController();
+  (async () => {
+    try {
+      for await (const frame of calls[name](fromJson(method.input, request), { signal: abort.signal })) {
+        onFrame(toJson(method.output, frame, JSON_OUT));
+      }
+      if (!abort.signal.aborted) onEnd({ code: 0, message: '' });
+    } catch (e) {
+      if (!abort.signal.aborted) onEnd({ code: e.code ?? 2, message: e.rawMessage ?? String(e.message ?? e) });
+    }
+  })();
+  return () => abort.abort();
 }
 
-// Plays `clip` over SSE: `onFrame(frame)` gets each PoseFrame (world space).
+// Plays `clip`: `onFrame(frame)` gets each PoseFrame (world space).
 export function streamClip(clip, { startTime = 0, speed = 1, fps = 30, loop = true }, onFrame, onEnd) {
-  const query = { startTime, speed, fps, loop, space: 'WORLD' };
-  return stream(`${clipPath(clip)}:stream`, query, onFrame, onEnd);
+  const request = { clip, startTime, speed, fps, loop, space: 'WORLD' };
+  return stream(PoseService, client.pose, 'streamClip', request, onFrame, onEnd);
 }
 
-// Plays `clip` on `mesh` over SSE: `onFrame(frame)` gets each
-// SkinnedMeshFrame; `method` is 'LBS' or 'DQS'.
-export function streamSkinnedMesh(mesh, clip, { startTime = 0, speed = 1, fps = 30, loop = true, method = 'LBS' },
+// Plays `clip` on `mesh`: `onFrame(frame)` gets each SkinnedMeshFrame;
+// `method` is 'LBS' or 'DQS'.
+export function streamSkinnedMesh(name, clip, { startTime = 0, speed = 1, fps = 30, loop = true, method = 'LBS' },
   onFrame, onEnd) {
-  const query = { clip, startTime, speed, fps, loop, method };
-  return stream(`${meshPath(mesh)}:stream`, query, onFrame, onEnd);
+  const request = { mesh: name, clip, startTime, speed, fps, loop, method };
+  return stream(MeshService, client.mesh, 'streamSkinnedMesh', request, onFrame, onEnd);
 }

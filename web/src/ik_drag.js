@@ -1,10 +1,10 @@
 // Drag a joint and the skeleton follows, by inverse kinematics on the server.
 //
-// The gateway maps bidirectional streams as a batch (NDJSON in, SSE out,
-// the whole request body read before the call starts), so the IkSession RPC
-// cannot run interactively from a browser. Each drag step is therefore one
-// SolveIk call warm-started from the previous answer's local pose, with at
-// most one call in flight: while it runs only the latest target is kept.
+// Each drag is one IkSession over a WebSocket (session_socket.js): the
+// first message sets the effectors and the start pose, each drag step sends
+// only the dragged joint's new target and gets a pose solved warm from the
+// last one. At most one step is in flight; while it runs only the latest
+// target is kept. The session closes when the drag ends.
 //
 // The dragged joint follows the pointer in the plane facing the camera
 // through its starting point; the other end joints (hands, feet, head) stay
@@ -13,6 +13,7 @@
 import * as THREE from 'three';
 import * as api from './api.js';
 import { LatestWins } from './latest_wins.js';
+import { SessionSocket } from './session_socket.js';
 
 const PICK_RADIUS_PX = 16;
 const TARGET_COLOR = 0x2ec4ff;
@@ -26,9 +27,11 @@ export class IkDrag extends EventTarget {
     this.player = player;
     this.enabled = true;  // off while a mesh is shown (its skin would not follow)
     this.local = null;  // the local pose the next solve starts from; null: the clip's at player.time
-    this.drag = null;   // { joint, plane, pins }
+    this.drag = null;   // { joint, plane, pins, session }
     this.solver = new LatestWins((wanted) => this.solve(wanted));
-    this.stats = { solves: 0, converged: 0, lastResponse: null };
+    // roundTrips: ms per answered drag step (request sent → answer arrived), the latest session's;
+    // sessions: the latest few sessions' requests (JSON) and round trips.
+    this.stats = { solves: 0, converged: 0, lastResponse: null, sessions: [] };
     this.marker = new THREE.Mesh(
       new THREE.SphereGeometry(1, 16, 12),
       new THREE.MeshBasicMaterial({ color: TARGET_COLOR, transparent: true, opacity: 0.7 }),
@@ -86,7 +89,9 @@ export class IkDrag extends EventTarget {
       .map((_, i) => i)
       .filter((i) => i !== joint && !hasChild.has(i))
       .map((i) => ({ joint: joints[i].name, targetPosition: position(i).toArray() }));
-    this.drag = { joint, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(facing, position(joint)), pins };
+    this.drag = {
+      joint, plane: new THREE.Plane().setFromNormalAndCoplanarPoint(facing, position(joint)), pins, session: null,
+    };
     this.view.renderer.domElement.setPointerCapture?.(event.pointerId);
     this.view.controls.enabled = false;
     this.marker.scale.setScalar(this.view.joints[joint].geometry.parameters.radius * 1.3);
@@ -99,7 +104,7 @@ export class IkDrag extends EventTarget {
     const target = this.pointerTarget(event);
     if (!target) return;
     this.marker.position.copy(target);
-    this.solver.request({ joint: this.drag.joint, pins: this.drag.pins, target });
+    this.solver.request({ drag: this.drag, target });
   }
 
   // A solve is running or waiting.
@@ -109,29 +114,55 @@ export class IkDrag extends EventTarget {
 
   onPointerUp() {
     if (!this.drag) return;
+    const { session } = this.drag;
     this.drag = null;
+    // The session ends once its last step is answered.
+    Promise.resolve(this.solver.running).then(() => session?.then((s) => s.close(), () => {}));
     this.view.controls.enabled = true;
     this.marker.visible = false;
   }
 
-  // One solve, from the last answer.
-  async solve({ joint, pins, target }) {
-    try {
-      const clip = this.player.clip;
-      if (!this.local) this.local = (await api.evaluate(clip.name, [this.player.time], 'LOCAL')).poses[0];
-      const name = this.view.skeleton.joints[joint].name;
-      const response = await api.solveIk(clip.skeleton, {
+  // The drag's session, opened on its first step with the effectors and the
+  // pose to start from; resolves with the session and the start's answer.
+  async openSession(drag, target) {
+    const clip = this.player.clip;
+    if (!this.local) this.local = (await api.evaluate(clip.name, [this.player.time], 'LOCAL')).poses[0];
+    const name = this.view.skeleton.joints[drag.joint].name;
+    const session = await SessionSocket.open(`/v1/skeletons/${encodeURIComponent(clip.skeleton)}:ikSession`);
+    this.stats.sessions.push(session);
+    if (this.stats.sessions.length > 4) this.stats.sessions.shift();
+    const first = await session.request({
+      start: {
         startPose: { rotations: this.local.rotations, translations: this.local.translations },
-        effectors: [{ joint: name, targetPosition: target.toArray() }, ...pins],
+        effectors: [{ joint: name, targetPosition: target.toArray() }, ...drag.pins],
         options: { regularization: 0.5 },  // prefer small changes from the last pose
         // the hips stay where they stand unless they are what is dragged, then they move
-        freeRoot: this.view.skeleton.joints[joint].parent < 0 ? 'ROOT_TRANSLATION' : 'ROOT_FIXED',
-      });
+        freeRoot: this.view.skeleton.joints[drag.joint].parent < 0 ? 'ROOT_TRANSLATION' : 'ROOT_FIXED',
+      },
+    });
+    return { session, first };
+  }
+
+  // One drag step: the first opens the session, later ones move the target.
+  async solve({ drag, target }) {
+    const name = this.view.skeleton.joints[drag.joint].name;
+    try {
+      let response;
+      if (!drag.session) {
+        const opening = this.openSession(drag, target);
+        drag.session = opening.then((opened) => opened.session);
+        drag.session.catch(() => {});  // reported below, once
+        response = (await opening).first;
+      } else {
+        const session = await drag.session;
+        response = await session.request({ targets: [{ effector: 0, targetPosition: target.toArray() }] });
+      }
       this.local = response.local;
       this.view.setPose(response.world);
       this.stats.solves++;
       if (response.converged) this.stats.converged++;
       this.stats.lastResponse = response;
+      this.stats.roundTrips = (await drag.session).roundTrips;
       this.dispatchEvent(new CustomEvent('solve', { detail: { joint: name, response } }));
     } catch (error) {
       this.solver.cancel();

@@ -3,10 +3,12 @@
 // Pressing on the mesh picks the nearest corner of the triangle under the
 // pointer; dragging moves that vertex in the plane facing the camera through
 // it. Every vertex dragged so far stays a handle at its last target, so edits
-// accumulate; each step is one unary Deform of the rest mesh with all the
-// handles (the gateway maps DeformSession, a bidirectional stream, as a
-// batch, so a browser cannot drive it interactively), at most one call in
-// flight with only the latest targets kept.
+// accumulate. The handles, options and region are one DeformSession over a
+// WebSocket (session_socket.js), factored once when it opens: each drag
+// step sends the handles' targets and gets every vertex back (in the proto
+// encoding, deform_wire.js); a new handle,
+// option or radius opens a new session. At most one step is in flight, with
+// only the latest targets kept.
 //
 // The region of interest is every vertex within `radius` (a fraction of the
 // mesh's diagonal) of a handle, on the same connected piece of the mesh as
@@ -15,8 +17,9 @@
 // would float freely, which the server rejects).
 // Emits 'deform' ({ response, ms, regionSize }) and 'error' (message).
 import * as THREE from 'three';
-import * as api from './api.js';
 import { LatestWins } from './latest_wins.js';
+import { decodeDeformResponse, encodeDeformMove } from './deform_wire.js';
+import { SessionSocket } from './session_socket.js';
 
 const HANDLE_COLOR = 0x2ec4ff;
 const ACTIVE_COLOR = 0xffe14d;
@@ -37,7 +40,8 @@ export class VertexDrag extends EventTarget {
     this.options = { method: 'LAPLACIAN', weights: 'UNIFORM', radius: 0.25 };
     this.region = { key: '', vertices: [] };
     this.edits = 0;  // bumped by start and reset: answers for an older edit are dropped
-    this.stats = { deforms: 0 };
+    this.stats = { deforms: 0, sessions: [] };  // sessions: the latest few (requests, round trips)
+    this.session = null;  // { key, socket: Promise<SessionSocket> } for the current handles and options
     this.solver = new LatestWins(() => this.solve());
     this.markers = new THREE.Group();
     view.scene.add(this.markers);
@@ -76,6 +80,7 @@ export class VertexDrag extends EventTarget {
   reset() {
     ++this.edits;
     this.solver.cancel();
+    this.closeSession();
     this.onPointerUp();
     this.handles.clear();
     this.updateMarkers();
@@ -183,19 +188,41 @@ export class VertexDrag extends EventTarget {
     return vertices;
   }
 
+  // Ends the current session once the step in flight is answered.
+  closeSession() {
+    const socket = this.session?.socket;
+    this.session = null;
+    Promise.resolve(this.solver.running).then(() => socket?.then((s) => s.close(), () => {}));
+  }
+
+  // The session for these handles and options, opened (and factored) if new.
+  sessionFor(mesh, handles, regionOfInterest) {
+    const key = JSON.stringify([mesh, handles, this.options]);  // the region follows from them
+    if (this.session?.key === key) return this.session.socket;
+    this.closeSession();
+    const socket = SessionSocket.open('/v1/meshes:deformSession').then(async (s) => {
+      this.stats.sessions.push(s);
+      if (this.stats.sessions.length > 4) this.stats.sessions.shift();
+      const setup = { mesh, regionOfInterest, method: this.options.method, weights: this.options.weights };
+      await s.request({ start: { setup, handleIndices: handles } });  // answered with the rest shape
+      return s;
+    });
+    socket.catch(() => {});  // reported by the step that awaits it
+    this.session = { key, socket };
+    return socket;
+  }
+
   async solve() {
     const mesh = this.mesh, edit = this.edits;
     if (!mesh || this.handles.size === 0) return;
     const regionOfInterest = this.regionOfInterest();
-    const request = {
-      handles: [...this.handles].map(([index, target]) => ({ index, position: target.toArray() })),
-      regionOfInterest,
-      method: this.options.method,
-      weights: this.options.weights,
-    };
+    const handles = [...this.handles.keys()];
+    const positions = [...this.handles.values()].flatMap((target) => target.toArray());
     const started = performance.now();
     try {
-      const response = await api.deform(mesh, request);
+      const session = await this.sessionFor(mesh, handles, regionOfInterest);
+      // Moves in binary: the answers (every vertex) come back as floats, not JSON.
+      const response = decodeDeformResponse(await session.request(encodeDeformMove(positions)));
       if (edit !== this.edits) return;  // stopped, reset or restarted meanwhile
       const ms = performance.now() - started;
       this.stats.deforms++;

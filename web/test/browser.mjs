@@ -74,8 +74,9 @@ export async function runViewerTest(script, body) {
       }
     };
     page.on('requestfailed', (r) => {
-      // Closing an SSE stream (pause, a new stream) aborts it: that is no error either.
-      if (r.url().includes(':stream')) return;
+      // Closing a stream (pause, a new stream) aborts its gRPC-Web request: that is no error either.
+      const stream = /\/armature\.v1\.\w+\/Stream\w+$/.test(r.url()) || r.url().includes(':stream');
+      if (stream && r.failure()?.errorText === 'net::ERR_ABORTED') return;
       if (navigating > 0 && r.failure()?.errorText === 'net::ERR_ABORTED') return;
       problems.push(`request failed: ${r.url()} ${r.failure()?.errorText}`);
     });

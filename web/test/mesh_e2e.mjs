@@ -1,7 +1,7 @@
 // Skinned mesh playback in the viewer, end to end: the test makes a skinned
 // tube whose middle joint twists 150° about the tube's axis (fixtures.mjs),
 // imports it over REST, chooses it in the page and plays it. Checks that
-// skinned frames arrive over SSE and the mesh is drawn; that switching
+// skinned frames arrive over gRPC-Web and the mesh is drawn; that switching
 // LBS → DQS while playing restarts the stream with DQS; and, paused at the
 // full twist, that the middle ring (weighted half and half) keeps the
 // radius under DQS and shrinks to radius·cos 75° under LBS (the "candy
@@ -92,7 +92,7 @@ await runViewerTest('mesh_e2e.mjs', async ({ page, server, screenshot }) => {
   const seconds = (Date.now() - started) / 1000;
   const lbs = await page.evaluate(() => window.frames.filter((f) => f.method === 'LBS'));
   const lbsMin = Math.min(...lbs.map((f) => f.radius));
-  check(lbs.length >= 60, `skinned frames arrive over SSE (${lbs.length} in ${seconds.toFixed(2)} s of wall time)`);
+  check(lbs.length >= 60, `skinned frames arrive over gRPC-Web (${lbs.length} in ${seconds.toFixed(2)} s of wall time)`);
   check(/^\d+ frames\/s$/.test(await page.textContent('#rate')), `the frame rate is shown (${await page.textContent('#rate')})`);
   check(lbsMin < 0.5 * R && lbsMin >= LBS_RADIUS * 0.99,
         `playing LBS, the middle ring shrinks as the tube twists (smallest mean radius ${fmt(lbsMin)}, ` +

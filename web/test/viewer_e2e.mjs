@@ -1,12 +1,23 @@
 // The viewer end to end: a real armature-server serves the page, headless
 // Chromium (Debian's, driven by playwright-core) plays the demo clip. Checks
-// that frames arrive over SSE, that the skeleton is drawn (pixels of the
+// that frames arrive over gRPC-Web, that the skeleton is drawn (pixels of the
 // bone colour in a screenshot, and different ones as it walks), scrubbing
 // while paused, and that the console shows no errors. Saves a screenshot.
 //   node viewer_e2e.mjs <armature-server> <web dir> <screenshot.png>
 import { besides, check, colourStats, runViewerTest } from './browser.mjs';
 
 await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
+  // Every call the viewer makes is gRPC-Web (binary protobuf), none REST JSON.
+  const calls = { grpcWeb: new Set(), rest: [] };
+  page.on('request', (r) => {
+    const url = new URL(r.url());
+    if (url.pathname.startsWith('/armature.v1.')) {
+      calls.grpcWeb.add(url.pathname);
+      if (r.headers()['content-type'] !== 'application/grpc-web+proto') calls.rest.push(`${url.pathname} as ${r.headers()['content-type']}`);
+    } else if (url.pathname.startsWith('/v1/')) {
+      calls.rest.push(url.pathname);
+    }
+  });
   // The seeded clips sort demo_character.walk first; this test plays the BVH demo.
   await page.goto(server.url + '/?clip=demo_walk');
   await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
@@ -18,13 +29,15 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
   await page.click('#play');
   await page.waitForFunction(() => window.armatureViewer.player.stats.framesReceived >= 45, null, { timeout: 30000 });
   const playing = await page.evaluate(() => ({ ...window.armatureViewer.player.stats, time: window.armatureViewer.player.time }));
-  check(playing.framesReceived >= 45, `poses arrive over SSE (${playing.framesReceived} frames, clip time ${playing.time.toFixed(3)} s)`);
+  check(playing.framesReceived >= 45, `poses arrive over gRPC-Web (${playing.framesReceived} frames, clip time ${playing.time.toFixed(3)} s)`);
   check(/poses\/s/.test(await page.textContent('#rate')), `the stream rate is shown (${await page.textContent('#rate')})`);
   const first = await page.screenshot();
   await page.waitForFunction((n) => window.armatureViewer.player.stats.framesReceived >= n + 10, playing.framesReceived);
   await page.click('#play');  // pause
   await page.waitForFunction(() => !window.armatureViewer.player.playing);
   const second = await page.screenshot({ path: screenshot });
+  check(calls.grpcWeb.has('/armature.v1.PoseService/StreamClip') && calls.grpcWeb.has('/armature.v1.AssetService/ListClips'),
+    `the viewer calls over gRPC-Web (${[...calls.grpcWeb].join(', ')})`);
 
   const a = await colourStats(page, first, 'bone');
   const b = await colourStats(page, second, 'bone');
@@ -57,7 +70,7 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
         `playing at 2× from the scrubbed time steps ${steps.map((d) => d.toFixed(4)).join(', ')} s per frame`);
 
   // IK: drag the left wrist with the mouse; the skeleton follows through
-  // SolveIk calls, the other end joints stay pinned.
+  // an IkSession over a WebSocket, the other end joints stay pinned.
   const beforeIk = await page.evaluate(() => window.armatureViewer.player.stats.evaluations);
   await page.$eval('#scrub', (s) => {
     s.value = '1.0';
@@ -101,10 +114,11 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
   const pinShift = Math.hypot(...dragged.pinned.map((v, k) => v - grab.pinned[k]));
   const miss = Math.hypot(dragged.at.x - drop.x, dragged.at.y - drop.y);
   check(dragged.joint === 'LeftWrist' && dragged.stats.solves >= 2,
-        `dragging solves IK for the wrist (${dragged.stats.solves} SolveIk calls, ${dragged.stats.converged} converged)`);
+        `dragging solves IK for the wrist (${dragged.stats.solves} IkSession steps over a WebSocket, ${dragged.stats.converged} converged)`);
   check(dragged.converged && /LeftWrist reached/.test(dragged.message), `the last solve converged (${dragged.message})`);
   check(moved > 10, `the wrist moved ${moved.toFixed(1)} units in the world`);
   check(miss < 2, `the wrist is drawn under the pointer (${miss.toFixed(2)} px away)`);
   check(pinShift < 0.05, `the other wrist stayed pinned (moved ${pinShift.toFixed(4)})`);
   await page.screenshot({ path: besides(screenshot, 'ik') });
+  check(calls.rest.length === 0, `no REST JSON call${calls.rest.length ? ': ' + calls.rest.join(', ') : ''} (the IK drag included)`);
 });

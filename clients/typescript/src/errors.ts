@@ -48,6 +48,12 @@ const SUBCLASS: Partial<Record<Code, typeof ArmatureError>> = {
   [Code.Unavailable]: UnavailableError,
 };
 
+/** The ArmatureError of the subclass for a status the server sent outside gRPC (a WebSocket session's last frame). */
+export function errorForStatus(code: Code, message: string): ArmatureError {
+  const Type = SUBCLASS[code] ?? ArmatureError;
+  return new Type(code, message);
+}
+
 /** "NOT_FOUND" for Code.NotFound: gRPC's spelling of connect's enum name. */
 export function statusName(code: Code): string {
   return (Code[code] ?? 'UNKNOWN').replace(/([a-z])([A-Z])/g, '$1_$2').toUpperCase();

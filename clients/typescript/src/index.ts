@@ -1,6 +1,7 @@
 // @armature/client: the Armature server from TypeScript over gRPC-Web.
 export * from './client.js';
 export * from './errors.js';
+export * from './sessions.js';
 export { packFloats } from './arrays.js';
 export { Space, Interpolation, WrapMode } from './gen/armature/v1/types_pb.js';
 export { SkinningMethod } from './gen/armature/v1/meshes_pb.js';

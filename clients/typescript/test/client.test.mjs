@@ -1,6 +1,7 @@
 // @armature/client against a real server: EvaluateClip, StreamClip and
-// SkinMesh through the client (gRPC-Web, binary) equal the same calls over
-// gRPC (@connectrpc/connect-node on the gRPC port) value for value; joint names
+// SkinMesh through the client (gRPC-Web, binary), and an IK session over a
+// WebSocket (node's WebSocket: run with --experimental-websocket on node 20),
+// equal the same calls over gRPC (@connectrpc/connect-node on the gRPC port) value for value; joint names
 // equal REST's skeleton; errors are typed; the token and the deadline apply.
 // Needs dist/ (npm run build).
 //   node test/client.test.mjs <armature-server>
@@ -15,10 +16,13 @@ import { fileURLToPath } from 'node:url';
 import { createClient } from '@connectrpc/connect';
 import { createGrpcTransport } from '@connectrpc/connect-node';
 
+import { toBinary } from '@bufbuild/protobuf';
+
 import {
-  ArmatureError, Code, DeadlineExceededError, MeshService, NotFoundError, PoseService, Space,
-  UnauthenticatedError, createArmatureClient,
+  ArmatureError, Code, DeadlineExceededError, IkService, MeshService, NotFoundError, PoseService, Space,
+  UnauthenticatedError, createArmatureClient, openIkSession,
 } from '../dist/index.js';
+import { SolveIkResponseSchema } from '../dist/gen/armature/v1/ik_pb.js';
 import { startServer } from '../../../web/test/server.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
@@ -34,7 +38,10 @@ before(async () => {
   secured = await startServer(serverBin, ['--auth-token-file', path.join(dir, 'tokens')]);
   client = createArmatureClient(server.url, { timeoutMs: 30000 });
   const transport = createGrpcTransport({ baseUrl: `http://127.0.0.1:${server.grpcPort}` });
-  grpc = { pose: createClient(PoseService, transport), mesh: createClient(MeshService, transport) };
+  grpc = {
+    pose: createClient(PoseService, transport), mesh: createClient(MeshService, transport),
+    ik: createClient(IkService, transport),
+  };
 });
 
 after(async () => {
@@ -182,4 +189,46 @@ test('the README\'s TypeScript example runs as written', async () => {
   } finally {
     rmSync(script, { force: true });
   }
+});
+
+test('an IK session over a WebSocket answers each drag step as the gRPC session does', async (t) => {
+  assert.ok(globalThis.WebSocket, 'node has WebSocket (node 22, or node 20 with --experimental-websocket)');
+  const pose = await client.evaluateClip('demo_walk', [0.8], { space: 'world' });
+  const w = pose.jointNames.indexOf('LeftWrist');
+  const at = Array.from(pose.translations.subarray(3 * w, 3 * w + 3));
+  const start = {
+    skeleton: 'demo_walk', start: { case: 'fromClip', value: { clip: 'demo_walk', time: 0.8 } },
+    effectors: [{ joint: 'LeftWrist', targetPosition: at }],
+  };
+  const moves = Array.from({ length: 20 }, (_, i) => [at[0] + i * 0.2, at[1] + i * 0.3, at[2] + i * 0.2]);
+
+  const { session, first } = await openIkSession(server.url, start);
+  const viaWs = [first];
+  for (const target of moves) viaWs.push(await session.send({ targets: [{ effector: 0, targetPosition: target }] }));
+  await session.close();
+
+  async function* requests() {
+    yield { start };
+    for (const target of moves) yield { targets: [{ effector: 0, targetPosition: target }] };
+  }
+  const viaGrpc = [];
+  for await (const answer of grpc.ik.ikSession(requests())) viaGrpc.push(answer);
+
+  assert.equal(viaWs.length, moves.length + 1);
+  assert.equal(viaGrpc.length, viaWs.length);
+  viaWs.forEach((answer, i) => assert.deepEqual(toBinary(SolveIkResponseSchema, answer),
+                                                toBinary(SolveIkResponseSchema, viaGrpc[i]), `answer ${i}`));
+  assert.ok(first.converged && first.iterations === 0, 'the start pose already reaches the first target');
+  assert.ok(viaWs.every((a) => a.world.translations.length === first.world.translations.length && a.residuals.length === 1));
+  assert.ok(viaWs.slice(1).some((a) => a.iterations > 0), 'the moves needed solving');
+  t.diagnostic(`${viaWs.length} answers equal, byte for byte (${viaWs.filter((a) => a.converged).length} converged)`);
+
+  // An unknown skeleton: the session's status arrives as a typed error.
+  await assert.rejects(openIkSession(server.url, { ...start, skeleton: 'nobody' }),
+                       (e) => e instanceof NotFoundError && /nobody/.test(e.rawMessage));
+  // With a token file the token travels as the subprotocol "bearer.<token>".
+  const secure = await openIkSession(secured.url, start, { token: TOKEN });
+  assert.ok(secure.first.world);
+  await secure.session.close();
+  await assert.rejects(openIkSession(secured.url, start), /could not open a session/);
 });

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "armature/engine/math/rotation.h"
+#include "sample_checks.h"
 
 namespace armature {
 namespace {
@@ -192,11 +193,13 @@ double WrapTime(double time, double duration, WrapMode wrap) {
   return r < duration ? r : 0.0;  // r + duration can round up to duration
 }
 
-Status SampleClip(const Clip& clip, double time, const SampleOptions& options, std::span<Trs> out) {
+namespace anim_internal {
+
+Status CheckSampleArguments(const Clip& clip, double time, const SampleOptions& options, size_t out_size) {
   if (!clip.skeleton) return Status::InvalidArgument("clip has no skeleton");
   const Skeleton& sk = *clip.skeleton;
-  if (out.size() != sk.size())
-    return Status::InvalidArgument("output has room for " + std::to_string(out.size()) + " transforms, the skeleton has " +
+  if (out_size != sk.size())
+    return Status::InvalidArgument("output has room for " + std::to_string(out_size) + " transforms, the skeleton has " +
                                    std::to_string(sk.size()) + " joints");
   if (clip.joints.size() != sk.size())
     return Status::InvalidArgument("clip has " + std::to_string(clip.joints.size()) + " joint tracks, the skeleton has " +
@@ -206,6 +209,14 @@ Status SampleClip(const Clip& clip, double time, const SampleOptions& options, s
   if (options.wrap != WrapMode::kClamp && options.wrap != WrapMode::kLoop)
     return Status::InvalidArgument("sample options: wrap mode " + std::to_string(static_cast<int>(options.wrap)) +
                                    " is not CLAMP or LOOP");
+  return Status::Ok();
+}
+
+}  // namespace anim_internal
+
+Status SampleClip(const Clip& clip, double time, const SampleOptions& options, std::span<Trs> out) {
+  ARMATURE_RETURN_IF_ERROR(anim_internal::CheckSampleArguments(clip, time, options, out.size()));
+  const Skeleton& sk = *clip.skeleton;
   const double t = WrapTime(time, clip.duration, options.wrap);
   for (size_t i = 0; i < sk.size(); ++i) {
     out[i] = sk.rest[i];

@@ -1,11 +1,14 @@
 // BVH reader: a hand-written scanner over the bytes (string_view tokens,
 // std::from_chars numbers) because mocap files are megabytes of numbers and
-// iostreams would spend most of the time on locale and allocation.
+// iostreams would spend most of the time on locale and allocation. Frame
+// lines, nearly all of the bytes, are read in one pass with a fast path for
+// plain decimals (plain_decimal.h) and inlined Euler angles (euler_degrees.h).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <initializer_list>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -14,12 +17,13 @@
 #include "armature/engine/io/bvh.h"
 #include "armature/engine/math/rotation.h"
 #include "armature/base/utf8.h"
+#include "euler_degrees.h"
+#include "plain_decimal.h"
 
 namespace armature {
 namespace {
 
 constexpr int kMaxChannelsPerJoint = 64;
-constexpr double kDegree = std::numbers::pi / 180.0;
 
 bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
@@ -119,6 +123,15 @@ class Scanner {
 
   int token_line() const { return token_line_; }
   size_t remaining() const { return text_.size() - pos_; }
+  std::string_view text() const { return text_; }
+  size_t pos() const { return pos_; }
+  // Continues at `pos`, which is on line `line` (for a reader that scanned
+  // the text itself).
+  void Seek(size_t pos, int line) {
+    pos_ = pos;
+    line_ = line;
+    token_line_ = line;
+  }
   int line() const { return line_; }
 
  private:
@@ -143,6 +156,12 @@ struct JointDef {
   int position_columns[3] = {-1, -1, -1};  // x, y, z (−1: none)
   bool has_position = false;
 };
+
+// The line break that ends the line `p` is on, or `end`.
+const char* LineEnd(const char* p, const char* end) {
+  const void* nl = std::memchr(p, '\n', static_cast<size_t>(end - p));
+  return nl != nullptr ? static_cast<const char*>(nl) : end;
+}
 
 class BvhParser {
  public:
@@ -364,24 +383,34 @@ class BvhParser {
       if (joints_[j].has_position) clip_->joints[j].translation.values.reserve(capacity);
     }
 
+    // Frame lines in one pass over the bytes: no line is scanned twice, and
+    // plain decimals take plain_decimal.h's fast path.
     std::vector<double> row(columns);
-    std::vector<double> angles(kMaxChannelsPerJoint);
+    const std::string_view text = scan_.text();
+    const char* p = LineEnd(text.data() + scan_.pos(), text.data() + text.size());  // past "Frame Time:"
+    const char* const end = text.data() + text.size();
+    int line = scan_.line();
     for (long long f = 0; f < frames; ++f) {
-      const std::string_view line = scan_.NextLine();
-      if (line.empty())
-        return Error("file ends after " + std::to_string(f) + " of the " + std::to_string(frames) +
-                     " frames that 'Frames:' on line " + std::to_string(frames_line) + " declares");
-      ARMATURE_RETURN_IF_ERROR(ReadFrameLine(line, f, &row));
+      size_t count = 0;
+      while (count == 0) {  // blank lines hold no frame
+        if (p >= end) {
+          scan_.Seek(text.size(), line);
+          return Error("file ends after " + std::to_string(f) + " of the " + std::to_string(frames) +
+                       " frames that 'Frames:' on line " + std::to_string(frames_line) + " declares");
+        }
+        ++p;  // the line break
+        ++line;
+        ARMATURE_RETURN_IF_ERROR(ReadFrameValues(&p, end, line, f, &row, &count));
+      }
+      if (count != columns)
+        return ErrorAt(line, "frame " + std::to_string(f) + " has " + std::to_string(count) + " values, expected " +
+                                 std::to_string(columns));
       times.push_back(static_cast<double>(f) * dt);
       for (size_t j = 0; j < n_joints; ++j) {
         const JointDef& def = joints_[j];
         JointTrack& track = clip_->joints[j];
-        const size_t n_rot = def.rotation_axes.size();
-        if (n_rot > 0) {
-          for (size_t r = 0; r < n_rot; ++r) angles[r] = row[static_cast<size_t>(def.rotation_columns[r])] * kDegree;
-          track.rotation.values.push_back(
-              EulerToQuaternion(def.rotation_axes, std::span<const double>(angles.data(), n_rot)));
-        }
+        if (!def.rotation_axes.empty()) track.rotation.values.push_back(bvh_detail::EulerDegreesToQuaternion(
+              def.rotation_axes.data(), def.rotation_columns.data(), def.rotation_axes.size(), row.data()));
         if (def.has_position) {
           Eigen::Vector3d t = def.offset;
           for (int k = 0; k < 3; ++k)
@@ -390,6 +419,7 @@ class BvhParser {
         }
       }
     }
+    scan_.Seek(static_cast<size_t>(p - text.data()), line);
     // Lines beyond the declared count are ignored, as three.js, assimp and
     // Blender do (real exporters write one too many).
     if (std::string_view extra = scan_.NextLine(); !extra.empty()) {
@@ -414,28 +444,33 @@ class BvhParser {
     return Status::Ok();
   }
 
-  Status ReadFrameLine(std::string_view line, long long frame, std::vector<double>* row) {
-    size_t count = 0, i = 0;
-    const size_t n = line.size();
-    while (i < n) {
-      while (i < n && IsSpace(line[i])) ++i;
-      if (i >= n) break;
-      const size_t start = i;
-      while (i < n && !IsSpace(line[i])) ++i;
-      const std::string_view tok = line.substr(start, i - start);
+  // The values of the frame line that starts at `*p`, up to its line break
+  // (left for the caller) or the end of the text, into `row` (counted in
+  // `*count`, also beyond the row so that the message can say how many).
+  Status ReadFrameValues(const char** p, const char* end, int line, long long frame, std::vector<double>* row,
+                         size_t* count) const {
+    const char* q = *p;
+    for (;;) {
+      while (q < end && *q != '\n' && IsSpace(*q)) ++q;
+      if (q >= end || *q == '\n') break;
       double v = 0;
-      if (!ParseDouble(tok, &v))
-        return Error("frame " + std::to_string(frame) + " value " + std::to_string(count + 1) + " " + Quoted(tok) +
-                     " is not a number");
-      if (!std::isfinite(v))
-        return Error("frame " + std::to_string(frame) + " value " + std::to_string(count + 1) + " " + Quoted(tok) +
-                     " is not finite");
-      if (count < row->size()) (*row)[count] = v;
-      ++count;
+      const char* number_end = io_detail::ParsePlainDecimal(q, end, &v);
+      if (number_end == nullptr || (number_end < end && !IsSpace(*number_end))) {
+        number_end = q;
+        while (number_end < end && !IsSpace(*number_end)) ++number_end;
+        const std::string_view tok(q, static_cast<size_t>(number_end - q));
+        if (!ParseDouble(tok, &v))
+          return ErrorAt(line, "frame " + std::to_string(frame) + " value " + std::to_string(*count + 1) + " " +
+                                   Quoted(tok) + " is not a number");
+        if (!std::isfinite(v))
+          return ErrorAt(line, "frame " + std::to_string(frame) + " value " + std::to_string(*count + 1) + " " +
+                                   Quoted(tok) + " is not finite");
+      }
+      if (*count < row->size()) (*row)[*count] = v;
+      ++*count;
+      q = number_end;
     }
-    if (count != row->size())
-      return Error("frame " + std::to_string(frame) + " has " + std::to_string(count) + " values, expected " +
-                   std::to_string(row->size()));
+    *p = q;
     return Status::Ok();
   }
 

@@ -6,11 +6,25 @@
 namespace armature {
 
 void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world) {
+  // Trs::ToAffine and the affine product written out on the 3×4 part: no
+  // identity fill, no temporary, and no scale product for unscaled joints
+  // (BVH joints, most glTF joints).
   const size_t n = skeleton.size();
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Affine3d m = local[i].ToAffine();
+    const Trs& l = local[i];
+    Eigen::Matrix3d r = l.rotation.toRotationMatrix();
+    if (l.scale.x() != 1 || l.scale.y() != 1 || l.scale.z() != 1) r = r * l.scale.asDiagonal();
+    Eigen::Matrix4d& w = world[i].matrix();
     const int p = skeleton.parents[i];
-    world[i] = p < 0 ? m : world[static_cast<size_t>(p)] * m;
+    if (p < 0) {
+      w.topLeftCorner<3, 3>() = r;
+      w.topRightCorner<3, 1>() = l.translation;
+    } else {
+      const Eigen::Matrix4d& pw = world[static_cast<size_t>(p)].matrix();
+      w.topLeftCorner<3, 3>().noalias() = pw.topLeftCorner<3, 3>() * r;
+      w.topRightCorner<3, 1>().noalias() = pw.topLeftCorner<3, 3>() * l.translation + pw.topRightCorner<3, 1>();
+    }
+    w.row(3) << 0, 0, 0, 1;
   }
 }
 

@@ -15,6 +15,19 @@ void CallRegistry::Remove(GenericCall* call) {
   cv_.notify_all();
 }
 
+bool CallRegistry::Add(BidiCall* call) {
+  std::lock_guard lock(mu_);
+  if (draining_) return false;
+  sessions_.insert(call);
+  return true;
+}
+
+void CallRegistry::Remove(BidiCall* call) {
+  std::lock_guard lock(mu_);
+  sessions_.erase(call);
+  cv_.notify_all();
+}
+
 bool CallRegistry::draining() const {
   std::lock_guard lock(mu_);
   return draining_;
@@ -28,10 +41,12 @@ void CallRegistry::BeginDrain() {
 void CallRegistry::Drain(std::chrono::system_clock::time_point deadline) {
   std::unique_lock lock(mu_);
   draining_ = true;
-  cv_.wait_until(lock, deadline, [this] { return calls_.empty(); });
+  const auto none = [this] { return calls_.empty() && sessions_.empty(); };
+  cv_.wait_until(lock, deadline, none);
   for (GenericCall* call : calls_) call->Cancel();  // still registered, so still alive
+  for (BidiCall* call : sessions_) call->Cancel();
   // Cancelled calls end promptly; their handlers then write and remove them.
-  cv_.wait_for(lock, std::chrono::seconds(5), [this] { return calls_.empty(); });
+  cv_.wait_for(lock, std::chrono::seconds(5), none);
 }
 
 }  // namespace armature::server::gateway

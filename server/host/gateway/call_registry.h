@@ -9,6 +9,7 @@
 #include <mutex>
 #include <set>
 
+#include "server/host/gateway/bidi_call.h"
 #include "server/host/gateway/generic_call.h"
 
 namespace armature::server::gateway {
@@ -19,6 +20,8 @@ class CallRegistry {
   // nothing, once draining has begun.
   bool Add(GenericCall* call);
   void Remove(GenericCall* call);
+  bool Add(BidiCall* call);  // WebSocket sessions
+  void Remove(BidiCall* call);
 
   bool draining() const;
   void BeginDrain();
@@ -30,6 +33,7 @@ class CallRegistry {
   mutable std::mutex mu_;
   std::condition_variable cv_;
   std::set<GenericCall*> calls_;
+  std::set<BidiCall*> sessions_;
   bool draining_ = false;
 };
 

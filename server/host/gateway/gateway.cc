@@ -237,6 +237,7 @@ void Gateway::Register(httplib::Server& http) {
 void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader* reader) {
   auto path = RequestPath::Parse(req.target);
   if (!path.ok()) return WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT, path.status().message());
+  if (IsWebSocketUpgrade(req)) return HandleWebSocket(req, res, *path);
   const std::string method = req.method == "HEAD" ? "GET" : req.method;
   auto route = Match(method, *path);
   if (!route) {

@@ -37,6 +37,10 @@ namespace armature::server::gateway {
 
 // The request's Content-Type without parameters, lower case, no spaces.
 std::string MediaType(const httplib::Request& req);
+// True when the request asks for `Upgrade: websocket` (websocket_session.cc).
+bool IsWebSocketUpgrade(const httplib::Request& req);
+
+class BidiCall;
 
 struct GatewayOptions {
   std::vector<std::string> cors_origins;  // --cors-origin
@@ -50,7 +54,11 @@ struct GatewayOptions {
   // with a plain HTTP error; later ones arrive as the final SSE status event.
   std::chrono::milliseconds first_response_wait{2000};
   std::chrono::milliseconds sse_heartbeat{15000};
-  size_t max_streams = 200;  // open SSE and gRPC-Web streams; more are refused (each holds an HTTP thread)
+  size_t max_streams = 200;  // open SSE and gRPC-Web streams and WebSocket sessions; more are refused (each holds an HTTP thread)
+  // A WebSocket session whose client sends no message for this long is closed (1001).
+  std::chrono::milliseconds websocket_idle_timeout{300000};
+  // Longest a write to a WebSocket client may block (a client that stops reading).
+  std::chrono::milliseconds websocket_write_timeout{10000};
   // --auth-token-file: checked before a request body is read, so token-less
   // uploads cost no memory (the gRPC auth gate checks again).
   std::shared_ptr<const BearerTokens> tokens;
@@ -110,6 +118,12 @@ class Gateway {
   void HandleGrpcWeb(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader);
   void CallGrpcWebStreaming(const google::protobuf::MethodDescriptor& method, bool text,
                             std::unique_ptr<grpc::ClientContext> context, std::string request, httplib::Response& res);
+
+  // WebSocket sessions on a bidi method's REST path (websocket_session.cc).
+  void HandleWebSocket(const httplib::Request& req, httplib::Response& res, const RequestPath& path);
+  // The session on the upgraded connection (`ssl`: the TLS session or null) until it ends.
+  void RunWebSocketSession(int fd, void* ssl, const HttpBinding& binding, const PathBindings& variables,
+                           BidiCall& call);
 
   const google::protobuf::Message& Prototype(const google::protobuf::Descriptor* type) const {
     return *factory_->GetPrototype(type);

@@ -6,6 +6,15 @@
 
 namespace armature::server::gateway {
 
+std::string TakeMessage(grpc::ByteBuffer* buffer) {
+  std::vector<grpc::Slice> slices;
+  (void)buffer->Dump(&slices);
+  std::string message;
+  for (const auto& s : slices) message.append(reinterpret_cast<const char*>(s.begin()), s.size());
+  buffer->Clear();
+  return message;
+}
+
 struct GenericCall::State {
   std::unique_ptr<grpc::ClientContext> context;
   Reactor* reactor = nullptr;  // valid while `hold` is set
@@ -51,12 +60,7 @@ class GenericCall::Reactor final : public grpc::ClientBidiReactor<grpc::ByteBuff
       std::lock_guard lock(state_->mu);
       state_->reading = false;
       if (ok) {
-        std::vector<grpc::Slice> slices;
-        (void)read_buf_.Dump(&slices);
-        std::string message;
-        for (const auto& s : slices) message.append(reinterpret_cast<const char*>(s.begin()), s.size());
-        read_buf_.Clear();
-        state_->queue.push_back(std::move(message));
+        state_->queue.push_back(TakeMessage(&read_buf_));
         if (state_->queue.size() < state_->capacity) again = state_->reading = true;
       } else if (state_->hold) {  // no more responses: let the call finish
         state_->hold = false;

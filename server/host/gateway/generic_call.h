@@ -18,6 +18,9 @@
 
 namespace armature::server::gateway {
 
+// A received message's bytes, the buffer emptied.
+std::string TakeMessage(grpc::ByteBuffer* buffer);
+
 class GenericCall {
  public:
   enum class Next { kMessage, kEnd, kTimeout };

@@ -550,7 +550,7 @@ TEST_F(Gateway, OpenApiIsGeneratedFromTheDescriptors) {
   // Every annotated RPC is there.
   int operations = 0;
   for (const auto& [path, methods] : doc["paths"].items()) operations += static_cast<int>(methods.size());
-  EXPECT_EQ(operations, 27);  // 15 asset and pose routes (EvaluateMotion, PlaybackSession among them), Deform + DeformSession, SolveIk + IkSession, MeshService's 8 (SkinCharacter)
+  EXPECT_EQ(operations, 29);  // 15 asset and pose routes (EvaluateMotion, PlaybackSession among them), Deform + DeformSession, SolveIk + IkSession, MeshService's 8 (SkinCharacter), RetargetClip + CreateClip
   EXPECT_TRUE(doc["paths"]["/v1/meshes/{mesh}:deform"]["post"].is_object());
 }
 
