@@ -53,6 +53,13 @@ StatusOr<PartRef<NamedMesh>> Catalog::FindMesh(std::string_view name) const {
   return FindIn(*this, meshes, name, "mesh", "meshes", &AssetContents::meshes);
 }
 
+std::vector<const NamedMesh*> Catalog::MeshesOf(std::string_view skeleton) const {
+  std::vector<const NamedMesh*> out;
+  for (const auto& [name, ref] : meshes)
+    if (!skeleton.empty() && ref.part->skeleton == skeleton) out.push_back(ref.part);
+  return out;
+}
+
 StatusOr<std::shared_ptr<const StoredAsset>> Catalog::FindOwner(std::string_view name) const {
   const std::string key(name);
   if (auto it = assets.find(key); it != assets.end()) return it->second;

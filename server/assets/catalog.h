@@ -48,6 +48,8 @@ struct Catalog {
   StatusOr<PartRef<NamedClip>> FindClip(std::string_view name) const;
   StatusOr<PartRef<NamedSkeleton>> FindSkeleton(std::string_view name) const;
   StatusOr<PartRef<NamedMesh>> FindMesh(std::string_view name) const;
+  // A character: the meshes skinned to the skeleton named `skeleton`, in name order.
+  std::vector<const NamedMesh*> MeshesOf(std::string_view skeleton) const;
   // The asset named `name`, or the one owning a clip, skeleton or mesh of that name.
   StatusOr<std::shared_ptr<const StoredAsset>> FindOwner(std::string_view name) const;
 };

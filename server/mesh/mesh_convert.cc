@@ -55,11 +55,21 @@ StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, co
   return BindMotionProto(catalog, motion, limits, "motion");
 }
 
-Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc) {
+namespace {
+
+// The bytes of `mesh`'s positions and normals (and triangle indices) in a reply.
+double MeshReplyBytes(const Mesh& mesh, bool triangles) {
   const double n = static_cast<double>(mesh.vertex_count());
   double bytes = n * 12 * (mesh.normals.empty() ? 1 : 2);
   if (triangles)
     for (uint32_t index : mesh.triangles) bytes += google::protobuf::io::CodedOutputStream::VarintSize32(index);
+  return bytes;
+}
+
+}  // namespace
+
+Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc) {
+  const double bytes = MeshReplyBytes(mesh, triangles);
   const std::string how = std::to_string(mesh.vertex_count()) + " vertices" +
                           (triangles ? " and " + std::to_string(mesh.triangles.size() / 3) + " triangles" : "");
   return ValidateReplySize(bytes, limits, rpc, how + "; imports are capped by --max-mesh-vertices");
@@ -70,6 +80,19 @@ Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool t
   auto ref = catalog.FindMesh(name);
   if (!ref.ok()) return Status::Ok();  // the RPC itself reports it
   return ValidateMeshReply(*ref->part->mesh, triangles, limits, rpc);
+}
+
+Status ValidateCharacterReply(const std::vector<const NamedMesh*>& meshes, const Limits& limits,
+                              const std::string& rpc) {
+  double bytes = 0;
+  size_t vertices = 0;
+  for (const NamedMesh* mesh : meshes) {
+    bytes += MeshReplyBytes(*mesh->mesh, false);
+    vertices += mesh->mesh->vertex_count();
+  }
+  return ValidateReplySize(bytes, limits, rpc,
+                           std::to_string(meshes.size()) + " meshes, " + std::to_string(vertices) +
+                               " vertices in all; imports are capped by --max-mesh-vertices");
 }
 
 }  // namespace armature::server

@@ -62,4 +62,8 @@ Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits,
 Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool triangles, const Limits& limits,
                          const std::string& rpc);
 
+// ValidateMeshReply for one answer carrying every mesh of `meshes` (a character, no triangles).
+Status ValidateCharacterReply(const std::vector<const NamedMesh*>& meshes, const Limits& limits,
+                              const std::string& rpc);
+
 }  // namespace armature::server

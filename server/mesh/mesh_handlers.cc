@@ -98,6 +98,33 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
   return Status::Ok();
 }
 
+Status SkinCharacter(const Catalog& catalog, const v1::SkinCharacterRequest& request,
+                     v1::SkinCharacterResponse* response, const Limits& limits) {
+  auto skeleton = catalog.FindSkeleton(request.skeleton());
+  if (!skeleton.ok()) return skeleton.status().WithContext("skeleton: ");
+  const std::string& name = skeleton->part->name;
+  const std::vector<const NamedMesh*> meshes = catalog.MeshesOf(name);
+  if (meshes.empty())
+    return Status::NotFound("skeleton: '" + name + "' has no meshes skinned to it (not a character)");
+  v1::SkinMeshRequest each;
+  each.set_clip(request.clip());
+  each.set_time(request.time());
+  each.set_interpolation(request.interpolation());
+  each.set_wrap(request.wrap());
+  if (request.has_pose()) *each.mutable_pose() = request.pose();
+  each.set_method(request.method());
+  if (request.has_motion()) *each.mutable_motion() = request.motion();
+  response->set_skeleton(name);
+  response->mutable_meshes()->Reserve(static_cast<int>(meshes.size()));
+  for (const NamedMesh* mesh : meshes) {
+    each.set_mesh(mesh->name);
+    // The first mesh reports bad posing fields; naming the mesh tells which when only one fails.
+    ARMATURE_RETURN_IF_ERROR(SkinMesh(catalog, each, response->add_meshes(), limits)
+                                 .WithContext("mesh '" + mesh->name + "': "));
+  }
+  return Status::Ok();
+}
+
 Status EvaluateBlendshapes(const Catalog& catalog, const v1::EvaluateBlendshapesRequest& request,
                            v1::EvaluateBlendshapesResponse* response) {
   auto ref = catalog.FindMesh(request.mesh());

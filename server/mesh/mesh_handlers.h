@@ -15,6 +15,10 @@ Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest&
 Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response,
                 const Limits& limits);
 Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response);
+// SkinMesh for every mesh of the request's skeleton (Catalog::MeshesOf), posed alike;
+// a skeleton without meshes is NOT_FOUND naming it.
+Status SkinCharacter(const Catalog& catalog, const v1::SkinCharacterRequest& request,
+                     v1::SkinCharacterResponse* response, const Limits& limits);
 Status EvaluateBlendshapes(const Catalog& catalog, const v1::EvaluateBlendshapesRequest& request,
                            v1::EvaluateBlendshapesResponse* response);
 Status BindMesh(const Catalog& catalog, const v1::BindMeshRequest& request, v1::BindMeshResponse* response);

@@ -81,6 +81,18 @@ grpc::ServerUnaryReactor* MeshServiceImpl::SkinMesh(grpc::CallbackServerContext*
   });
 }
 
+grpc::ServerUnaryReactor* MeshServiceImpl::SkinCharacter(grpc::CallbackServerContext* context,
+                                                         const v1::SkinCharacterRequest* request,
+                                                         v1::SkinCharacterResponse* response) {
+  return RunUnary(context, "SkinCharacter", [&]() -> Status {
+    const auto catalog = store_.Snapshot();
+    if (auto skeleton = catalog->FindSkeleton(request->skeleton()); skeleton.ok())
+      ARMATURE_RETURN_IF_ERROR(
+          ValidateCharacterReply(catalog->MeshesOf(skeleton->part->name), limits_, "SkinCharacter"));
+    return server::SkinCharacter(*catalog, *request, response, limits_);
+  });
+}
+
 grpc::ServerUnaryReactor* MeshServiceImpl::EvaluateBlendshapes(grpc::CallbackServerContext* context,
                                                                const v1::EvaluateBlendshapesRequest* request,
                                                                v1::EvaluateBlendshapesResponse* response) {

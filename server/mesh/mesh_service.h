@@ -27,6 +27,9 @@ class MeshServiceImpl final : public v1::MeshService::CallbackService {
                                             v1::MeshGeometry* response) override;
   grpc::ServerUnaryReactor* SkinMesh(grpc::CallbackServerContext* context, const v1::SkinMeshRequest* request,
                                      v1::SkinMeshResponse* response) override;
+  grpc::ServerUnaryReactor* SkinCharacter(grpc::CallbackServerContext* context,
+                                          const v1::SkinCharacterRequest* request,
+                                          v1::SkinCharacterResponse* response) override;
   grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* StreamSkinnedMesh(
       grpc::CallbackServerContext* context, const v1::StreamSkinnedMeshRequest* request) override;
   grpc::ServerUnaryReactor* EvaluateBlendshapes(grpc::CallbackServerContext* context,

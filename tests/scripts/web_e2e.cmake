@@ -5,8 +5,10 @@
 # viewer_e2e (clip playback, IK drag), mesh_e2e (skinned mesh, LBS/DQS),
 # deform_e2e (dragging a vertex), session_e2e (both drags' WebSocket sessions
 # timed against gRPC), blend_e2e (the blend panel on RobotExpressive
-# from ../shared/data; it skips without it).
-set(ARMATURE_VIEWER_TESTS viewer_e2e mesh_e2e deform_e2e blend_e2e)
+# from ../shared/data; it skips without it), character_e2e (RobotExpressive's
+# 19 meshes skinned together while Running plays; skips without it), drop_e2e
+# (files dropped on the page are imported).
+set(ARMATURE_VIEWER_TESTS viewer_e2e mesh_e2e deform_e2e blend_e2e character_e2e drop_e2e)
 if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   foreach(test ${ARMATURE_VIEWER_TESTS})
     string(REGEX REPLACE "_e2e$" "" shot ${test})

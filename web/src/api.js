@@ -78,6 +78,12 @@ export function skinMesh(name, request) {
   return mesh('skinMesh', { ...request, mesh: name });
 }
 
+// Every mesh of skeleton `skeleton` (a character) posed alike (a
+// SkinCharacterRequest as JSON, less the skeleton): { skeleton, meshes: [SkinMesh answers] }.
+export function skinCharacter(skeleton, request) {
+  return mesh('skinCharacter', { ...request, skeleton });
+}
+
 // One Laplacian/ARAP edit (a DeformRequest as JSON, less the mesh).
 export function deform(name, request) {
   return unary(DeformService, client.deform, 'deform', { ...request, mesh: name });

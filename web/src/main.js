@@ -1,8 +1,12 @@
 // The viewer page: choose a clip (and a mesh it plays on), play / pause,
 // scrub, set the speed and the skinning method; drag a joint (IK) or, in
-// edit mode, a vertex (Laplacian editing); blend clips of the skeleton.
+// edit mode, a vertex (Laplacian editing); blend clips of the skeleton; play a
+// clip on a character (every mesh of a skeleton); drop a file to import it.
 import * as api from './api.js';
 import { BlendPanel } from './blend_panel.js';
+import { CharacterPlayer, charactersOf } from './character_player.js';
+import { CharacterView } from './character_view.js';
+import { DropImport } from './drop_import.js';
 import { IkDrag } from './ik_drag.js';
 import { MeshPlayer, SKINNING_METHODS, clipsFor } from './mesh_player.js';
 import { MeshView } from './mesh_view.js';
@@ -12,13 +16,13 @@ import { VertexDrag } from './vertex_drag.js';
 
 const $ = (id) => document.getElementById(id);
 const ui = {
-  mesh: $('mesh'), clip: $('clip'), play: $('play'), scrub: $('scrub'), speed: $('speed'),
+  character: $('character'), mesh: $('mesh'), clip: $('clip'), play: $('play'), scrub: $('scrub'), speed: $('speed'),
   meshControls: $('mesh-controls'), method: $('method'), showSkeleton: $('show-skeleton'),
   skeletonToggle: $('skeleton-toggle'), edit: $('edit'),
   editControls: $('edit-controls'), deformMethod: $('deform-method'), deformWeights: $('deform-weights'),
   radius: $('radius'), reset: $('reset'), hint: $('hint'), blend: $('blend'),
   time: $('time'), frameTime: $('frame-time'), joints: $('joints'), vertices: $('vertices'), rate: $('rate'),
-  message: $('message'),
+  message: $('message'), importProgress: $('import-progress'), importLabel: $('import-label'),
 };
 const HINTS = {
   skeleton: 'Drag a joint to pose it (IK)',
@@ -33,15 +37,20 @@ const player = new Player({ fps: 30 });          // the skeleton (alone, or over
 const meshPlayer = new MeshPlayer({ fps: 30 });  // the chosen mesh
 const ik = new IkDrag(view, player);
 const vertexDrag = new VertexDrag(view, meshView);
+const characterView = new CharacterView(view);
+const characterPlayer = new CharacterPlayer({ fps: 30 });  // the chosen character
+const dropImport = new DropImport(document.body, { progress: ui.importProgress, label: ui.importLabel });
 const blend = new BlendPanel($('blend-panel'), { speed: () => Number(ui.speed.value) });
 let clips = [];
 let meshes = [];
+let characters = [];  // charactersOf(meshes)
 let scrubbing = false;
 const arrivals = [];  // stream frame arrival times, for the rate shown
 
 const meshMode = () => ui.mesh.value !== '';
+const characterMode = () => ui.character.value !== '';
 // What play, scrub and speed drive.
-const playback = () => (meshMode() ? meshPlayer : player);
+const playback = () => (characterMode() ? characterPlayer : meshMode() ? meshPlayer : player);
 // The skeleton over the mesh: when it has one, a clip plays and no edit is on.
 const overlay = () =>
   ui.showSkeleton.checked && !vertexDrag.editing && Boolean(meshPlayer.mesh?.skeleton && meshPlayer.clip);
@@ -55,6 +64,16 @@ function showClip(clip) {
   ui.scrub.step = String(clip.frameTime > 0 ? clip.frameTime / 4 : clip.duration / 1000);
   ui.frameTime.textContent =
     clip.frameTime > 0 ? `frame time ${(clip.frameTime * 1000).toFixed(1)} ms` : 'key-framed';
+}
+
+// A mesh's or a character's clip, or that it is shown at rest (no clip).
+function showClipOrRest(clip) {
+  if (clip) {
+    showClip(clip);
+  } else {
+    ui.time.textContent = 'at rest';
+    ui.frameTime.textContent = '–';
+  }
 }
 
 function showTime(time, clip, frame, unit) {
@@ -83,7 +102,7 @@ function showState(playing) {
 function updateControls() {
   const editing = vertexDrag.editing;
   const mesh = meshMode() ? meshPlayer.mesh : null;
-  const clip = meshMode() ? meshPlayer.clip : player.clip;
+  const clip = characterMode() ? characterPlayer.clip : meshMode() ? meshPlayer.clip : player.clip;
   ui.meshControls.hidden = !meshMode();
   ui.editControls.hidden = !editing;
   ui.edit.checked = editing;
@@ -95,23 +114,24 @@ function updateControls() {
   ui.skeletonToggle.hidden = !mesh?.skeleton;
   // Blending needs a skeleton with a clip (a mesh's, shown alone while blending).
   ui.blend.disabled = editing || !clip || (meshMode() && !mesh?.skeleton);
+  ui.character.disabled = blending;
   ui.hint.textContent = editing ? HINTS.edit : blending ? HINTS.blend : meshMode() ? HINTS.mesh : HINTS.skeleton;
-  view.figure.visible = !meshMode() || overlay();
+  view.figure.visible = !characterMode() && (!meshMode() || overlay());
 }
 
 player.addEventListener('load', ({ detail: { clip, skeleton } }) => {
   view.setSkeleton(skeleton);
   ui.joints.textContent = `${skeleton.joints.length} joints`;
-  if (!meshMode()) showClip(clip);
+  if (!meshMode() && !characterMode()) showClip(clip);
   if (blend.enabled) blend.setCharacter(skeleton, clipsOf(skeleton), clip.name);
   updateControls();
 });
 player.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
   if (blend.enabled) return;  // the blend draws the skeleton
   view.setPose(pose);
-  if (!meshMode()) showTime(time, player.clip, frame, 'poses');
+  if (!meshMode() && !characterMode()) showTime(time, player.clip, frame, 'poses');
 });
-player.addEventListener('state', ({ detail: { playing } }) => !meshMode() && showState(playing));
+player.addEventListener('state', ({ detail: { playing } }) => !meshMode() && !characterMode() && showState(playing));
 player.addEventListener('error', ({ detail }) => showMessage(detail));
 
 meshPlayer.addEventListener('load', ({ detail: { mesh, geometry, clip } }) => {
@@ -124,12 +144,7 @@ meshPlayer.addEventListener('load', ({ detail: { mesh, geometry, clip } }) => {
   ui.vertices.textContent = `${mesh.vertexCount} vertices · ${mesh.triangleCount} triangles`;
   if (!(mesh.skeleton && clip))
     ui.joints.textContent = mesh.targetNames?.length ? `${mesh.targetNames.length} morph targets` : '';
-  if (clip) {
-    showClip(clip);
-  } else {
-    ui.time.textContent = 'at rest';
-    ui.frameTime.textContent = '–';
-  }
+  showClipOrRest(clip);
   updateControls();
 });
 meshPlayer.addEventListener('frame', ({ detail: { time, positions, normals, frame } }) => {
@@ -142,6 +157,27 @@ meshPlayer.addEventListener('frame', ({ detail: { time, positions, normals, fram
 });
 meshPlayer.addEventListener('state', ({ detail: { playing } }) => meshMode() && showState(playing));
 meshPlayer.addEventListener('error', ({ detail }) => showMessage(detail));
+
+characterPlayer.addEventListener('load', ({ detail: { character, geometries, clip } }) => {
+  if (characterView.parts[0]?.geometry !== geometries[0]) {
+    characterView.show(geometries);
+    if (!clip) characterView.frame();  // else its first skinned frame is framed
+  }
+  const triangles = character.meshes.reduce((n, m) => n + m.triangleCount, 0);
+  ui.vertices.textContent =
+    `${plural(character.meshes.length, 'mesh', 'meshes')} · ${characterView.vertexCount} vertices · ${triangles} triangles`;
+  ui.joints.textContent = '';
+  showClipOrRest(clip);
+  updateControls();
+});
+characterPlayer.addEventListener('frame', ({ detail: { time, meshes: skinned, frame } }) => {
+  characterView.setMeshes(skinned);
+  if (!characterView.lastCenter) characterView.frame();
+  characterView.follow();
+  showTime(time, characterPlayer.clip, frame, 'frames');
+});
+characterPlayer.addEventListener('state', ({ detail: { playing } }) => characterMode() && showState(playing));
+characterPlayer.addEventListener('error', ({ detail }) => showMessage(detail));
 
 let blendFailed = false;  // a blend error is on screen until a motion evaluates again
 blend.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
@@ -198,7 +234,42 @@ async function loadMeshClip() {
   updateControls();
 }
 
+// Leaves character mode: the character's meshes go, its playback stops.
+function leaveCharacter() {
+  ui.character.value = '';
+  characterPlayer.unload();
+  characterView.clear();
+}
+
+// Plays a clip of skeleton `skeleton` on all of its meshes (none: the
+// skeleton alone, as chooseMesh('') shows it).
+async function chooseCharacter(skeleton, wantedClip) {
+  const character = characters.find((c) => c.skeleton === skeleton);
+  if (!character) return chooseMesh('', wantedClip);
+  setEditing(false);
+  showMessage('');
+  ui.mesh.value = '';
+  meshPlayer.unload();
+  meshView.clear();
+  view.setOverlay(false);
+  ui.character.value = skeleton;
+  player.pause();
+  ik.enabled = false;
+  view.followRoot = false;  // the camera follows the character
+  ui.vertices.textContent = '';
+  fillClips(clips.filter((c) => c.skeleton === skeleton), wantedClip);
+  showState(false);
+  await loadCharacterClip();
+}
+
+async function loadCharacterClip() {
+  const character = characters.find((c) => c.skeleton === ui.character.value);
+  await characterPlayer.load(character, ui.clip.value);
+  updateControls();
+}
+
 async function chooseMesh(name, wantedClip) {
+  leaveCharacter();
   setEditing(false);
   showMessage('');
   ui.mesh.value = name;
@@ -247,7 +318,7 @@ const clipsOf = (skeleton) => clips.filter((c) => c.skeleton === skeleton.name).
 // Blend mode: the clip's skeleton (shown alone) is driven by the blend panel;
 // leaving it shows the clip again.
 async function setBlending(on) {
-  if (on && meshMode()) await chooseMesh('', meshPlayer.clip?.name);
+  if (on && (meshMode() || characterMode())) await chooseMesh('', playback().clip?.name);
   if (on && player.skeleton) {
     player.pause();
     ik.enabled = false;
@@ -263,6 +334,7 @@ async function setBlending(on) {
   updateControls();
 }
 
+const plural = (n, one, many) => `${n} ${n === 1 ? one : many}`;
 const failed = (prefix) => (error) => showMessage(`${prefix}${error.message}`);
 
 ui.play.addEventListener('click', () => (playback().playing ? playback().pause() : playback().play()));
@@ -275,10 +347,14 @@ ui.speed.addEventListener('change', () => {
 });
 ui.clip.addEventListener('change', () => {
   showMessage('');
-  (meshMode() ? loadMeshClip() : player.load(ui.clip.value)).catch(failed(''));
+  (characterMode() ? loadCharacterClip() : meshMode() ? loadMeshClip() : player.load(ui.clip.value)).catch(failed(''));
 });
+ui.character.addEventListener('change', () => chooseCharacter(ui.character.value).catch(failed('')));
 ui.mesh.addEventListener('change', () => chooseMesh(ui.mesh.value).catch(failed('')));
-ui.method.addEventListener('change', () => meshPlayer.setMethod(ui.method.value));
+ui.method.addEventListener('change', () => {
+  meshPlayer.setMethod(ui.method.value);
+  characterPlayer.method = ui.method.value;
+});
 ui.showSkeleton.addEventListener('change', () => {
   updateControls();
   if (overlay()) player.seek(meshPlayer.time);
@@ -295,10 +371,43 @@ ui.reset.addEventListener('click', () => {
   ui.rate.textContent = '';
 });
 
-// ?mesh=NAME&clip=NAME&method=LBS|DQS pick what is shown first.
-async function start() {
+// Fills the character and mesh pickers from the server's lists, keeping the choices.
+async function loadLists() {
   [clips, meshes] = await Promise.all([api.listClips(), api.listMeshes()]);
-  for (const mesh of meshes) ui.mesh.add(new Option(`${mesh.name} (${mesh.vertexCount} vertices)`, mesh.name));
+  characters = charactersOf(meshes);
+  const [character, mesh] = [ui.character.value, ui.mesh.value];
+  ui.character.replaceChildren(new Option('none', ''));
+  for (const c of characters)
+    ui.character.add(new Option(`${c.skeleton} (${plural(c.meshes.length, 'mesh', 'meshes')})`, c.skeleton));
+  ui.mesh.replaceChildren(new Option('none', ''));
+  for (const m of meshes) ui.mesh.add(new Option(`${m.name} (${m.vertexCount} vertices)`, m.name));
+  ui.character.value = characters.some((c) => c.skeleton === character) ? character : '';
+  ui.mesh.value = meshes.some((m) => m.name === mesh) ? mesh : '';
+}
+
+// A dropped file was imported: it joins the pickers and is shown (its
+// character, else its first clip on its skeleton, else its first mesh).
+dropImport.addEventListener('imported', ({ detail: { asset, warnings } }) => {
+  (async () => {
+    await loadLists();
+    const skinned = asset.meshes?.find((m) => m.skeleton);
+    if (skinned) {
+      if (blend.enabled) await setBlending(false);
+      await chooseCharacter(skinned.skeleton, asset.clips?.[0]?.name);
+    } else if (asset.clips?.length) {
+      if (blend.enabled) await setBlending(false);
+      await chooseMesh('', asset.clips[0].name);
+    } else if (asset.meshes?.length) {
+      await chooseMesh(asset.meshes[0].name);
+    }
+    if (warnings?.length) showMessage(`Import: ${warnings.join('; ')}`);
+  })().catch(failed('Import: '));
+});
+dropImport.addEventListener('error', ({ detail }) => showMessage(`Import: ${detail}`));
+
+// ?character=SKELETON|mesh=NAME&clip=NAME&method=LBS|DQS pick what is shown first.
+async function start() {
+  await loadLists();
   const params = new URLSearchParams(location.search);
   const method = params.get('method')?.toUpperCase();
   if (SKINNING_METHODS.includes(method)) {
@@ -307,6 +416,11 @@ async function start() {
   }
   // With nothing asked for, a skinned mesh that has a clip to play (the
   // seeded demo character) is the most telling first view.
+  if (params.has('character')) {
+    await chooseCharacter(params.get('character'), params.get('clip'));
+    if (!characterMode()) showMessage(`No character ${params.get('character')} (a skeleton with meshes)`);
+    return;
+  }
   const playable = meshes.find((m) => m.skeleton && clipsFor(m, clips).length > 0);
   const wantedMesh = params.get('mesh') ?? (params.has('clip') ? null : playable?.name);
   if (wantedMesh && meshes.some((m) => m.name === wantedMesh)) {
@@ -322,6 +436,8 @@ async function start() {
 }
 
 // For tests and the console.
-window.armatureViewer = { player, view, ik, meshPlayer, meshView, vertexDrag, blend };
+window.armatureViewer = {
+  player, view, ik, meshPlayer, meshView, vertexDrag, blend, characterPlayer, characterView, dropImport,
+};
 
 start().catch(failed('Cannot reach the server: '));

@@ -7,10 +7,33 @@ import * as THREE from 'three';
 
 export const MESH_COLOR = 0x8fb3d9;
 
+// Points `view`'s camera at `box`, over a grid three times its size: big
+// enough to stand on, small enough that the camera (two sizes away) is off it
+// (software WebGL drops grid lines that pass behind the camera), and a hair
+// below the box so a flat mesh lying on it does not flicker through it.
+export function frameOnGrid(view, box) {
+  const span = Math.max(...box.getSize(new THREE.Vector3()).toArray(), 1e-3);
+  view.setGrid(span / 4);
+  view.frameBox(box);
+  view.grid.position.y -= span * 1e-3;
+}
+
+// Moves `view`'s camera by the ground shift from `from` to `to`; the grid
+// comes along a whole number of cells at a time, so it looks still.
+export function panAcross(view, from, to) {
+  view.panAlongGround(to.clone().sub(from));
+  const { grid, controls } = view;
+  const cell = grid.userData.cell;
+  grid.position.x = Math.round(controls.target.x / cell) * cell;
+  grid.position.z = Math.round(controls.target.z / cell) * cell;
+}
+
 export class MeshView {
-  // `view`: the SkeletonView whose scene, camera and renderer are used.
-  constructor(view) {
+  // `view`: the SkeletonView whose scene, camera and renderer are used;
+  // `color`: the material's (a character's meshes each get their own).
+  constructor(view, { color = MESH_COLOR } = {}) {
     this.view = view;
+    this.color = color;
     this.geometry = null;  // the GetMeshGeometry response
     this.object = null;    // the THREE.Mesh
     this.lastCenter = null;
@@ -32,7 +55,7 @@ export class MeshView {
     if (!buffer.getAttribute('normal')) buffer.computeVertexNormals();
     buffer.computeBoundingSphere();
     const material = new THREE.MeshStandardMaterial({
-      color: MESH_COLOR, roughness: 0.55, metalness: 0.05, side: THREE.DoubleSide,
+      color: this.color, roughness: 0.55, metalness: 0.05, side: THREE.DoubleSide,
     });
     this.object = new THREE.Mesh(buffer, material);
     this.view.scene.add(this.object);
@@ -73,14 +96,7 @@ export class MeshView {
   follow() {
     if (!this.object) return;
     const center = this.centroid();
-    if (this.lastCenter) {
-      this.view.panAlongGround(center.clone().sub(this.lastCenter));
-      // The grid comes along, a whole number of cells at a time: it looks still.
-      const { grid, controls } = this.view;
-      const cell = grid.userData.cell;
-      grid.position.x = Math.round(controls.target.x / cell) * cell;
-      grid.position.z = Math.round(controls.target.z / cell) * cell;
-    }
+    if (this.lastCenter) panAcross(this.view, this.lastCenter, center);
     this.lastCenter = center;
   }
 
@@ -89,18 +105,10 @@ export class MeshView {
     return new THREE.Vector3().fromBufferAttribute(this.object.geometry.getAttribute('position'), index);
   }
 
-  // Points the camera at the mesh's bounds, over a grid three times its
-  // size: big enough to stand on, small enough that the camera (two sizes
-  // away) is off it (software WebGL drops grid lines that pass behind the
-  // camera), and a hair below the mesh so a flat mesh lying on it does not
-  // flicker through it.
+  // Points the camera at the mesh's bounds (frameOnGrid).
   frame() {
     if (!this.object) return;
-    const box = new THREE.Box3().setFromObject(this.object);
-    const span = Math.max(...box.getSize(new THREE.Vector3()).toArray(), 1e-3);
-    this.view.setGrid(span / 4);
-    this.view.frameBox(box);
-    this.view.grid.position.y -= span * 1e-3;
+    frameOnGrid(this.view, new THREE.Box3().setFromObject(this.object));
     this.lastCenter = this.centroid();
   }
 

@@ -56,14 +56,7 @@ function maxDiff(a, b, only) {
 }
 
 await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectConsoleError }) => {
-  const rest = async (route, body) => {
-    const res = await fetch(server.url + route, body && {
-      method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body),
-    });
-    const json = await res.json();
-    if (!res.ok) throw new Error(`${route}: ${res.status} ${json.message}`);
-    return json;
-  };
+  const rest = server.call;
   // World joint positions of `motion` at `time`, straight from the REST gateway.
   const evaluate = async (motion, time) =>
     (await rest('/v1/motions:evaluate', { motion, times: [time], space: 'WORLD' })).poses[0].translations;

@@ -100,34 +100,72 @@ export function besides(screenshot, suffix) {
   return screenshot.replace(/\.png$/, '') + `_${suffix}.png`;
 }
 
+// Defines window.decodePng(base64) → ImageData in the page: the browser
+// decodes the screenshots (node has no PNG decoder here).
+function definePngDecoder(page) {
+  return page.evaluate(() => {
+    window.decodePng ??= async (base64) => {
+      const image = new Image();
+      image.src = `data:image/png;base64,${base64}`;
+      await image.decode();
+      const canvas = document.createElement('canvas');
+      canvas.width = image.width;
+      canvas.height = image.height;
+      const g = canvas.getContext('2d');
+      g.drawImage(image, 0, 0);
+      return g.getImageData(0, 0, image.width, image.height);
+    };
+  });
+}
+
 // Counts the pixels of a PNG screenshot (decoded by the browser) close to a
-// colour the viewer draws: 'bone' (#ff8c1a) or 'mesh' (#8fb3d9), however lit;
-// and their bounding box.
+// colour the viewer draws: 'bone' (#ff8c1a), 'mesh' (#8fb3d9) or 'character' (any
+// of CharacterView's shades), however lit; and their bounding box, and the image's size.
 export async function colourStats(page, png, colour) {
+  await definePngDecoder(page);
   return page.evaluate(async ({ base64, colour }) => {
     const looksLike = {
       // Red high, green middling, blue low.
       bone: (r, g, b) => r > 140 && g > 50 && g < 0.8 * r && b < 0.45 * r,
       // Blue above green above red, clearly saturated (the grid is grey).
       mesh: (r, g, b) => b > 60 && g > r && b > g && b - r > 0.25 * b,
+      // Any of a character's shades: coloured and not dark (the grid and the background are grey).
+      character: (r, g, b) => Math.max(r, g, b) > 60 && Math.max(r, g, b) - Math.min(r, g, b) > 0.3 * Math.max(r, g, b),
     }[colour];
-    const image = new Image();
-    image.src = `data:image/png;base64,${base64}`;
-    await image.decode();
-    const canvas = document.createElement('canvas');
-    canvas.width = image.width;
-    canvas.height = image.height;
-    const g = canvas.getContext('2d');
-    g.drawImage(image, 0, 0);
-    const { data } = g.getImageData(0, 0, image.width, image.height);
+    const { data, width, height } = await window.decodePng(base64);
     let count = 0, minX = Infinity, maxX = -1, minY = Infinity, maxY = -1;
     for (let i = 0; i < data.length; i += 4) {
       if (!looksLike(data[i], data[i + 1], data[i + 2])) continue;
       ++count;
-      const p = i / 4, x = p % image.width, y = Math.floor(p / image.width);
+      const p = i / 4, x = p % width, y = Math.floor(p / width);
       minX = Math.min(minX, x); maxX = Math.max(maxX, x);
       minY = Math.min(minY, y); maxY = Math.max(maxY, y);
     }
-    return { count, width: maxX - minX + 1, height: maxY - minY + 1, pixels: data.length / 4 };
+    return { count, width: maxX - minX + 1, height: maxY - minY + 1, pixels: data.length / 4,
+             imageWidth: width, imageHeight: height };
   }, { base64: png.toString('base64'), colour });
+}
+
+// The pixels that differ (summed channel difference over 30) between two PNG screenshots of one size.
+export async function changedPixels(page, a, b) {
+  await definePngDecoder(page);
+  return page.evaluate(async ([first, second]) => {
+    const [p, q] = [(await window.decodePng(first)).data, (await window.decodePng(second)).data];
+    let n = 0;
+    for (let i = 0; i < p.length; i += 4)
+      if (Math.abs(p[i] - q[i]) + Math.abs(p[i + 1] - q[i + 1]) + Math.abs(p[i + 2] - q[i + 2]) > 30) ++n;
+    return n;
+  }, [a.toString('base64'), b.toString('base64')]);
+}
+
+// Runs `action`, then waits until window.armatureViewer[name] (a Playback, or
+// anything with stats.evaluations and a LatestWins sampler) has shown a new
+// answer and has none in flight.
+export async function answeredAfter(page, name, action) {
+  const before = await page.evaluate((n) => window.armatureViewer[n].stats.evaluations, name);
+  await action();
+  await page.waitForFunction(([n, count]) => {
+    const player = window.armatureViewer[n];
+    return player.stats.evaluations > count && !player.sampler.busy;
+  }, [name, before], { timeout: 30000 });
 }

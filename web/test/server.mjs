@@ -43,6 +43,15 @@ export async function startServer(serverBin, extraArgs = []) {
       if (!res.ok) throw new Error(`importing ${filename}: ${res.status} ${body.message}`);
       return body.asset;
     },
+    // A REST call with a JSON body (GET without one); the answer as JSON, or an Error with its message.
+    async call(route, body) {
+      const res = await fetch(`http://127.0.0.1:${ports.http}${route}`, body && {
+        method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body),
+      });
+      const json = await res.json();
+      if (!res.ok) throw new Error(`${route}: ${res.status} ${json.message}`);
+      return json;
+    },
     async stop() {
       if (exited === null) {
         const done = new Promise((r) => child.on('exit', r));
