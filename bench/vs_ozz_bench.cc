@@ -116,7 +116,11 @@ const CompiledClip& CompiledCmu(const std::shared_ptr<const Clip>& clip) {
 struct ArmaturePose {
   explicit ArmaturePose(const std::shared_ptr<const Clip>& c)
       : clip(*c), compiled(CompiledCmu(c)), local(c->skeleton->size()), world(c->skeleton->size()) {}
-  bool Sample(double t) { return SampleCompiledClip(compiled, t, {}, local).ok(); }
+  bool Sample(double t) {  // as the server's SampleNamedClip: rotations then unit in double
+    if (!SampleCompiledClip(compiled, t, {}, local).ok()) return false;
+    for (Trs& joint : local) joint.rotation.normalize();
+    return true;
+  }
   void Fk() { ComputeWorld(*clip.skeleton, local, world); }
   const Clip& clip;
   const CompiledClip& compiled;

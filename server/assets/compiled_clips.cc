@@ -33,8 +33,13 @@ const CompiledClip* RuntimeForm(const NamedClip& clip) {
 }
 
 Status SampleNamedClip(const NamedClip& clip, double time, const SampleOptions& options, std::span<Trs> out) {
-  if (const CompiledClip* compiled = RuntimeForm(clip)) return SampleCompiledClip(*compiled, time, options, out);
-  return SampleClip(*clip.clip, time, options, out);
+  const CompiledClip* compiled = RuntimeForm(clip);
+  if (compiled == nullptr) return SampleClip(*clip.clip, time, options, out);
+  ARMATURE_RETURN_IF_ERROR(SampleCompiledClip(*compiled, time, options, out));
+  // Unit in double, as the file form's rotations are: float keys leave |q| - 1 near 1e-7, which
+  // rotation matrices (ComputeWorld) and quaternion products (IK) would turn into different floats.
+  for (Trs& joint : out) joint.rotation.normalize();
+  return Status::Ok();
 }
 
 void SampleFileFormOnly(bool file_form) { file_form_only.store(file_form, std::memory_order_relaxed); }
