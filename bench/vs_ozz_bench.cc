@@ -118,7 +118,7 @@ struct ArmaturePose {
       : clip(*c), compiled(CompiledCmu(c)), local(c->skeleton->size()), world(c->skeleton->size()) {}
   bool Sample(double t) {  // as the server's SampleNamedClip: rotations then unit in double
     if (!SampleCompiledClip(compiled, t, {}, local).ok()) return false;
-    for (Trs& joint : local) joint.rotation.normalize();
+    for (Trs& joint : local) joint.rotation.coeffs() *= 0.5 * (3.0 - joint.rotation.squaredNorm());
     return true;
   }
   void Fk() { ComputeWorld(*clip.skeleton, local, world); }
