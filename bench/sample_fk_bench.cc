@@ -3,9 +3,10 @@
 // compares with ozz: the runtime form (CompileClip, SampleCompiledClip, then
 // ComputeWorld) and, in the same run, the pipeline before it (SampleClip,
 // then ComputeWorldBefore, the old FK kept here) as the reference. Each reports
-// ns per joint (`per_joint`); BM_SampleFk_Memory reports bytes per key of
-// both forms.
+// ns per joint (`per_joint`); BM_SampleFk_Memory{,_RobotExpressive} report
+// bytes per key of both forms.
 #include <fstream>
+#include <memory>
 #include <iterator>
 #include <random>
 #include <span>
@@ -15,6 +16,7 @@
 #include <benchmark/benchmark.h>
 
 #include "armature/engine/anim/compiled_clip.h"
+#include "armature/engine/io/asset.h"
 #include "armature/engine/io/bvh.h"
 #include "armature/engine/kinematics/fk.h"
 
@@ -114,30 +116,55 @@ BENCHMARK(BM_SampleFk_HierarchyOnly);
 BENCHMARK(BM_SampleFk_HierarchyOnly_Before);
 
 // Bytes per key of the animated tracks: the file form's std::vector keys
-// (a double time and the value per key) and the runtime form's KeyBytes().
+// (a double time and the value per key) and the runtime form's KeyBytes(),
+// over every clip of the file; `both` is what the server holds per clip
+// (file form + runtime form) since it compiles each clip at import.
+void ReportMemory(benchmark::State& state, const std::vector<std::shared_ptr<const Clip>>& clips) {
+  size_t keys = 0, file_bytes = 0, runtime_bytes = 0, cubic_bytes = 0;
+  for (const std::shared_ptr<const Clip>& clip : clips) {
+    for (const JointTrack& jt : clip->joints) {
+      keys += jt.rotation.times.size() + jt.translation.times.size() + jt.scale.times.size();
+      file_bytes += jt.rotation.times.size() * (sizeof(double) + sizeof(Eigen::Quaterniond)) +
+                    (jt.translation.times.size() + jt.scale.times.size()) * (sizeof(double) + sizeof(Eigen::Vector3d));
+    }
+    auto fresh = CompileClip(clip);  // the other benchmarks may have sampled CUBIC already
+    if (!fresh.ok()) return state.SkipWithError(fresh.status().message().c_str());
+    runtime_bytes += (*fresh)->KeyBytes();
+    (*fresh)->RotationControls();  // as after a CUBIC sample
+    cubic_bytes += (*fresh)->KeyBytes();
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(keys);
+  const auto per_key = [&](size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(keys); };
+  state.counters["clips"] = static_cast<double>(clips.size());
+  state.counters["keys"] = static_cast<double>(keys);
+  state.counters["file_bytes_per_key"] = per_key(file_bytes);
+  state.counters["runtime_bytes_per_key"] = per_key(runtime_bytes);
+  state.counters["runtime_bytes_per_key_cubic"] = per_key(cubic_bytes);
+  state.counters["both_bytes_per_key"] = per_key(file_bytes + runtime_bytes);
+}
+
 void BM_SampleFk_Memory(benchmark::State& state) {
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) {
     state.SkipWithError("shared data bvh/cmu_01_01.bvh is absent");
     return;
   }
-  size_t keys = 0, file_bytes = 0;
-  for (const JointTrack& jt : cmu.clip->joints) {
-    keys += jt.rotation.times.size() + jt.translation.times.size() + jt.scale.times.size();
-    file_bytes += jt.rotation.times.size() * (sizeof(double) + sizeof(Eigen::Quaterniond)) +
-                  (jt.translation.times.size() + jt.scale.times.size()) * (sizeof(double) + sizeof(Eigen::Vector3d));
-  }
-  for (auto _ : state) benchmark::DoNotOptimize(keys);
-  state.counters["keys"] = static_cast<double>(keys);
-  state.counters["file_bytes_per_key"] = static_cast<double>(file_bytes) / static_cast<double>(keys);
-  auto fresh = CompileClip(cmu.clip);  // the other benchmarks may have sampled CUBIC already
-  if (!fresh.ok()) return state.SkipWithError(fresh.status().message().c_str());
-  state.counters["runtime_bytes_per_key"] = static_cast<double>((*fresh)->KeyBytes()) / static_cast<double>(keys);
-  (*fresh)->RotationControls();  // as after a CUBIC sample
-  state.counters["runtime_bytes_per_key_cubic"] =
-      static_cast<double>((*fresh)->KeyBytes()) / static_cast<double>(keys);
+  ReportMemory(state, {cmu.clip});
 }
 BENCHMARK(BM_SampleFk_Memory)->Iterations(1);
+
+// The same over RobotExpressive's clips (glTF, resampled or not as imported).
+void BM_SampleFk_Memory_RobotExpressive(benchmark::State& state) {
+  std::ifstream in(ARMATURE_SHARED_DATA "/gltf/RobotExpressive/RobotExpressive.glb", std::ios::binary);
+  if (!in) return state.SkipWithError("shared data gltf/RobotExpressive/RobotExpressive.glb is absent");
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto contents = ParseAsset(AssetFormat::kGlb, bytes, "robot");
+  if (!contents.ok()) return state.SkipWithError(contents.status().message().c_str());
+  std::vector<std::shared_ptr<const Clip>> clips;
+  for (const NamedClip& c : contents->clips) clips.push_back(c.clip);
+  ReportMemory(state, clips);
+}
+BENCHMARK(BM_SampleFk_Memory_RobotExpressive)->Iterations(1);
 
 }  // namespace
 }  // namespace armature

@@ -1,8 +1,9 @@
 // Armature against ozz-animation 0.16 in the same run (issue 15). Both sample
 // the same motion, the CMU clip (../shared/data/bvh/cmu_01_01.bvh) parsed by
 // our BVH reader and built as an ozz RawAnimation + RawSkeleton, and turn it
-// into world (model) transforms: our SampleClip + ComputeWorld against ozz's
-// SamplingJob + LocalToModelJob. Both skin the skinning benchmark's cylinder
+// into world (model) transforms: our SampleCompiledClip (on the clip's runtime
+// form, compiled once in setup as the server does at import) + ComputeWorld
+// against ozz's SamplingJob + LocalToModelJob. Both skin the skinning benchmark's cylinder
 // (cylinder_rig.h, 16,384 vertices, 4 influences, normals): our LBS against
 // ozz's SkinningJob. Pairs are BM_VsOzz_<what>_Armature / _Ozz (and
 // RandomSeek_OzzIframes, ozz built with an iframe every 0.1 s; Fk, the
@@ -29,6 +30,7 @@
 #include <benchmark/benchmark.h>
 
 #include "armature/engine/anim/clip.h"
+#include "armature/engine/anim/compiled_clip.h"
 #include "armature/engine/io/bvh.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/mesh/skinning.h"
@@ -100,12 +102,28 @@ void SetVertices(benchmark::State& state, size_t vertices) {
                                                     benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+// The CMU clip's runtime form, compiled once (the server compiles at import).
+const CompiledClip& CompiledCmu(const std::shared_ptr<const Clip>& clip) {
+  static const std::shared_ptr<const CompiledClip> compiled = [&] {
+    StatusOr<std::shared_ptr<const CompiledClip>> c = CompileClip(clip);
+    if (!c.ok()) Fail("CompileClip failed on the CMU clip: " + c.status().message());
+    return *c;
+  }();
+  return *compiled;
+}
+
 // Our per-call state for a clip: local and world poses.
 struct ArmaturePose {
-  explicit ArmaturePose(const Clip& c) : clip(c), local(c.skeleton->size()), world(c.skeleton->size()) {}
-  bool Sample(double t) { return SampleClip(clip, t, {}, local).ok(); }
+  explicit ArmaturePose(const std::shared_ptr<const Clip>& c)
+      : clip(*c), compiled(CompiledCmu(c)), local(c->skeleton->size()), world(c->skeleton->size()) {}
+  bool Sample(double t) {  // as the server's SampleNamedClip: rotations then unit in double
+    if (!SampleCompiledClip(compiled, t, {}, local).ok()) return false;
+    for (Trs& joint : local) joint.rotation.coeffs() *= 0.5 * (3.0 - joint.rotation.squaredNorm());
+    return true;
+  }
   void Fk() { ComputeWorld(*clip.skeleton, local, world); }
   const Clip& clip;
+  const CompiledClip& compiled;
   std::vector<Trs> local;
   std::vector<Eigen::Affine3d> world;
 };
@@ -115,7 +133,7 @@ struct ArmaturePose {
 void BM_VsOzz_SampleFk_Armature(benchmark::State& state, bool sequential) {
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
-  ArmaturePose pose(*cmu.clip);
+  ArmaturePose pose(cmu.clip);
   double t = 0;
   size_t i = 0;
   for (auto _ : state) {
@@ -133,7 +151,7 @@ void BM_VsOzz_SampleFk_Armature(benchmark::State& state, bool sequential) {
 void BM_VsOzz_Fk_Armature(benchmark::State& state) {
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
-  ArmaturePose pose(*cmu.clip);
+  ArmaturePose pose(cmu.clip);
   if (!pose.Sample(cmu.clip->duration / 3)) return state.SkipWithError("sampling failed");
   for (auto _ : state) {
     pose.Fk();
@@ -245,9 +263,10 @@ struct OzzPose {
 // Samples both at `time` and compares world positions; returns the largest
 // difference relative to the pose's bounding-box diagonal, aborting above
 // kMaxRelativeError.
-double CheckAgreement(const Clip& clip, const OzzCmu& o, const oa::Animation& animation, double time) {
-  ArmaturePose ours(clip);
-  if (!ours.Sample(time)) Fail("SampleClip failed");
+double CheckAgreement(const std::shared_ptr<const Clip>& shared, const OzzCmu& o, const oa::Animation& animation, double time) {
+  const Clip& clip = *shared;
+  ArmaturePose ours(shared);
+  if (!ours.Sample(time)) Fail("SampleCompiledClip failed");
   ours.Fk();
   OzzPose theirs(*o.skeleton, animation);
   if (!theirs.Sample(static_cast<float>(time / clip.duration)) || !theirs.Fk())
@@ -318,7 +337,7 @@ const OzzCmuResult& LoadOzzCmu() {
     const double d = clip.duration;
     for (double t : {0.0, 0.37, d / 3, d / 2 + 0.0042, 0.9 * d + 0.001, d})
       for (const oa::Animation* a : {r.ozz.animation.get(), r.ozz.animation_iframes.get()})
-        r.max_relative_error = std::max(r.max_relative_error, CheckAgreement(clip, r.ozz, *a, t));
+        r.max_relative_error = std::max(r.max_relative_error, CheckAgreement(cmu.clip, r.ozz, *a, t));
     return r;
   }();
   return result;

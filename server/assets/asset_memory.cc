@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "armature/engine/anim/compiled_clip.h"
 #include "armature/engine/mesh/mesh.h"
 
 namespace armature::server {
@@ -58,6 +59,7 @@ size_t EstimateAssetBytes(const AssetContents& contents) {
   for (const NamedClip& c : contents.clips) {
     skeletons.insert(c.clip->skeleton.get());
     bytes += ClipBytes(*c.clip);
+    if (c.compiled) bytes += sizeof(CompiledClip) + c.compiled->KeyBytes();  // the runtime form beside it
   }
   for (const Skeleton* s : skeletons)
     if (s != nullptr) bytes += SkeletonBytes(*s);

@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "server/assets/asset_limits.h"
+#include "server/assets/compiled_clips.h"
 #include "server/assets/data_dir_lock.h"
 #include "server/assets/file_io.h"
 #include "server/assets/part_deletion.h"
@@ -111,7 +112,9 @@ StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r, 
     if (!data.ok()) return data.status();
     resources.emplace(uri, std::move(*data));
   }
-  return WithLimitFlags(ParseAsset(r.format, *bytes, r.name, resources, LoadLimitsOf(limits)));
+  auto contents = WithLimitFlags(ParseAsset(r.format, *bytes, r.name, resources, LoadLimitsOf(limits)));
+  if (contents.ok()) CompileClips(*contents);
+  return contents;
 }
 
 }  // namespace
@@ -327,6 +330,7 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
       ParseAsset(*format, request.bytes, request.name, request.resources, ImportLimitsOf(options_.limits)));
   if (!contents.ok()) return contents.status().WithContext(label + ": ");
   ARMATURE_RETURN_IF_ERROR(CheckAssetLimits(*contents, options_.limits).WithContext(label + ": "));
+  CompileClips(*contents);  // before the write lock: other writers need not wait for it
 
   // Read-modify-write of the manifest, exclusive across every server on this data dir.
   std::lock_guard write_lock(write_mu_);

@@ -10,6 +10,7 @@
 #include "armature/engine/anim/clip.h"
 #include "armature/engine/anim/joint_map.h"
 #include "armature/engine/kinematics/fk.h"
+#include "server/assets/compiled_clips.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {
@@ -170,6 +171,8 @@ Status StartFromClip(const Catalog& catalog, const v1::ClipTime& in, const Named
   options.interpolation = FromProto(in.interpolation());
   options.wrap = FromProto(in.wrap());
   start.resize(sk.size());
+  // On the clip's own skeleton: its runtime form, as EvaluateClip samples it (the same locals, to the float).
+  if (clip->part->clip->skeleton.get() == &sk) return SampleNamedClip(*clip->part, in.time(), options, start);
   return SampleClipOnto(*clip->part->clip, map, sk, in.time(), options, start);
 }
 

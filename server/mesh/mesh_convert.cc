@@ -3,6 +3,7 @@
 #include <google/protobuf/io/coded_stream.h>
 
 #include "armature/engine/anim/joint_map.h"
+#include "server/assets/compiled_clips.h"
 #include "server/assets/motion_convert.h"
 #include "server/rpc/request_validation.h"
 
@@ -38,7 +39,11 @@ Status SkinByClip(const Mesh& mesh, const MeshClip& clip, double time, const Sam
                   const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                   SkinningWorkspace& workspace) {
   const Clip& c = *clip.clip.part->clip;
-  if (clip.skeleton.part == nullptr) return SkinClip(mesh, c, time, sample, options, positions, normals, workspace);
+  if (clip.skeleton.part == nullptr) {
+    if (const CompiledClip* compiled = RuntimeForm(*clip.clip.part))
+      return SkinClip(mesh, *compiled, time, sample, options, positions, normals, workspace);
+    return SkinClip(mesh, c, time, sample, options, positions, normals, workspace);
+  }
   return SkinClipOnto(mesh, *clip.skeleton.part->skeleton, clip.joint_map, c, time, sample, options, positions,
                       normals, workspace);
 }

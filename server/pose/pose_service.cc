@@ -6,6 +6,7 @@
 #include "server/rpc/grpc_status.h"
 #include "server/rpc/pose_convert.h"
 #include "server/rpc/request_validation.h"
+#include "server/assets/compiled_clips.h"
 #include "server/assets/motion_convert.h"
 #include "server/pose/playback_session_reactor.h"
 #include "server/pose/stream_clip_reactor.h"
@@ -51,7 +52,7 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   response->mutable_times()->CopyFrom(request.times());
   response->mutable_poses()->Reserve(request.times_size());
   for (double t : request.times()) {
-    ARMATURE_RETURN_IF_ERROR(SampleClip(clip, t, options, ws.local));
+    ARMATURE_RETURN_IF_ERROR(SampleNamedClip(*ref->part, t, options, ws.local));
     PackPose(*clip.skeleton, space, *joints, ws, response->add_poses());
   }
   return Status::Ok();

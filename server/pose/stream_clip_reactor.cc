@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "server/assets/compiled_clips.h"
+
 namespace armature::server {
 
 StreamClipReactor::StreamClipReactor(FrameScheduler& scheduler, StreamPacing pacing, PartRef<NamedClip> clip,
@@ -17,7 +19,7 @@ Status StreamClipReactor::Fill(uint64_t index, double t, WrapMode wrap, v1::Pose
   SampleOptions options;
   options.interpolation = FromProto(request_.interpolation());
   options.wrap = wrap;
-  ARMATURE_RETURN_IF_ERROR(SampleClip(clip, t, options, ws_.local));
+  ARMATURE_RETURN_IF_ERROR(SampleNamedClip(*clip_.part, t, options, ws_.local));
   frame.set_index(index);
   frame.set_time(t);
   if (index == 0) {

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "armature/engine/anim/compiled_clip.h"
 #include "armature/engine/anim/joint_map.h"
 #include "armature/engine/kinematics/fk.h"
 #include "vertex_pipeline.h"
@@ -91,6 +92,17 @@ Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOpt
   Grow(workspace.local, skeleton.size());
   ARMATURE_RETURN_IF_ERROR(SampleClip(clip, time, sample, std::span<Trs>(workspace.local.data(), skeleton.size())));
   return SkinSampled(mesh, skeleton, clip, time, sample, options, positions, normals, workspace);
+}
+
+Status SkinClip(const Mesh& mesh, const CompiledClip& compiled, double time, const SampleOptions& sample,
+                const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
+                SkinningWorkspace& workspace) {
+  if (!compiled.source || !compiled.source->skeleton) return Status::InvalidArgument("clip has no skeleton");
+  const Skeleton& skeleton = *compiled.source->skeleton;
+  Grow(workspace.local, skeleton.size());
+  ARMATURE_RETURN_IF_ERROR(
+      SampleCompiledClip(compiled, time, sample, std::span<Trs>(workspace.local.data(), skeleton.size())));
+  return SkinSampled(mesh, skeleton, *compiled.source, time, sample, options, positions, normals, workspace);
 }
 
 Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip,

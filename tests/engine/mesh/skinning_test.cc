@@ -1,10 +1,14 @@
 #include "armature/engine/mesh/skinning.h"
 
+#include <algorithm>
+#include <cmath>
+#include <memory>
 #include <numbers>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "armature/engine/anim/compiled_clip.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/math/rotation.h"
 #include "../testing/mesh_test_util.h"
@@ -321,6 +325,61 @@ TEST(Skinning, ClipWeightsFollowTheClipTimeline) {
     ASSERT_TRUE(SkinClip(m, clip, t, loop, {}, p, {}, ws).ok());
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[c], expected[c], 1e-6) << "t=" << t;
   }
+}
+
+// SkinClip through the clip's runtime form: the same vertices as the file
+// form (float keys: within 1e-5 here), the weights track included.
+TEST(Skinning, CompiledClipSkinsAsTheFileForm) {
+  const int rings = 40, segments = 16;
+  Mesh mesh = MakeCylinder(0.3, 4.0, rings, segments);
+  mesh.name = "tube";
+  auto chain = MakeChain(4, 1.0);
+  test_util::BindAlongZ(mesh, *chain, 1.0, 3);
+  mesh.targets.push_back({"bulge", {0, 5, 100}, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {}});
+  mesh.default_weights = {0};
+  ASSERT_TRUE(FinalizeMesh(mesh).ok());
+  auto clip = std::make_shared<Clip>();
+  clip->skeleton = chain;
+  clip->joints.resize(chain->size());
+  for (size_t j = 0; j < chain->size(); ++j) {
+    Track<Eigen::Quaterniond>& r = clip->joints[j].rotation;
+    for (int k = 0; k < 5; ++k) {
+      r.times.push_back(0.25 * k);
+      r.values.push_back(AxisRotation(k % 2 ? Axis::kX : Axis::kY, 0.2 * k + 0.1 * static_cast<double>(j)));
+    }
+  }
+  clip->weights.push_back({"tube", 1, {0, 1}, {0, 1}, Interpolation::kLinear});
+  clip->duration = 1;
+  ASSERT_TRUE(clip->Validate().ok());
+  auto compiled = CompileClip(clip);
+  ASSERT_TRUE(compiled.ok()) << compiled.status().message();
+  std::vector<float> p1(3 * mesh.vertex_count()), n1(p1.size()), p2(p1.size()), n2(p1.size());
+  SkinningWorkspace ws;
+  for (Interpolation interpolation : {Interpolation::kStep, Interpolation::kLinear, Interpolation::kCubic}) {
+    SampleOptions sample;
+    sample.interpolation = interpolation;
+    sample.wrap = WrapMode::kLoop;
+    for (double t : {0.0, 0.1, 0.3, 0.62, 1.0, 1.4}) {
+      ASSERT_TRUE(SkinClip(mesh, *clip, t, sample, {}, p1, n1, ws).ok());
+      ASSERT_TRUE(SkinClip(mesh, **compiled, t, sample, {}, p2, n2, ws).ok());
+      float worst = 0;
+      for (size_t i = 0; i < p1.size(); ++i)
+        worst = std::max({worst, std::abs(p1[i] - p2[i]), std::abs(n1[i] - n2[i])});
+      EXPECT_LT(worst, 1e-5f) << "t=" << t << " interpolation " << static_cast<int>(interpolation);
+    }
+  }
+  // The weights track applies: at t = 0.5 it gives the bulge 0.5, moving vertex 0 by 0.5 before
+  // skinning, which blends rotations of that offset (length at most 0.5).
+  SampleOptions linear;
+  std::vector<float> rest(p1.size()), rest_n(p1.size());
+  SkinningOptions none;
+  const float zero[1] = {0};
+  none.morph_weights = zero;
+  ASSERT_TRUE(SkinClip(mesh, **compiled, 0.5, linear, none, rest, rest_n, ws).ok());
+  ASSERT_TRUE(SkinClip(mesh, **compiled, 0.5, linear, {}, p2, n2, ws).ok());
+  const float moved = Eigen::Vector3f(p2[0] - rest[0], p2[1] - rest[1], p2[2] - rest[2]).norm();
+  EXPECT_GT(moved, 0.25f);
+  EXPECT_LE(moved, 0.5f + 1e-5f);
 }
 
 TEST(Skinning, TwoThreadsGiveTheSameResultAsOne) {

@@ -12,6 +12,7 @@
 #include "armature/engine/io/demo_character.h"
 #include "armature/engine/io/demo_walk.h"
 #include "server/assets/catalog.h"
+#include "server/assets/compiled_clips.h"
 
 namespace armature::server::test_util {
 
@@ -23,6 +24,7 @@ inline std::shared_ptr<const StoredAsset> ParsedAsset(const std::string& name, A
   asset->record.name = name;
   asset->record.format = format;
   asset->contents = std::move(*contents);
+  CompileClips(asset->contents);  // as the store does
   return asset;
 }
 

@@ -18,6 +18,7 @@
 namespace armature {
 
 struct Mesh;  // engine/include/armature/engine/mesh/mesh.h
+struct CompiledClip;  // engine/include/armature/engine/anim/compiled_clip.h
 
 enum class AssetFormat { kBvh, kGltf, kGlb, kObj };
 
@@ -32,6 +33,9 @@ struct NamedClip {
   std::string name;
   std::string skeleton;  // the NamedSkeleton it animates
   std::shared_ptr<const Clip> clip;
+  // `clip`'s runtime form (CompileClip), set by whoever loads the asset for
+  // sampling (the server, at import); null: sample `clip` itself.
+  std::shared_ptr<const CompiledClip> compiled = nullptr;
 };
 struct NamedMesh {
   std::string name;

@@ -20,6 +20,8 @@
 
 namespace armature {
 
+struct CompiledClip;  // anim/compiled_clip.h
+
 enum class SkinningMethod { kLinear, kDualQuaternion };
 
 // Per-request scratch memory. It grows on first use and is reused, so a
@@ -81,6 +83,12 @@ Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs>
 // is mesh.name when there is one) and skins `mesh`, whose joints index
 // clip.skeleton.
 Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOptions& sample,
+                const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
+                SkinningWorkspace& workspace);
+
+// SkinClip through the clip's runtime form (anim/compiled_clip.h:
+// SampleCompiledClip for the joints; the weights track from compiled.source).
+Status SkinClip(const Mesh& mesh, const CompiledClip& clip, double time, const SampleOptions& sample,
                 const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                 SkinningWorkspace& workspace);
 
