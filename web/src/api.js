@@ -8,7 +8,7 @@
 import { fromJson, toJson } from '@bufbuild/protobuf';
 
 import {
-  AssetService, DeformService, IkService, MeshService, PoseService, createArmatureClient,
+  AssetService, AuthoringService, DeformService, IkService, MeshService, PoseService, createArmatureClient,
 } from '../../clients/typescript/src/index.ts';
 
 const client = createArmatureClient(globalThis.location?.origin ?? '');
@@ -47,6 +47,23 @@ export function getClip(clip) {
 
 export function getSkeleton(skeleton) {
   return asset('getSkeleton', { skeleton });
+}
+
+// A skeleton's joint names, fetched once (forgetSkeletons drops them, as after an import).
+export function jointNames(skeleton) {
+  return client.jointNames(skeleton).catch((e) => {
+    throw viewerError(e);
+  });
+}
+
+export function forgetSkeletons() {
+  client.forgetSkeletons();
+}
+
+// `clip` moved onto skeleton `skeleton` and stored (a RetargetClipRequest as
+// JSON, less those two): { clip, asset, mapping, unmapped, warnings }.
+export function retargetClip(clip, skeleton, request = {}) {
+  return unary(AuthoringService, client.authoring, 'retargetClip', { ...request, clip, skeleton });
 }
 
 // Poses of every joint at `times`, in `space` ('WORLD' or 'LOCAL').

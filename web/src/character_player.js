@@ -21,6 +21,22 @@ export function charactersOf(meshes) {
     .map(([skeleton, list]) => ({ skeleton, meshes: list.sort((a, b) => (a.name < b.name ? -1 : 1)) }));
 }
 
+// The clips a character plays (from `clips`, ClipInfos): its skeleton's, and
+// those of skeletons with the same joint names — a clip retargeted onto the
+// character lives on a copy of its skeleton, and SkinCharacter poses the
+// meshes by joint name.
+export async function clipsForCharacter(skeleton, clips) {
+  const key = (names) => [...names].sort().join('\n');
+  const own = key(await api.jointNames(skeleton));
+  const others = [...new Set(clips.map((c) => c.skeleton))].filter((s) => s && s !== skeleton);
+  const alike = new Set([skeleton]);
+  await Promise.all(others.map(async (other) => {
+    const names = await api.jointNames(other).catch(() => null);  // deleted meanwhile: not alike
+    if (names && key(names) === own) alike.add(other);
+  }));
+  return clips.filter((c) => alike.has(c.skeleton));
+}
+
 export class CharacterPlayer extends Playback {
   constructor({ fps = 30 } = {}) {
     super({ fps, sampleEvent: 'frame' });
@@ -29,7 +45,7 @@ export class CharacterPlayer extends Playback {
     this.method = 'LBS';
   }
 
-  // `character`: from charactersOf; `clip`: a clip of its skeleton (see
+  // `character`: from charactersOf; `clip`: one of clipsForCharacter (see
   // Playback.fetchClip), or '' for the rest shape.
   async load(character, clip) {
     this.pause();

@@ -1,16 +1,18 @@
 // The viewer page: choose a clip (and a mesh it plays on), play / pause,
 // scrub, set the speed and the skinning method; drag a joint (IK) or, in
 // edit mode, a vertex (Laplacian editing); blend clips of the skeleton; play a
-// clip on a character (every mesh of a skeleton); drop a file to import it.
+// clip on a character (every mesh of a skeleton); retarget a clip onto the
+// character and play it there; drop a file to import it.
 import * as api from './api.js';
 import { BlendPanel } from './blend_panel.js';
-import { CharacterPlayer, charactersOf } from './character_player.js';
+import { CharacterPlayer, charactersOf, clipsForCharacter } from './character_player.js';
 import { CharacterView } from './character_view.js';
 import { DropImport } from './drop_import.js';
 import { IkDrag } from './ik_drag.js';
 import { MeshPlayer, SKINNING_METHODS, clipsFor } from './mesh_player.js';
 import { MeshView } from './mesh_view.js';
 import { Player } from './player.js';
+import { RetargetPanel } from './retarget_panel.js';
 import { SkeletonView } from './skeleton_view.js';
 import { VertexDrag } from './vertex_drag.js';
 
@@ -41,6 +43,7 @@ const characterView = new CharacterView(view);
 const characterPlayer = new CharacterPlayer({ fps: 30 });  // the chosen character
 const dropImport = new DropImport(document.body, { progress: ui.importProgress, label: ui.importLabel });
 const blend = new BlendPanel($('blend-panel'), { speed: () => Number(ui.speed.value) });
+const retarget = new RetargetPanel($('retarget-panel'));
 let clips = [];
 let meshes = [];
 let characters = [];  // charactersOf(meshes)
@@ -237,6 +240,7 @@ async function loadMeshClip() {
 // Leaves character mode: the character's meshes go, its playback stops.
 function leaveCharacter() {
   ui.character.value = '';
+  retarget.setCharacter('');
   characterPlayer.unload();
   characterView.clear();
 }
@@ -253,11 +257,12 @@ async function chooseCharacter(skeleton, wantedClip) {
   meshView.clear();
   view.setOverlay(false);
   ui.character.value = skeleton;
+  retarget.setCharacter(skeleton);
   player.pause();
   ik.enabled = false;
   view.followRoot = false;  // the camera follows the character
   ui.vertices.textContent = '';
-  fillClips(clips.filter((c) => c.skeleton === skeleton), wantedClip);
+  fillClips(await clipsForCharacter(skeleton, clips), wantedClip);
   showState(false);
   await loadCharacterClip();
 }
@@ -374,7 +379,10 @@ ui.reset.addEventListener('click', () => {
 // Fills the character and mesh pickers from the server's lists, keeping the choices.
 async function loadLists() {
   [clips, meshes] = await Promise.all([api.listClips(), api.listMeshes()]);
+  api.forgetSkeletons();  // a skeleton imported again may have other joints
   characters = charactersOf(meshes);
+  retarget.setClips(clips);
+  retarget.root.hidden = characters.length === 0;
   const [character, mesh] = [ui.character.value, ui.mesh.value];
   ui.character.replaceChildren(new Option('none', ''));
   for (const c of characters)
@@ -403,6 +411,16 @@ dropImport.addEventListener('imported', ({ detail: { asset, warnings } }) => {
     if (warnings?.length) showMessage(`Import: ${warnings.join('; ')}`);
   })().catch(failed('Import: '));
 });
+// A clip retargeted onto the character: it joins the pickers and plays on it.
+retarget.addEventListener('retargeted', ({ detail: { response, skeleton } }) => {
+  (async () => {
+    await loadLists();
+    if (blend.enabled) await setBlending(false);
+    await chooseCharacter(skeleton, response.clip.name);
+    if (characterPlayer.clip?.name === response.clip.name) characterPlayer.play();
+  })().catch(failed('Retarget: '));
+});
+
 dropImport.addEventListener('error', ({ detail }) => showMessage(`Import: ${detail}`));
 
 // ?character=SKELETON|mesh=NAME&clip=NAME&method=LBS|DQS pick what is shown first.
@@ -437,7 +455,7 @@ async function start() {
 
 // For tests and the console.
 window.armatureViewer = {
-  player, view, ik, meshPlayer, meshView, vertexDrag, blend, characterPlayer, characterView, dropImport,
+  player, view, ik, meshPlayer, meshView, vertexDrag, blend, characterPlayer, characterView, dropImport, retarget,
 };
 
 start().catch(failed('Cannot reach the server: '));

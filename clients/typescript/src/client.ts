@@ -10,6 +10,7 @@ import { createGrpcWebTransport } from '@connectrpc/connect-web';
 import { packFloats } from './arrays.js';
 import { toArmatureError } from './errors.js';
 import { AssetService } from './gen/armature/v1/assets_pb.js';
+import { AuthoringService } from './gen/armature/v1/authoring_pb.js';
 import { DeformService } from './gen/armature/v1/deform_pb.js';
 import { IkService } from './gen/armature/v1/ik_pb.js';
 import { MeshService, SkinningMethod } from './gen/armature/v1/meshes_pb.js';
@@ -98,6 +99,7 @@ export interface ArmatureClient {
   readonly asset: Client<typeof AssetService>;
   readonly ik: Client<typeof IkService>;
   readonly deform: Client<typeof DeformService>;
+  readonly authoring: Client<typeof AuthoringService>;
   readonly transport: Transport;
   evaluateClip(clip: string, times: number[], options?: EvaluateClipOptions): Promise<PoseSequence>;
   streamClip(clip: string, options?: StreamClipOptions): AsyncIterable<PoseStreamFrame>;
@@ -191,6 +193,7 @@ export function createArmatureClient(baseUrl: string, options: ClientOptions = {
     pose, mesh, asset, transport,
     ik: typedClient(IkService, transport),
     deform: typedClient(DeformService, transport),
+    authoring: typedClient(AuthoringService, transport),
     jointNames,
     forgetSkeletons: () => skeletons.clear(),
 

@@ -10,3 +10,4 @@ export { MeshService } from './gen/armature/v1/meshes_pb.js';
 export { AssetService } from './gen/armature/v1/assets_pb.js';
 export { IkService } from './gen/armature/v1/ik_pb.js';
 export { DeformService } from './gen/armature/v1/deform_pb.js';
+export { AuthoringService } from './gen/armature/v1/authoring_pb.js';
