@@ -9,33 +9,11 @@
 // screenshots (the page; …_early.png and …_later.png: the viewport at both times).
 //   node character_e2e.mjs <armature-server> <web dir> <screenshot.png>
 // SKIP when ../shared/data (or $ARMATURE_SHARED_DATA) has no RobotExpressive.
-import { existsSync, readFileSync, writeFileSync } from 'node:fs';
-import path from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { readFileSync, writeFileSync } from 'node:fs';
 import { answeredAfter, besides, changedPixels, check, colourStats, runViewerTest } from './browser.mjs';
+import { drawnPositions, rendered, scrubTo, sharedDataOrSkip } from './character_page.mjs';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-const DATA = process.env.ARMATURE_SHARED_DATA ?? path.resolve(here, '../../../shared/data');
-const GLB = path.join(DATA, 'gltf/RobotExpressive/RobotExpressive.glb');
-if (!existsSync(GLB)) {
-  console.log(`SKIP: ${GLB} is not present (../shared/data is only beside the project's own clone)`);
-  process.exit(0);
-}
-
-const scrubTo = (page, time) => page.$eval('#scrub', (s, t) => {
-  s.value = String(t);
-  s.dispatchEvent(new Event('input'));
-}, time);
-
-// Two animation frames: the render loop has drawn what the scene holds now.
-const rendered = (page) => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
-
-// What the page draws: per mesh, its name and positions.
-const drawnPositions = (page) => page.evaluate(() =>
-  window.armatureViewer.characterView.parts.map((p) => ({
-    mesh: p.geometry.mesh,
-    positions: Array.from(p.object.geometry.getAttribute('position').array),
-  })));
+const [GLB] = sharedDataOrSkip('gltf/RobotExpressive/RobotExpressive.glb');
 
 await runViewerTest('character_e2e.mjs', async ({ page, server, screenshot }) => {
   const asset = await server.importAsset('RobotExpressive.glb', 'robot', readFileSync(GLB));

@@ -10,34 +10,11 @@
 // server's message. Saves screenshots (the page; …_early.png, …_later.png).
 //   node retarget_e2e.mjs <armature-server> <web dir> <screenshot.png>
 // SKIP when ../shared/data (or $ARMATURE_SHARED_DATA) lacks either file.
-import { existsSync, readFileSync, writeFileSync } from 'node:fs';
-import path from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { readFileSync, writeFileSync } from 'node:fs';
 import { answeredAfter, besides, changedPixels, check, colourStats, runViewerTest } from './browser.mjs';
+import { drawnPositions, rendered, scrubTo, sharedDataOrSkip } from './character_page.mjs';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-const DATA = process.env.ARMATURE_SHARED_DATA ?? path.resolve(here, '../../../shared/data');
-const GLB = path.join(DATA, 'gltf/RobotExpressive/RobotExpressive.glb');
-const BVH = path.join(DATA, 'bvh/cmu_01_01.bvh');
-for (const file of [GLB, BVH]) {
-  if (!existsSync(file)) {
-    console.log(`SKIP: ${file} is not present (../shared/data is only beside the project's own clone)`);
-    process.exit(0);
-  }
-}
-
-const scrubTo = (page, time) => page.$eval('#scrub', (s, t) => {
-  s.value = String(t);
-  s.dispatchEvent(new Event('input'));
-}, time);
-
-const rendered = (page) => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
-
-const drawnPositions = (page) => page.evaluate(() =>
-  window.armatureViewer.characterView.parts.map((p) => ({
-    mesh: p.geometry.mesh,
-    positions: Array.from(p.object.geometry.getAttribute('position').array),
-  })));
+const [GLB, BVH] = sharedDataOrSkip('gltf/RobotExpressive/RobotExpressive.glb', 'bvh/cmu_01_01.bvh');
 
 // Waits for the panel's answer after pressing Retarget: the text it shows.
 async function pressRetarget(page) {
