@@ -67,9 +67,11 @@ bench: BENCH_OZZ = ON
 bench: build
 	./scripts/setup.sh bench
 	$(MAKE) configure BENCH_OZZ=ON
-	cmake --build $(BUILD) -j $(JOBS) --target armature-bench
+	cmake --build $(BUILD) -j $(JOBS)
 	$(BUILD)/bin/armature-bench --benchmark_counters_tabular=true \
 	  --benchmark_out=$(BUILD)/bench.json --benchmark_out_format=json $(ARGS)
+	@if [ -x $(BUILD)/bin/armature-bench-assimp ]; then $(BUILD)/bin/armature-bench-assimp --benchmark_repetitions=3; \
+	else echo "armature-bench-assimp not built (no libassimp-dev): BVH parse not compared with assimp"; fi
 	@if command -v python3 >/dev/null; then python3 scripts/bench_ratios.py $(BUILD)/bench.json; \
 	else echo "python3 not found: Armature/ozz ratios not printed (see $(BUILD)/bench.json)"; fi
 	sh bench/load/run_load_bench.sh $(BUILD)/bin/armature-server $(BUILD)/bin/armature-load
