@@ -2,7 +2,8 @@
 # with_server.sh SERVER_BIN [server flags...] -- COMMAND [args...]
 # Starts a real armature-server on free loopback ports in a temporary data
 # dir, runs COMMAND with every @PORT@ replaced by its gRPC port and @PID@ by
-# its pid, then stops it with SIGTERM. Exits with COMMAND's status.
+# its pid, then stops it with SIGTERM and fails unless it exits 0 within 30 s.
+# Exits with COMMAND's status. The load runs and the soak (bench/soak) use it.
 set -eu
 server_bin=$1
 shift
@@ -38,7 +39,13 @@ done
 status=0
 eval "$cmd" || status=$?
 kill -TERM "$pid"
-wait "$pid" || true
+i=0
+while kill -0 "$pid" 2>/dev/null; do
+  i=$((i + 1))
+  if [ $i -gt 300 ]; then echo "armature-server did not exit within 30 s of SIGTERM"; exit 1; fi
+  sleep 0.1
+done
+wait "$pid" || { echo "armature-server exited non-zero after SIGTERM"; cat "$dir/server.log"; exit 1; }
 pid=
 [ $status -eq 0 ] || { echo "command failed ($status); server log tail:"; tail -20 "$dir/server.log"; }
 exit $status
