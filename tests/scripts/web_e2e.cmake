@@ -32,9 +32,12 @@ if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   # The blend panel's pure parts (upper-body joint, crossfade ramp, motion JSON) in node.
   add_test(NAME web.blend_motion COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/blend_motion_test.mjs)
   set_tests_properties(web.blend_motion PROPERTIES TIMEOUT 60)
+  # LatestWins (one call in flight, the newest waiting value next) in node.
+  add_test(NAME web.latest_wins COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/latest_wins_test.mjs)
+  set_tests_properties(web.latest_wins PROPERTIES TIMEOUT 60)
 else()
   # Not a skip: the setup provides node and web/node_modules.
-  foreach(test ${ARMATURE_VIEWER_TESTS} session_e2e openapi_valid blend_motion)
+  foreach(test ${ARMATURE_VIEWER_TESTS} session_e2e openapi_valid blend_motion latest_wins)
     add_test(NAME web.${test} COMMAND sh -c
       "echo 'FAIL: node or web/node_modules missing: run scripts/setup.sh test, then configure again'; exit 1")
   endforeach()

@@ -5,7 +5,7 @@
 // JSON names, enums by name, every field present), so the rest of the viewer
 // reads the same objects it always has. Every call rejects with an Error
 // carrying the server's message and its gRPC `code`.
-import { fromJson, toJson } from '@bufbuild/protobuf';
+import { fromBinary, fromJson, toBinary, toJson } from '@bufbuild/protobuf';
 
 import {
   AssetService, AuthoringService, DeformService, IkService, MeshService, PoseService, createArmatureClient,
@@ -32,6 +32,14 @@ async function unary(service, calls, name, request) {
     throw viewerError(e);
   }
 }
+
+// An IkSession's messages in the proto encoding, for the joint drag's binary
+// WebSocket frames: the server then neither parses nor prints JSON (about
+// 0.3 ms of a 0.6 ms step), and the answer is a third of the JSON's size.
+const ikSession = IkService.method.ikSession;
+export const encodeIkSessionRequest = (request) => toBinary(ikSession.input, fromJson(ikSession.input, request));
+export const decodeIkSessionAnswer = (buffer) =>
+  toJson(ikSession.output, fromBinary(ikSession.output, new Uint8Array(buffer)), JSON_OUT);
 
 const pose = (name, request) => unary(PoseService, client.pose, name, request);
 const asset = (name, request) => unary(AssetService, client.asset, name, request);

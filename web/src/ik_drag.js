@@ -1,9 +1,9 @@
 // Drag a joint and the skeleton follows, by inverse kinematics on the server.
 //
-// Each drag is one IkSession over a WebSocket (session_socket.js): the
-// first message sets the effectors and the start pose, each drag step sends
-// only the dragged joint's new target and gets a pose solved warm from the
-// last one. At most one step is in flight; while it runs only the latest
+// Each drag is one IkSession over a WebSocket (session_socket.js), in binary
+// frames (the proto encoding): the first message sets the effectors and the
+// start pose, each drag step sends only the dragged joint's new target and
+// gets a pose solved warm from the last one. At most one step is in flight; while it runs only the latest
 // target is kept. The session closes when the drag ends.
 //
 // The dragged joint follows the pointer in the plane facing the camera
@@ -131,7 +131,7 @@ export class IkDrag extends EventTarget {
     const session = await SessionSocket.open(`/v1/skeletons/${encodeURIComponent(clip.skeleton)}:ikSession`);
     this.stats.sessions.push(session);
     if (this.stats.sessions.length > 4) this.stats.sessions.shift();
-    const first = await session.request({
+    const start = {
       start: {
         startPose: { rotations: this.local.rotations, translations: this.local.translations },
         effectors: [{ joint: name, targetPosition: target.toArray() }, ...drag.pins],
@@ -139,7 +139,8 @@ export class IkDrag extends EventTarget {
         // the hips stay where they stand unless they are what is dragged, then they move
         freeRoot: this.view.skeleton.joints[drag.joint].parent < 0 ? 'ROOT_TRANSLATION' : 'ROOT_FIXED',
       },
-    });
+    };
+    const first = await step(session, start);
     return { session, first };
   }
 
@@ -155,7 +156,7 @@ export class IkDrag extends EventTarget {
         response = (await opening).first;
       } else {
         const session = await drag.session;
-        response = await session.request({ targets: [{ effector: 0, targetPosition: target.toArray() }] });
+        response = await step(session, { targets: [{ effector: 0, targetPosition: target.toArray() }] });
       }
       this.local = response.local;
       this.view.setPose(response.world);
@@ -169,4 +170,9 @@ export class IkDrag extends EventTarget {
       this.dispatchEvent(new CustomEvent('error', { detail: error.message }));
     }
   }
+}
+
+// One IkSession message and its answer, in binary frames (api.js).
+async function step(session, request) {
+  return api.decodeIkSessionAnswer(await session.request(api.encodeIkSessionRequest(request), request));
 }

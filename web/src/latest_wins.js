@@ -20,7 +20,7 @@ export class LatestWins {
   request(value) {
     this.wanted = value;
     this.pending = true;
-    if (!this.running) this.running = this.pump().finally(() => (this.running = null));
+    if (!this.running) this.running = this.pump();
     return this.running;
   }
 
@@ -30,11 +30,18 @@ export class LatestWins {
     this.wanted = undefined;
   }
 
+  // Clears `running` in the same step as its last look at `pending` (not in
+  // a later .finally()): a request made between the two would otherwise be
+  // left waiting with no pump to run it.
   async pump() {
-    while (this.pending) {
-      const value = this.wanted;
-      this.cancel();
-      await this.task(value);
+    try {
+      while (this.pending) {
+        const value = this.wanted;
+        this.cancel();
+        await this.task(value);
+      }
+    } finally {
+      this.running = null;
     }
   }
 }

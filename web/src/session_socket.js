@@ -61,6 +61,7 @@ export class SessionSocket {
     this.waiting = [];         // { resolve, reject } per request, in order
     this.status = null;        // the final status frame, once received
     this.sent = [];            // the requests (JSON text or encodings), the latest MAX_LOG
+    this.requests = [];        // the same as JSON objects, where known
     this.roundTrips = [];      // ms from sending a request to its answer arriving (timed in the worker)
     this.pageRoundTrips = [];  // the same, until the page's thread handled the answer
     worker.onmessage = ({ data }) => (data.closed ? this.onClose(data.closed) : this.onAnswer(data));
@@ -71,9 +72,10 @@ export class SessionSocket {
   }
 
   // Sends one request message (an object: JSON; a Uint8Array: its proto
-  // encoding); resolves with its answer (an object, or for a binary request
-  // the answer's encoding as an ArrayBuffer).
-  request(message) {
+  // encoding, with `asJson` its JSON form for the log); resolves with its
+  // answer (an object, or for a binary request the answer's encoding as an
+  // ArrayBuffer).
+  request(message, asJson = undefined) {
     if (!this.isOpen) return Promise.reject(this.failure() ?? new Error('the session is closed'));
     const binary = message instanceof Uint8Array;
     const payload = binary ? message : JSON.stringify(message);
@@ -81,6 +83,7 @@ export class SessionSocket {
       this.waiting.push({ resolve, reject, sent: performance.now() });
       this.worker.postMessage({ send: payload });
       keep(this.sent, payload);
+      keep(this.requests, binary ? asJson ?? null : message);
     });
   }
 

@@ -222,7 +222,7 @@ export class VertexDrag extends EventTarget {
     try {
       const session = await this.sessionFor(mesh, handles, regionOfInterest);
       // Moves in binary: the answers (every vertex) come back as floats, not JSON.
-      const response = decodeDeformResponse(await session.request(encodeDeformMove(positions)));
+      const response = decodeDeformResponse(await session.request(encodeDeformMove(positions), { move: { positions } }));
       if (edit !== this.edits) return;  // stopped, reset or restarted meanwhile
       const ms = performance.now() - started;
       this.stats.deforms++;
