@@ -346,6 +346,8 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
     replaced = it->second;
     assets.erase(it);
   }
+  if (request.replace_only && replaced != request.replace_only)
+    return Status::Aborted("asset '" + request.name + "' changed while this edit was made from it");
 
   AssetRecord record;
   record.name = request.name;

@@ -41,6 +41,9 @@ struct ImportRequest {
   std::string filename;
   std::string format;    // empty: detect
   bool replace = false;
+  // Set: replace exactly this stored asset, ABORTED if `name` holds another
+  // by the time the write lock is taken (a read-modify-write that lost a race).
+  std::shared_ptr<const StoredAsset> replace_only;
   std::string bytes;
   ResourceMap resources;  // further files by uri (a .gltf's .bin buffers)
 };

@@ -54,10 +54,10 @@ void CompleteCubicTangents(JointTrack& t) {
   if (needs(t.scale)) FillCubicTangents(t.scale);
 }
 
-}  // namespace
-
-Status CreateClip(AssetStore& store, const Limits& limits, const v1::CreateClipRequest& request,
-                  v1::CreateClipResponse* response) {
+// One try: reads the catalog, makes the clip, stores it (a merge only over
+// the very asset it read, else ABORTED).
+Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateClipRequest& request,
+                      v1::CreateClipResponse* response) {
   ARMATURE_RETURN_IF_ERROR(ValidateRequired(request.name(), "name"));
   ARMATURE_RETURN_IF_ERROR(ValidateAssetName(request.name()));
   const std::shared_ptr<const Catalog> catalog = store.Snapshot();
@@ -123,11 +123,26 @@ Status CreateClip(AssetStore& store, const Limits& limits, const v1::CreateClipR
   options.asset_name = request.name();
   options.animation_name = request.name();
   options.replace = request.replace() || request.merge();
+  if (stored) options.replace_only = stored->asset;
   auto derived = StoreDerivedClip(store, clip, options, limits);
   if (!derived.ok()) return derived.status();
   *response->mutable_clip() = ClipInfoOf(*derived->asset, *derived->clip, true);
   *response->mutable_asset() = AssetInfoOf(*derived->asset);
   return Status::Ok();
+}
+
+}  // namespace
+
+Status CreateClip(AssetStore& store, const Limits& limits, const v1::CreateClipRequest& request,
+                  v1::CreateClipResponse* response) {
+  // A merge reads the stored clip and writes it back. When another write to
+  // that asset lands in between, the store refuses (ABORTED) rather than lose
+  // it, and the merge is made again from the newer clip.
+  constexpr int kMergeAttempts = 16;
+  for (int attempt = 1;; ++attempt) {
+    Status status = CreateClipOnce(store, limits, request, response);
+    if (status.code() != StatusCode::kAborted || attempt == kMergeAttempts) return status;
+  }
 }
 
 }  // namespace armature::server

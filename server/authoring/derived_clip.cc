@@ -27,6 +27,7 @@ StatusOr<DerivedClip> StoreDerivedClip(AssetStore& store, const Clip& clip, cons
   request.filename = options.asset_name + ".glb";
   request.format = "glb";
   request.replace = options.replace;
+  request.replace_only = options.replace_only;
   request.bytes = std::move(*bytes);
   auto stored = store.Import(std::move(request));
   if (!stored.ok()) return stored.status();

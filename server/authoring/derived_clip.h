@@ -20,6 +20,8 @@ struct DerivedClipOptions {
   std::string asset_name;      // validated like any asset name
   std::string animation_name;  // the clip is then "<asset_name>.<animation_name>"
   bool replace = false;        // replace an asset of that name instead of ALREADY_EXISTS
+  // Set: replace exactly this stored asset (ABORTED if another took its place meanwhile).
+  std::shared_ptr<const StoredAsset> replace_only;
 };
 
 struct DerivedClip {

@@ -22,6 +22,7 @@ grpc::Status ToGrpcStatus(const Status& status) {
     case StatusCode::kPermissionDenied: code = G::PERMISSION_DENIED; break;
     case StatusCode::kUnimplemented: code = G::UNIMPLEMENTED; break;
     case StatusCode::kInternal: code = G::INTERNAL; break;
+    case StatusCode::kAborted: code = G::ABORTED; break;
   }
   return grpc::Status(code, status.message());
 }

@@ -15,6 +15,7 @@ int HttpStatusOf(grpc::StatusCode code) {
     case G::PERMISSION_DENIED: return 403;
     case G::NOT_FOUND: return 404;
     case G::ALREADY_EXISTS: return 409;
+    case G::ABORTED: return 409;  // a lost read-modify-write race, as google.rpc.Code maps it
     case G::RESOURCE_EXHAUSTED: return 429;
     case G::CANCELLED: return 499;
     case G::UNIMPLEMENTED: return 501;
