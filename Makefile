@@ -10,6 +10,8 @@ ARGS ?=
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 300
 FUZZ_SMOKE_SECONDS ?= 20
+FUZZ_RUNS ?=
+FUZZ_MAX_LEN ?= 4096
 CLANG ?= /usr/bin/clang++-14
 
 .PHONY: all deps test-deps configure build run test bench image-test clean fuzz fuzz-build fuzz-smoke
@@ -48,10 +50,11 @@ fuzz-smoke:
 	@if [ -x $(CLANG) ]; then $(MAKE) fuzz-build && cd $(FUZZ_BUILD) && ctest --output-on-failure -R '^fuzz\.'; \
 	else echo "fuzz-smoke: $(CLANG) not found; fuzz targets skipped"; fi
 
-# Each target for FUZZ_SECONDS (default 300), corpus kept in $(FUZZ_BUILD)/fuzz-work.
+# Each target for FUZZ_SECONDS (default 300), or FUZZ_RUNS inputs if sooner,
+# corpus kept in $(FUZZ_BUILD)/fuzz-work.
 fuzz: fuzz-build
 	@set -e; for t in $(FUZZ_BUILD)/bin/*_fuzz; do \
-	  tests/fuzz/run_fuzz.sh $$t $(FUZZ_SECONDS) $(FUZZ_BUILD)/fuzz-work; done
+	  FUZZ_RUNS=$(FUZZ_RUNS) FUZZ_MAX_LEN=$(FUZZ_MAX_LEN) tests/fuzz/run_fuzz.sh $$t $(FUZZ_SECONDS) $(FUZZ_BUILD)/fuzz-work; done
 
 # Builds deploy/Dockerfile with podman, runs the image and checks it from the
 # host, then validates deploy/k8s offline (deploy/image-test.sh).

@@ -4,6 +4,10 @@
 #   run_fuzz.sh <target binary> <seconds> <work dir>
 # Crashes, leaks, timeouts (-timeout) and allocations over -malloc_limit_mb
 # fail the run; the input is left in <work dir>/<target>/ as crash-*, oom-*, …
+# FUZZ_RUNS=N also stops after N inputs (the 10 M campaigns:
+# `make fuzz FUZZ_SECONDS=86400 FUZZ_RUNS=10000000`). FUZZ_MAX_LEN (default
+# 4096) caps the inputs libFuzzer makes and cuts longer seeds: the bug
+# shapes are small files, and whole mocap files run 10x slower.
 set -eu
 bin=$1
 seconds=$2
@@ -35,6 +39,9 @@ echo "== $target: replaying $inputs"
 # shellcheck disable=SC2086
 "$bin" $limits -runs=0 $inputs
 [ "$seconds" -gt 0 ] || exit 0
-echo "== $target: fuzzing for $seconds s"
+echo "== $target: fuzzing for $seconds s${FUZZ_RUNS:+ or $FUZZ_RUNS runs}"
+runs=
+[ -n "${FUZZ_RUNS:-}" ] && runs="-runs=$FUZZ_RUNS"
 # shellcheck disable=SC2086
-"$bin" $limits $dict -max_total_time="$seconds" -print_final_stats=1 "$dir/corpus" $inputs
+"$bin" $limits $dict $runs -max_len="${FUZZ_MAX_LEN:-4096}" -max_total_time="$seconds" -print_final_stats=1 \
+  "$dir/corpus" $inputs
