@@ -3,8 +3,9 @@
 // Each drag is one IkSession over a WebSocket (session_socket.js), in binary
 // frames (the proto encoding): the first message sets the effectors and the
 // start pose, each drag step sends only the dragged joint's new target and
-// gets a pose solved warm from the last one. At most one step is in flight; while it runs only the latest
-// target is kept. The session closes when the drag ends.
+// gets a pose solved warm from the last one. At most one step is in flight;
+// while it runs only the latest target is kept. The session closes when the
+// drag ends.
 //
 // The dragged joint follows the pointer in the plane facing the camera
 // through its starting point; the other end joints (hands, feet, head) stay
