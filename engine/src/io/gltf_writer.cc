@@ -55,6 +55,10 @@ StatusOr<int> ModelBuilder::AddTimes(const std::vector<double>& times, const std
 }
 
 StatusOr<std::string> ModelBuilder::Write(bool binary) {
+  // A glTF buffer holds at least one byte: a file with no binary data (a clip
+  // without keys, no meshes) has no buffer at all. Written empty, a .gltf had
+  // the data uri "data:application/octet-stream;base64," that tinygltf refuses.
+  if (model_.buffers[0].data.empty() && model_.bufferViews.empty()) model_.buffers.clear();
   std::ostringstream out;
   tinygltf::TinyGLTF writer;
   try {  // the JSON library throws on what it cannot encode

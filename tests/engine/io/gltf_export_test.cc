@@ -109,6 +109,23 @@ TEST(GltfExport, BvhClipRoundTripsAsLinearAtItsFrames) {
   }
 }
 
+// Found by engine_gltf_writer_fuzz: with no keys and no meshes there is no
+// binary data, and the .gltf's empty data uri did not read back.
+TEST(GltfExport, ClipWithoutKeysRoundTripsWithNoBuffer) {
+  Clip still = *MakeDemoWalk().clip;
+  for (JointTrack& track : still.joints) track = JointTrack{};
+  ASSERT_TRUE(still.Validate().ok()) << still.Validate().message();
+  for (bool binary : {true, false}) {
+    auto bytes = ExportGltf(still, {}, {.binary = binary});
+    ASSERT_TRUE(bytes.ok()) << bytes.status().message();
+    EXPECT_EQ(bytes->find("\"buffers\""), std::string::npos) << *bytes;
+    const AssetContents back = Reimport(*bytes, binary);
+    ASSERT_EQ(back.skeletons.size(), 1u);
+    EXPECT_EQ(back.skeletons[0].skeleton->names, still.skeleton->names);
+    EXPECT_TRUE(back.clips.empty());  // glTF has no animation without a channel
+  }
+}
+
 TEST(GltfExport, CmuBvhClipRoundTrips) {
   const auto text = test_util::ReadFileBytes(test_util::SharedData("bvh/cmu_01_01.bvh"));
   if (!text) GTEST_SKIP() << "shared data " << test_util::SharedData("bvh/cmu_01_01.bvh").string() << " is absent";
