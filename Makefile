@@ -7,6 +7,9 @@ BENCH_OZZ ?= OFF
 DATA_DIR ?= armature-data
 ARGS ?=
 
+SOAK_CLIENTS ?= 50
+SOAK_SECONDS ?= 600
+
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 300
 FUZZ_SMOKE_SECONDS ?= 20
@@ -14,7 +17,7 @@ FUZZ_RUNS ?=
 FUZZ_MAX_LEN ?= 4096
 CLANG ?= /usr/bin/clang++-14
 
-.PHONY: all deps test-deps configure build run test bench image-test clean fuzz fuzz-build fuzz-smoke
+.PHONY: all deps test-deps configure build run test bench image-test soak clean fuzz fuzz-build fuzz-smoke
 
 all: build
 
@@ -61,6 +64,13 @@ fuzz: fuzz-build
 image-test: configure
 	cmake --build $(BUILD) -j $(JOBS) --target armature
 	./deploy/image-test.sh --cli $(BUILD)/bin/armature
+
+# A real server soaked by SOAK_CLIENTS clients for SOAK_SECONDS on the full mix
+# (bench/soak); fails on any error or if the server does not exit 0 on SIGTERM.
+soak: build
+	sh bench/load/with_server.sh $(BUILD)/bin/armature-server --log-level warn -- \
+	  $(BUILD)/bin/armature-soak --server 127.0.0.1:@PORT@ --clients $(SOAK_CLIENTS) \
+	  --seconds $(SOAK_SECONDS) --server-pid @PID@
 
 # Builds ozz-animation beside the benchmarks (bench/CMakeLists.txt) and ends
 # with the Armature/ozz ratio of each BM_VsOzz_* pair (scripts/bench_ratios.py),
