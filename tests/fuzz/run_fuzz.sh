@@ -35,13 +35,6 @@ inputs="$dir/seeds"
 dict=
 [ -f "$here/dict/$format.dict" ] && dict="-dict=$here/dict/$format.dict"
 limits="-malloc_limit_mb=512 -rss_limit_mb=1024 -timeout=5 -artifact_prefix=$dir/"
-# ASan's default 256 MB quarantine made its allocator map about 640 MB of heap
-# for server_transcode_fuzz, whose live heap stays at 8 MB, and touch more of
-# it as the quarantine turns over: resident memory crept to 905 MB by 5.7 M
-# inputs and would have hit -rss_limit_mb, an OOM of the allocator's making.
-# 64 MB keeps recent frees poisoned (use-after-free) with about 190 MB mapped.
-# Set first, so an ASAN_OPTIONS of the caller's own still wins.
-export ASAN_OPTIONS="quarantine_size_mb=64${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 echo "== $target: replaying $inputs"
 # shellcheck disable=SC2086
 "$bin" $limits -runs=0 $inputs
@@ -49,6 +42,16 @@ echo "== $target: replaying $inputs"
 echo "== $target: fuzzing for $seconds s${FUZZ_RUNS:+ or $FUZZ_RUNS runs}"
 runs=
 [ -n "${FUZZ_RUNS:-}" ] && runs="-runs=$FUZZ_RUNS"
+# ASan keeps the stack of every allocation and free in a depot it never
+# shrinks, and its fast unwinder walks frame pointers into Debian's
+# libprotobuf and libstdc++, built without them: garbage frames make almost
+# every stack new. server_transcode_fuzz grew the depot by 68 MB in 300 k
+# inputs and reached 959 MB of the 1,024 MB -rss_limit_mb by 6.8 M, its live
+# heap flat at 8 MB. So the long run stores no allocation stacks (the replay
+# above, and any rerun of a finding, keep them), and a 64 MB quarantine,
+# still thousands of inputs' frees, cuts the heap ASan maps to a third. An
+# ASAN_OPTIONS of the caller's own still wins.
+fuzz_asan="quarantine_size_mb=64:malloc_context_size=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 # shellcheck disable=SC2086
-"$bin" $limits $dict $runs -max_len="${FUZZ_MAX_LEN:-4096}" -max_total_time="$seconds" -print_final_stats=1 \
+ASAN_OPTIONS=$fuzz_asan "$bin" $limits $dict $runs -max_len="${FUZZ_MAX_LEN:-4096}" -max_total_time="$seconds" -print_final_stats=1 \
   "$dir/corpus" $inputs
