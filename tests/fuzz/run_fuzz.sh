@@ -44,8 +44,8 @@ runs=
 [ -n "${FUZZ_RUNS:-}" ] && runs="-runs=$FUZZ_RUNS"
 # ASan keeps the stack of every allocation and free in a depot it never
 # shrinks, and its fast unwinder walks frame pointers into Debian's
-# libprotobuf and libstdc++, built without them: garbage frames make almost
-# every stack new. server_transcode_fuzz grew the depot by 68 MB in 300 k
+# libprotobuf and libstdc++, built without them: garbage frames keep making
+# new stacks. server_transcode_fuzz grew the depot by 68 MB in 300 k
 # inputs and reached 959 MB of the 1,024 MB -rss_limit_mb by 6.8 M, its live
 # heap flat at 8 MB. So the long run stores no allocation stacks (the replay
 # above, and any rerun of a finding, keep them), and a 64 MB quarantine,
