@@ -68,9 +68,7 @@ image-test: configure
 # A real server soaked by SOAK_CLIENTS clients for SOAK_SECONDS on the full mix
 # (bench/soak); fails on any error or if the server does not exit 0 on SIGTERM.
 soak: build
-	sh bench/load/with_server.sh $(BUILD)/bin/armature-server --log-level warn -- \
-	  $(BUILD)/bin/armature-soak --server 127.0.0.1:@PORT@ --clients $(SOAK_CLIENTS) \
-	  --seconds $(SOAK_SECONDS) --server-pid @PID@
+	sh bench/soak/run_soak.sh $(BUILD)/bin/armature-server $(BUILD)/bin/armature-soak $(SOAK_CLIENTS) $(SOAK_SECONDS)
 
 # Builds ozz-animation beside the benchmarks (bench/CMakeLists.txt) and ends
 # with the Armature/ozz ratio of each BM_VsOzz_* pair (scripts/bench_ratios.py),

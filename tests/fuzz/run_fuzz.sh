@@ -42,15 +42,10 @@ echo "== $target: replaying $inputs"
 echo "== $target: fuzzing for $seconds s${FUZZ_RUNS:+ or $FUZZ_RUNS runs}"
 runs=
 [ -n "${FUZZ_RUNS:-}" ] && runs="-runs=$FUZZ_RUNS"
-# ASan keeps the stack of every allocation and free in a depot it never
-# shrinks, and its fast unwinder walks frame pointers into Debian's
-# libprotobuf and libstdc++, built without them: garbage frames keep making
-# new stacks. server_transcode_fuzz grew the depot by 68 MB in 300 k
-# inputs and reached 959 MB of the 1,024 MB -rss_limit_mb by 6.8 M, its live
-# heap flat at 8 MB. So the long run stores no allocation stacks (the replay
-# above, and any rerun of a finding, keep them), and a 64 MB quarantine,
-# still thousands of inputs' frees, cuts the heap ASan maps to a third. An
-# ASAN_OPTIONS of the caller's own still wins.
+# The long run stores no allocation stacks and keeps a 64 MB quarantine:
+# ASan's stack depot otherwise grew without end on Debian's libraries built
+# without frame pointers (README.md, "Limits"). The replay above keeps them;
+# an ASAN_OPTIONS of the caller's own still wins.
 fuzz_asan="quarantine_size_mb=64:malloc_context_size=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 # shellcheck disable=SC2086
 ASAN_OPTIONS=$fuzz_asan "$bin" $limits $dict $runs -max_len="${FUZZ_MAX_LEN:-4096}" -max_total_time="$seconds" -print_final_stats=1 \
