@@ -1,8 +1,8 @@
 #!/bin/sh
 # with_server.sh SERVER_BIN [server flags...] -- COMMAND [args...]
 # Starts a real armature-server on free loopback ports in a temporary data
-# dir, runs COMMAND with every @PORT@ replaced by its gRPC port and @PID@ by
-# its pid, then stops it with SIGTERM and fails unless it exits 0 within 30 s.
+# dir, runs COMMAND with every @PORT@ replaced by its gRPC port, @HTTP@ by its
+# HTTP port and @PID@ by its pid, then stops it with SIGTERM and fails unless it exits 0 within 30 s.
 # Exits with COMMAND's status. The load runs and the soak (bench/soak) use it.
 set -eu
 server_bin=$1
@@ -18,7 +18,7 @@ server_flags=
 while [ $# -gt 0 ] && [ "$1" != "--" ]; do server_flags="$server_flags $1"; shift; done
 [ $# -gt 0 ] && shift
 # shellcheck disable=SC2086
-"$server_bin" --host 127.0.0.1 --grpc-port 0 --http-port -1 --data-dir "$dir/data" \
+"$server_bin" --host 127.0.0.1 --grpc-port 0 --http-port 0 --data-dir "$dir/data" \
   --port-file "$dir/ports.json" $server_flags >"$dir/server.log" 2>&1 &
 pid=$!
 i=0
@@ -31,9 +31,10 @@ while [ -z "$port" ]; do  # up to 60 s for the port file
   sleep 0.1
   port=$(sed -n 's/.*"grpc": *\([0-9]*\).*/\1/p' "$dir/ports.json" 2>/dev/null || true)
 done
+http=$(sed -n 's/.*"http": *\([0-9]*\).*/\1/p' "$dir/ports.json")
 cmd=
 for a in "$@"; do
-  a=$(printf '%s' "$a" | sed "s/@PORT@/$port/g; s/@PID@/$pid/g")
+  a=$(printf '%s' "$a" | sed "s/@PORT@/$port/g; s/@HTTP@/$http/g; s/@PID@/$pid/g")
   cmd="$cmd '$a'"
 done
 status=0

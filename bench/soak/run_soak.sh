@@ -7,4 +7,4 @@
 set -eu
 here=$(dirname "$0")
 exec sh "$here/../load/with_server.sh" "$1" --log-level warn -- \
-  "$2" --server 127.0.0.1:@PORT@ --clients "${3:-8}" --seconds "${4:-10}" --server-pid @PID@
+  "$2" --server 127.0.0.1:@PORT@ --http-port @HTTP@ --clients "${3:-8}" --seconds "${4:-10}" --server-pid @PID@

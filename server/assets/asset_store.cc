@@ -357,8 +357,12 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   record.imported_at = NowRfc3339();
   const std::string unique = RandomSuffix();
   record.file = "files/" + request.name + "." + unique + std::string(FormatExtension(*format));
+  // Each resource's file carries its index: two uris may end alike ("a/data.bin",
+  // "b/data.bin"; "a b.bin", "a_b.bin") and must not share a file.
+  int index = 0;
   for (const auto& [uri, data] : request.resources) {
-    record.resources[uri] = "files/" + request.name + "." + unique + ".res." + SafeFileName(uri);
+    record.resources[uri] =
+        "files/" + request.name + "." + unique + ".res" + std::to_string(index++) + "." + SafeFileName(uri);
     record.size_bytes += static_cast<int64_t>(data.size());
   }
   auto stored = std::make_shared<const StoredAsset>(StoredAsset{record, std::move(*contents)});

@@ -39,6 +39,11 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
     auto tokens = BearerTokens::FromFile(config.auth_token_file);
     if (!tokens.ok()) return tokens.status();
     s->tokens_ = std::move(*tokens);
+    for (int line : s->tokens_->lines_browsers_cannot_send())
+      spdlog::warn("{}:{}: this token has characters outside A-Z a-z 0-9 and !#$%&'*+-.^_`|~ ('/' or '=' of "
+                   "base64, say): browsers cannot send it as a WebSocket subprotocol; make tokens with "
+                   "'openssl rand -hex 32'",
+                   config.auth_token_file, line);
   }
   auto credentials = MakeServerCredentials(config);
   if (!credentials.ok()) return credentials.status();

@@ -25,6 +25,14 @@ bool StartsWithIgnoringCase(std::string_view s, std::string_view prefix) {
   return true;
 }
 
+// RFC 7230's tchar, which a WebSocket subprotocol is made of (RFC 6455 4.1).
+bool IsHttpToken(std::string_view s) {
+  for (unsigned char c : s)
+    if (!std::isalnum(c) && std::string_view("!#$%&'*+-.^_`|~").find(static_cast<char>(c)) == std::string_view::npos)
+      return false;
+  return true;
+}
+
 Status Unauthenticated(std::string message) { return {StatusCode::kUnauthenticated, std::move(message)}; }
 
 }  // namespace
@@ -39,9 +47,12 @@ StatusOr<std::shared_ptr<const BearerTokens>> BearerTokens::FromText(std::string
                                                                       std::string_view source) {
   auto tokens = std::shared_ptr<BearerTokens>(new BearerTokens());
   std::istringstream lines{std::string(text)};
+  int line_number = 0;
   for (std::string line; std::getline(lines, line);) {
+    ++line_number;
     const std::string_view token = Trim(line);
     if (token.empty()) continue;
+    if (!IsHttpToken(token)) tokens->not_subprotocol_safe_.push_back(line_number);
     Digest d;
     SHA256(reinterpret_cast<const unsigned char*>(token.data()), token.size(), d.data());
     tokens->accepted_.push_back(d);

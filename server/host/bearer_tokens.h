@@ -25,9 +25,15 @@ class BearerTokens {
   // OK, or UNAUTHENTICATED saying what is missing or wrong (never the token).
   Status Check(std::string_view authorization) const;
 
+  // The file's line numbers (from 1) of tokens with a character outside
+  // HTTP's token characters ('/', '=', ...): a browser cannot send those in a
+  // WebSocket subprotocol ("bearer.<token>"), so the server warns at start.
+  const std::vector<int>& lines_browsers_cannot_send() const { return not_subprotocol_safe_; }
+
  private:
   using Digest = std::array<unsigned char, 32>;  // SHA-256: equal-length, so the comparison leaks no length
   std::vector<Digest> accepted_;
+  std::vector<int> not_subprotocol_safe_;
 };
 
 }  // namespace armature::server

@@ -1,7 +1,8 @@
 #include "server/host/metrics_http.h"
 
 #include <httplib.h>
-#include <nlohmann/json.hpp>
+
+#include "server/host/gateway/error_mapping.h"
 
 namespace armature::server {
 
@@ -10,10 +11,9 @@ void ServeMetrics(httplib::Server& http, const Metrics& metrics, std::shared_ptr
     if (tokens) {
       const Status st = tokens->Check(req.get_header_value("Authorization"));
       if (!st.ok()) {
-        res.status = 401;
+        // The same body as every other error: {"code": 16, "message": …}.
+        gateway::WriteError(res, 401, grpc::StatusCode::UNAUTHENTICATED, st.message());
         res.set_header("WWW-Authenticate", "Bearer");
-        res.set_content(nlohmann::json{{"code", "UNAUTHENTICATED"}, {"message", st.message()}}.dump() + "\n",
-                        "application/json");
         return;
       }
     }

@@ -191,16 +191,16 @@ StatusOr<std::array<Axis, 3>> ParseEulerOrder(const std::string& order, const st
   std::array<Axis, 3> axes = {Axis::kX, Axis::kY, Axis::kZ};
   if (order.empty()) return axes;
   auto bad = [&] {
-    return Status::InvalidArgument(field + ": expected three of X, Y, Z such as \"ZXY\", got \"" + order + "\"");
+    return Status::InvalidArgument(field + ": expected X, Y and Z once each, in the order they apply, such as \"ZXY\", got \"" +
+                                   order + "\"");
   };
   if (order.size() != 3) return bad();
+  bool seen[3] = {false, false, false};  // an axis twice ("XXX", "XYX") is no Tait-Bryan order
   for (int k = 0; k < 3; ++k) {
-    switch (std::toupper(static_cast<unsigned char>(order[k]))) {
-      case 'X': axes[k] = Axis::kX; break;
-      case 'Y': axes[k] = Axis::kY; break;
-      case 'Z': axes[k] = Axis::kZ; break;
-      default: return bad();
-    }
+    const int c = std::toupper(static_cast<unsigned char>(order[k]));
+    if (c < 'X' || c > 'Z' || seen[c - 'X']) return bad();
+    seen[c - 'X'] = true;
+    axes[k] = static_cast<Axis>(c - 'X');
   }
   return axes;
 }

@@ -75,6 +75,20 @@ TEST_F(CreateClipValidation, EachMalformedKeyIsNamed) {
          head(r)->set_euler_order("XQZ");
        },
        invalid, {"joint 'Head'", "euler_order", "XQZ"}},
+      {"Euler order with an axis twice",
+       [&](auto& r) {
+         head(r)->clear_rotations();
+         for (int i = 0; i < 9; ++i) head(r)->add_euler(0);
+         head(r)->set_euler_order("XXX");
+       },
+       invalid, {"joint 'Head'", "euler_order", "once each", "XXX"}},
+      {"proper Euler order",
+       [&](auto& r) {
+         head(r)->clear_rotations();
+         for (int i = 0; i < 9; ++i) head(r)->add_euler(0);
+         head(r)->set_euler_order("zxz");
+       },
+       invalid, {"joint 'Head'", "euler_order", "zxz"}},
       {"Euler count",
        [&](auto& r) {
          head(r)->clear_rotations();

@@ -86,7 +86,11 @@ TEST_F(Auth, HealthStaysOpenAndRefusalsAreCounted) {
   // /metrics is protected like the API.
   const HttpResponse refused = HttpGet(Url("/metrics"));
   EXPECT_EQ(refused.status, 401);
-  EXPECT_NE(refused.body.find("UNAUTHENTICATED"), std::string::npos) << refused.body;
+  // The same error body as every other: the code as a number.
+  const auto refused_body = nlohmann::json::parse(refused.body, nullptr, false);
+  ASSERT_TRUE(refused_body.is_object()) << refused.body;
+  EXPECT_EQ(refused_body.value("code", -1), 16) << refused.body;
+  EXPECT_FALSE(refused_body.value("message", "").empty()) << refused.body;
   EXPECT_EQ(HttpGet(Url("/metrics"), {"Authorization: Bearer wrong"}).status, 401);
   const HttpResponse metrics = HttpGet(Url("/metrics"), {std::string("Authorization: Bearer ") + kToken});
   ASSERT_EQ(metrics.status, 200);
@@ -139,6 +143,24 @@ TEST(AuthConfig, AnEmptyOrMissingTokenFileStopsTheServer) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("auth-token-file"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace armature::testing
+
+namespace armature::testing {
+namespace {
+
+// A base64 token ('/', '=') works over gRPC and REST, but a browser cannot
+// send it as a WebSocket subprotocol: the server says so at start, by line.
+TEST(AuthTokenFile, TokensABrowserCannotSendAreNamedAtStart) {
+  TempDir data, files;
+  const auto tokens = WriteTemp(files, "tokens", "a1b2c3d4e5f60718293a4b5c6d7e8f90\n\nq9/Zt+Kx0w==\n");
+  ServerProcess server(data.path(), {"--auth-token-file", tokens.string()});
+  const std::string log = ReadFile(server.log_file());
+  EXPECT_NE(log.find(tokens.string() + ":3: this token has characters outside"), std::string::npos) << log;
+  EXPECT_NE(log.find("openssl rand -hex 32"), std::string::npos) << log;
+  EXPECT_EQ(log.find(tokens.string() + ":1:"), std::string::npos) << "a hex token is safe: " << log;
 }
 
 }  // namespace
