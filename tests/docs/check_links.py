@@ -1,6 +1,8 @@
 """Every relative link in README.md, ARCHITECTURE.md and docs/*.md reaches a
 file of the repository, and every #anchor a heading of its page (GitHub's
-anchor rule: lower case, punctuation dropped, spaces to hyphens).
+anchor rule: lower case, punctuation dropped, spaces to hyphens). And no page
+keeps a template placeholder such as BUILD_MINUTES: an upper-case word with an
+underscore in prose (outside code), other than a gRPC status code.
 
 usage: check_links.py REPO_ROOT
 """
@@ -10,6 +12,19 @@ import sys
 
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
 HEADING = re.compile(r"^#{1,6}\s+(.*)$")
+PLACEHOLDER = re.compile(r"\b[A-Z][A-Z0-9]*_[A-Z0-9_]*[A-Z0-9]\b")
+STATUS_CODES = {"INVALID_ARGUMENT", "DEADLINE_EXCEEDED", "NOT_FOUND", "ALREADY_EXISTS", "PERMISSION_DENIED",
+                "RESOURCE_EXHAUSTED", "FAILED_PRECONDITION", "OUT_OF_RANGE", "DATA_LOSS"}
+
+
+def placeholders(path):
+    """(line, word) of each upper-case word with an underscore left in prose."""
+    text = open(path, encoding="utf-8").read()
+    # Fenced blocks and inline code (which may span lines) become blanks, lines kept.
+    text = re.sub(r"^```.*?^```", lambda m: re.sub(r"[^\n]", " ", m.group(0)), text, flags=re.S | re.M)
+    text = re.sub(r"`[^`]*`", lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
+    return [(n, w) for n, line in enumerate(text.split("\n"), 1)
+            for w in PLACEHOLDER.findall(line) if w not in STATUS_CODES]
 
 
 def anchors(path):
@@ -47,9 +62,11 @@ def main():
                     problems.append(f"{page}:{number}: {target}: no such file")
                 elif anchor and dest.endswith(".md") and anchor not in anchors(dest):
                     problems.append(f"{page}:{number}: {target}: no heading #{anchor}")
+        for number, word in placeholders(path):
+            problems.append(f"{page}:{number}: {word}: a template placeholder left in the text")
     for p in problems:
         print("FAIL:", p)
-    print(f"{checked} links checked in {len(pages)} pages, {len(problems)} broken")
+    print(f"{checked} links checked in {len(pages)} pages, {len(problems)} problems")
     return 1 if problems else 0
 
 

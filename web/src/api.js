@@ -1,6 +1,7 @@
-// The server, as the viewer uses it: every call goes through the TypeScript
-// client (clients/typescript) over gRPC-Web with binary protobuf on the HTTP
-// port, so big answers (skinned meshes, pose batches) travel as protobuf, not
+// The server, as the viewer uses it: every unary and streaming call goes
+// through the TypeScript client (clients/typescript) over gRPC-Web with binary
+// protobuf on the HTTP port (the sessions go over WebSockets in
+// session_socket.js, and dropped files are posted as a form by drop_import.js), so big answers (skinned meshes, pose batches) travel as protobuf, not
 // JSON text. Requests and answers keep the REST gateway's JSON shape (proto3
 // JSON names, enums by name, every field present), so the rest of the viewer
 // reads the same objects it always has. Every call rejects with an Error

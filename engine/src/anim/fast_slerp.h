@@ -34,7 +34,6 @@ inline v4 Load4(const float* p) {
   return r;
 }
 
-inline void Store4(float* p, v4 v) { __builtin_memcpy(p, &v, sizeof v); }
 
 inline v4 Select(v4i mask, v4 yes, v4 no) { return mask ? yes : no; }
 

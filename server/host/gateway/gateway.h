@@ -2,7 +2,7 @@
 // (google.api.http) rule. Each HTTP request is matched against the compiled
 // path templates, turned into request messages (transcoder.h) and sent to the
 // server's own gRPC services through an in-process channel, so whatever the
-// gRPC side checks (validation, limits, later auth and metrics) applies to
+// gRPC side checks (validation, limits, the auth gate, metrics) applies to
 // REST as well. A new annotated RPC needs no code here.
 #pragma once
 
@@ -85,7 +85,6 @@ class Gateway {
   void Drain(std::chrono::system_clock::time_point deadline) { calls_.Drain(deadline); }
 
   const std::vector<HttpBinding>& bindings() const { return bindings_; }
-  const std::string& openapi_json() const { return openapi_; }
 
  private:
   struct Route {
