@@ -1,0 +1,142 @@
+"""ARCHITECTURE.md's include rules, checked on every source and header.
+
+- engine: math <- anim <- kinematics <- mesh <- deform <- io, each folder
+  using only those on its left (and base); parallel (the worker pool) is
+  used by mesh and deform and uses nothing of ours.
+- base uses nothing of ours.
+- server: rpc <- assets <- the slices (pose, mesh, ik, deform, authoring)
+  <- host (host/gateway is part of host). Slices never include each other.
+- client/ talks to the server over gRPC only: nothing of server/ or engine/.
+- No include cycle between folders (the rules above are an order, and the
+  graph is checked for cycles as well).
+
+usage: check_includes.py REPO_ROOT
+"""
+import os
+import re
+import sys
+
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
+ENGINE_ORDER = ["math", "anim", "kinematics", "mesh", "deform", "io"]
+SLICES = ["pose", "mesh", "ik", "deform", "authoring"]
+
+
+def folder_of_file(path):
+    """The layer a source or header belongs to, e.g. 'engine/anim', 'server/pose'."""
+    parts = path.split("/")
+    if parts[0] == "engine":
+        concern = parts[2] if parts[1] == "src" else parts[4] if parts[1] == "include" and len(parts) > 4 else None
+        return f"engine/{concern}" if concern else None
+    if parts[0] == "server":
+        return "server/host" if parts[1] == "host" else f"server/{parts[1]}"
+    if parts[0] in ("base", "client"):
+        return parts[0]
+    return None
+
+
+def folder_of_include(include, includer_folder):
+    """The layer an #include "..." names; None for generated or third-party headers."""
+    m = re.match(r"armature/engine/([a-z_]+)/", include)
+    if m:
+        return f"engine/{m.group(1)}"
+    if include.startswith("armature/base/"):
+        return "base"
+    if include == "armature/client.h":
+        return "client"
+    m = re.match(r"server/([a-z_]+)/", include)
+    if m:
+        return "server/host" if m.group(1) == "host" else f"server/{m.group(1)}"
+    first = include.split("/")[0]
+    if includer_folder.startswith("engine/") and first in ENGINE_ORDER + ["parallel"] and "/" in include:
+        return f"engine/{first}"  # engine/src/<concern>/ relative: "parallel/worker_pool.h"
+    return None if "/" in include else includer_folder  # a header beside the file
+
+
+def allowed(src, dst):
+    if src == dst or dst is None:
+        return True
+    if src == "base":
+        return False
+    if src.startswith("engine/"):
+        a, b = src[7:], dst[7:] if dst.startswith("engine/") else None
+        if dst == "base":
+            return True
+        if b is None:
+            return False
+        if a == "parallel":
+            return False
+        if b == "parallel":
+            return a in ("mesh", "deform")
+        return a in ENGINE_ORDER and b in ENGINE_ORDER and ENGINE_ORDER.index(b) < ENGINE_ORDER.index(a)
+    if src.startswith("server/"):
+        if dst == "base" or dst.startswith("engine/"):
+            return True
+        if dst == "client":
+            return False
+        order = {"server/rpc": 0, "server/assets": 1, "server/host": 3}
+        rank = lambda f: order.get(f, 2)  # the slices sit between assets and host
+        if rank(src) == 2 and rank(dst) == 2:
+            return False  # slices never include each other
+        return rank(dst) < rank(src)
+    if src == "client":
+        return dst in ("base", "client")
+    return True
+
+
+def find_cycle(edges):
+    graph = {}
+    for a, b in edges:
+        graph.setdefault(a, set()).add(b)
+    state = {}
+
+    def visit(node, path):
+        state[node] = 1
+        for nxt in sorted(graph.get(node, ())):
+            if state.get(nxt) == 1:
+                return path + [node, nxt]
+            if not state.get(nxt):
+                found = visit(nxt, path + [node])
+                if found:
+                    return found
+        state[node] = 2
+        return None
+
+    for node in sorted(graph):
+        if not state.get(node):
+            found = visit(node, [])
+            if found:
+                return found
+    return None
+
+
+def main():
+    root = os.path.abspath(sys.argv[1])
+    problems, edges, files = [], set(), 0
+    for top in ("base", "engine", "server", "client"):
+        for dirpath, _, names in os.walk(os.path.join(root, top)):
+            for name in sorted(names):
+                if not name.endswith((".h", ".cc")):
+                    continue
+                rel = os.path.relpath(os.path.join(dirpath, name), root)
+                src = folder_of_file(rel)
+                if src is None:
+                    continue
+                files += 1
+                text = open(os.path.join(root, rel), encoding="utf-8", errors="replace").read()
+                for include in INCLUDE.findall(text):
+                    dst = folder_of_include(include, src)
+                    if dst and dst != src:
+                        edges.add((src, dst))
+                    if not allowed(src, dst):
+                        problems.append(f'{rel}: #include "{include}": {src} may not use {dst}')
+    cycle = find_cycle(edges)
+    if cycle:
+        problems.append("an include cycle between folders: " + " -> ".join(cycle))
+    for p in problems:
+        print("FAIL:", p)
+    print(f"{files} files, {len(edges)} folder edges checked, {len(problems)} problems")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
