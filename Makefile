@@ -4,6 +4,8 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
 # ozz-animation (../shared/third_party) as the benchmarks' baseline: only `make bench` turns it on.
 BENCH_OZZ ?= OFF
+# Compiler warnings fail the build (-Werror): WERROR=OFF to build with a compiler that warns more.
+WERROR ?= ON
 DATA_DIR ?= armature-data
 ARGS ?=
 
@@ -28,7 +30,7 @@ test-deps:
 	./scripts/setup.sh test
 
 configure:
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DARMATURE_BENCH_OZZ=$(BENCH_OZZ) $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DARMATURE_BENCH_OZZ=$(BENCH_OZZ) -DARMATURE_WERROR=$(WERROR) $(CMAKE_FLAGS)
 
 build: deps configure
 	cmake --build $(BUILD) -j $(JOBS)

@@ -12,7 +12,12 @@ namespace armature::server {
 // large request must not pin them (3,000 effectors left 1.3 GB per thread).
 static void ReleaseIfLarge(IkWorkspace& ws) {
   constexpr Eigen::Index kKeptElements = 1 << 20;  // 8 MiB of doubles
-  if (ws.jacobian.size() + ws.hessian.size() + ws.damped.size() + ws.gram.size() > kKeptElements) ws = IkWorkspace();
+  // Swapped with a fresh one rather than move-assigned: GCC 12 warns (-Wmaybe-uninitialized, a
+  // false positive) on Eigen::LLT's move assignment of a default-constructed LLT.
+  if (ws.jacobian.size() + ws.hessian.size() + ws.damped.size() + ws.gram.size() > kKeptElements) {
+    IkWorkspace fresh;
+    std::swap(ws, fresh);
+  }
 }
 
 grpc::ServerUnaryReactor* IkServiceImpl::SolveIk(grpc::CallbackServerContext* context,

@@ -49,7 +49,11 @@ std::string_view Trim(std::string_view s) {
 // Input quoted for a message: cut short, bytes that are not UTF-8 escaped.
 std::string Quoted(std::string_view token) {
   if (token.empty()) return "end of file";
-  return "'" + EscapeForMessage(token, 40) + "'";
+  // Appended in place: GCC 12 warns (-Wrestrict, a false positive) on "'" + std::string&&.
+  std::string quoted = "'";
+  quoted += EscapeForMessage(token, 40);
+  quoted += '\'';
+  return quoted;
 }
 
 std::optional<Channel> ParseChannel(std::string_view s) {

@@ -90,7 +90,8 @@ std::vector<std::string> BvhNames(const Skeleton& sk) {
     while (!n.empty() && n.back() == ' ') n.pop_back();
     if (n.empty() || n.back() == '{') n += "_";
     if (!used.insert(n).second) {
-      n += "_" + std::to_string(j);
+      n += '_';  // not "_" + std::to_string(j): GCC 12's false -Wrestrict on that operator+
+      n += std::to_string(j);
       while (!used.insert(n).second) n += "_";
     }
     names[j] = std::move(n);
