@@ -7,6 +7,26 @@
 #include "armature/build_info.h"
 
 namespace armature::server {
+namespace {
+
+// Work bounded before it starts, and heavy calls kept off gRPC's threads.
+void AddWorkBudgetFlags(CLI::App& app, Limits& limits) {
+  app.add_option("--max-request-work", limits.max_request_work,
+                 "Most work one EvaluateClip/EvaluateMotion may ask for: layers x times x skeleton joints")
+      ->envname("ARMATURE_MAX_REQUEST_WORK")->check(CLI::PositiveNumber);
+  app.add_option("--max-stream-work", limits.max_stream_work,
+                 "Most work a second one pose stream or playback session may ask for: layers x joints x fps "
+                 "(a session's layers: those of every motion playing)")
+      ->envname("ARMATURE_MAX_STREAM_WORK")->check(CLI::PositiveNumber);
+  app.add_option("--heavy-threads", limits.heavy_threads,
+                 "Heavy unary calls (long evaluations) run at once, off gRPC's threads (0: the cores, at least 2)")
+      ->envname("ARMATURE_HEAVY_THREADS")->check(CLI::Range(0, 1024));
+  app.add_option("--heavy-queue", limits.heavy_queue,
+                 "Heavy calls that may wait beyond those running before more are refused (0: 4 per thread)")
+      ->envname("ARMATURE_HEAVY_QUEUE")->check(CLI::Range(0, 100000));
+}
+
+}  // namespace
 
 int ParseConfig(int argc, char** argv, ServerConfig& c) {
   CLI::App app{"armature-server: an animation server (pose evaluation, IK, skinning, deformation) over gRPC and HTTP"};
@@ -83,6 +103,7 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
                  "Memory for factorizations kept between unary Deform calls with the same mesh, setup and "
                  "handle indices, in MiB (0: none)")
       ->envname("ARMATURE_DEFORM_CACHE_MB")->check(CLI::NonNegativeNumber);
+  AddWorkBudgetFlags(app, c.limits);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -6,6 +6,7 @@
 #include "server/ik/ik_service.h"
 #include "server/mesh/mesh_service.h"
 #include "server/pose/pose_service.h"
+#include "server/rpc/heavy_call_pool.h"
 #include "server/rpc/session_admission.h"
 #include "server/rpc/stream_admission.h"
 
@@ -19,7 +20,9 @@ std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, 
   auto streams = std::make_shared<StreamAdmission>(limits);
   std::vector<ServiceEntry> services;
   services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
-  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits, sessions, streams));
+  // Heavy unary calls of every service share one bounded pool (--heavy-threads, --heavy-queue).
+  auto heavy = std::make_shared<HeavyCallPool>(limits);
+  services.push_back(MakeService<v1::PoseService, PoseServiceImpl>(store, limits, sessions, streams, heavy));
   auto deform_cache = std::make_shared<DeformerCache>(static_cast<size_t>(limits.deform_cache_bytes));
   metrics.AddCollector([deform_cache](PrometheusText& out) { deform_cache->Collect(out); });
   services.push_back(MakeService<v1::DeformService, DeformServiceImpl>(store, limits, sessions, streams, deform_cache));

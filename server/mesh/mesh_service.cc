@@ -7,6 +7,7 @@
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
 #include "server/rpc/request_validation.h"
+#include "server/rpc/work_budget.h"
 
 namespace armature::server {
 
@@ -29,6 +30,10 @@ grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMe
     if (request->has_motion()) {
       auto plan = MotionFor(*catalog, *mesh->part, request->motion(), limits_);
       if (!plan.ok()) return new Failed(plan.status());
+      if (Status st = ValidateStreamWork(static_cast<int64_t>(plan->layers.size()),
+                                         static_cast<int64_t>(plan->skeleton->size()), pacing.fps, limits_, "motion");
+          !st.ok())
+        return new Failed(st);
       auto* reactor = new SkinnedMotionStreamReactor(scheduler_, pacing, std::move(*mesh), std::move(*plan), *method);
       reactor->HoldUntilDone(std::move(*stream));
       return reactor;

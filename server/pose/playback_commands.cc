@@ -4,6 +4,7 @@
 
 #include "server/assets/motion_convert.h"
 #include "server/rpc/request_validation.h"
+#include "server/rpc/work_budget.h"
 
 namespace armature::server {
 namespace {
@@ -70,8 +71,10 @@ StatusOr<PlaybackSetup> StartPlayback(const Catalog& catalog, const Limits& limi
   setup.joints = std::move(*joints);
   playback = std::make_unique<Playback>(setup.skeleton.part->skeleton);
   names.clear();
-  if (start.has_play())
+  if (start.has_play()) {
     ARMATURE_RETURN_IF_ERROR(Play(catalog, limits, start.play(), "start.play", 0, *playback, names));
+    ARMATURE_RETURN_IF_ERROR(ValidatePlaybackWork(setup, *playback, limits, "start.play"));
+  }
   return setup;
 }
 
@@ -110,6 +113,14 @@ Status ApplyPlaybackCommand(const Catalog& catalog, const Limits& limits, const 
       break;
   }
   return Status::InvalidArgument("command: empty (give one of play, set_layer, pause, resume, seek)");
+}
+
+Status ValidatePlaybackWork(const PlaybackSetup& setup, const Playback& playback, const Limits& limits,
+                            const std::string& field) {
+  return ValidateStreamWork(static_cast<int64_t>(playback.layer_count()),
+                            static_cast<int64_t>(setup.skeleton.part->skeleton->size()), setup.fps, limits,
+                            field + " (" + std::to_string(playback.playing_count()) +
+                                (playback.playing_count() == 1 ? " motion" : " motions") + " playing)");
 }
 
 Status FillPlaybackFrame(const PlaybackSetup& setup, const Playback& playback,

@@ -36,6 +36,13 @@ StatusOr<PlaybackSetup> StartPlayback(const Catalog& catalog, const Limits& limi
 Status ApplyPlaybackCommand(const Catalog& catalog, const Limits& limits, const v1::PlaybackCommand& command,
                             uint64_t id, Playback& playback, std::map<uint64_t, std::string>& names);
 
+// The work each second of the session now asks for: the layers of every
+// motion playing × the skeleton's joints × fps, against --max-stream-work
+// (RESOURCE_EXHAUSTED naming `field`, the budget and the cost). Checked after
+// each play, before a frame of it is computed.
+Status ValidatePlaybackWork(const PlaybackSetup& setup, const Playback& playback, const Limits& limits,
+                            const std::string& field);
+
 // Frame `index`: session time index/fps, the playing motions, the pose (and,
 // for the first frame, the joints and skeleton name). Does not advance.
 Status FillPlaybackFrame(const PlaybackSetup& setup, const Playback& playback,

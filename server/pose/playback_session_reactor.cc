@@ -121,6 +121,7 @@ bool PlaybackSessionReactor::FillNext() {
     const auto catalog = queued_.empty() ? nullptr : store_.Snapshot();
     for (const auto& [number, command] : queued_) {
       st = ApplyPlaybackCommand(*catalog, limits_, command, number, *playback_, names_);
+      if (st.ok() && command.has_play()) st = ValidatePlaybackWork(setup_, *playback_, limits_, "play");
       if (!st.ok()) {
         st = st.WithContext("message " + std::to_string(number) + ": ");
         break;

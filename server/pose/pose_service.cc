@@ -23,13 +23,30 @@ Status ValidatePosesReplySize(int times, size_t joints, const Limits& limits, co
                            rpc, std::to_string(times) + " times x " + std::to_string(joints) + " joints x 28 bytes");
 }
 
+// The joints of `clip`'s skeleton, 0 when there is no such clip.
+int64_t SkeletonJointsOf(const Catalog& catalog, const std::string& clip) {
+  auto ref = catalog.FindClip(clip);
+  return ref.ok() ? static_cast<int64_t>(ref->part->clip->skeleton->size()) : 0;
+}
+
 }  // namespace
 
+RequestWork EvaluateClipWork(const Catalog& catalog, const v1::EvaluateClipRequest& request) {
+  return {1, request.times_size(), SkeletonJointsOf(catalog, request.clip())};
+}
+
+RequestWork EvaluateMotionWork(const Catalog& catalog, const v1::EvaluateMotionRequest& request) {
+  const auto& layers = request.motion().layers();
+  return {layers.size(), request.times_size(), layers.empty() ? 0 : SkeletonJointsOf(catalog, layers[0].clip())};
+}
+
 Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
-                    v1::EvaluateClipResponse* response) {
+                    v1::EvaluateClipResponse* response, CallProgress progress) {
   auto ref = catalog.FindClip(request.clip());
   if (!ref.ok()) return ref.status();
   ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
+  const RequestWork work = EvaluateClipWork(catalog, request);
+  ARMATURE_RETURN_IF_ERROR(ValidateRequestWork(work, limits, "EvaluateClip"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
@@ -54,17 +71,20 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   for (double t : request.times()) {
     ARMATURE_RETURN_IF_ERROR(SampleNamedClip(*ref->part, t, options, ws.local));
     PackPose(*clip.skeleton, space, *joints, ws, response->add_poses());
+    ARMATURE_RETURN_IF_ERROR(progress.Step(work.joints));
   }
   return Status::Ok();
 }
 
 Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::EvaluateMotionRequest& request,
-                      v1::EvaluateMotionResponse* response) {
+                      v1::EvaluateMotionResponse* response, CallProgress progress) {
   ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
   if (!request.has_motion()) return Status::InvalidArgument("motion: required (give at least one layer)");
   auto plan = BindMotionProto(catalog, request.motion(), limits, "motion");
   if (!plan.ok()) return plan.status();
+  const RequestWork work = EvaluateMotionWork(catalog, request);
+  ARMATURE_RETURN_IF_ERROR(ValidateRequestWork(work, limits, "EvaluateMotion"));
   const Skeleton& skeleton = *plan->skeleton;
   auto joints = ResolveJoints(skeleton, request.joints(), "joints");
   if (!joints.ok()) return joints.status();
@@ -92,6 +112,7 @@ Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::Ev
       for (double v : {delta.rotation.w(), delta.rotation.x(), delta.rotation.y(), delta.rotation.z()})
         root->add_rotations(static_cast<float>(v));
     }
+    ARMATURE_RETURN_IF_ERROR(progress.Step(work.layers * work.joints));
   }
   return Status::Ok();
 }
@@ -117,16 +138,21 @@ Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1
 grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateClip(grpc::CallbackServerContext* context,
                                                         const v1::EvaluateClipRequest* request,
                                                         v1::EvaluateClipResponse* response) {
-  return RunUnary(context, "EvaluateClip", [&]() -> Status {
-    return server::EvaluateClip(*store_.Snapshot(), limits_, *request, response);
+  auto catalog = store_.Snapshot();
+  const int64_t cost = EvaluateClipWork(*catalog, *request).total();
+  return heavy_->Run(context, "EvaluateClip", cost, [this, context, request, response, catalog] {
+    return server::EvaluateClip(*catalog, limits_, *request, response, CallProgress(*context, "EvaluateClip", "times"));
   });
 }
 
 grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateMotion(grpc::CallbackServerContext* context,
                                                           const v1::EvaluateMotionRequest* request,
                                                           v1::EvaluateMotionResponse* response) {
-  return RunUnary(context, "EvaluateMotion", [&]() -> Status {
-    return server::EvaluateMotion(*store_.Snapshot(), limits_, *request, response);
+  auto catalog = store_.Snapshot();
+  const int64_t cost = EvaluateMotionWork(*catalog, *request).total();
+  return heavy_->Run(context, "EvaluateMotion", cost, [this, context, request, response, catalog] {
+    return server::EvaluateMotion(*catalog, limits_, *request, response,
+                                  CallProgress(*context, "EvaluateMotion", "times"));
   });
 }
 
@@ -156,6 +182,10 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
       if (!plan.ok()) return new FailedStream<v1::PoseFrame>(plan.status());
       auto joints = ResolveJoints(*plan->skeleton, request->joints(), "joints");
       if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
+      if (Status st = ValidateStreamWork(static_cast<int64_t>(plan->layers.size()),
+                                         static_cast<int64_t>(plan->skeleton->size()), pacing.fps, limits_, "motion");
+          !st.ok())
+        return new FailedStream<v1::PoseFrame>(st);
       const v1::Space space = request->space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
       auto* reactor = new StreamMotionReactor(scheduler_, pacing, std::move(*plan),
                                               catalog->FindClip(request->motion().layers(0).clip())->part->skeleton,
@@ -167,6 +197,10 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
     if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
     auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
     if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
+    if (Status st = ValidateStreamWork(1, static_cast<int64_t>(ref->part->clip->skeleton->size()), pacing.fps,
+                                       limits_, "clip");
+        !st.ok())
+      return new FailedStream<v1::PoseFrame>(st);
     auto* reactor = new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
     reactor->HoldUntilDone(std::move(*stream));
     return reactor;

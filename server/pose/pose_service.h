@@ -6,18 +6,22 @@
 
 #include "armature/v1/poses.grpc.pb.h"
 #include "server/assets/asset_store.h"
+#include "server/rpc/call_progress.h"
 #include "server/rpc/frame_scheduler.h"
+#include "server/rpc/heavy_call_pool.h"
 #include "server/rpc/limits.h"
 #include "server/rpc/session_admission.h"
 #include "server/rpc/stream_admission.h"
+#include "server/rpc/work_budget.h"
 
 namespace armature::server {
 
 class PoseServiceImpl final : public v1::PoseService::CallbackService {
  public:
   PoseServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
-                  std::shared_ptr<StreamAdmission> streams)
-      : store_(store), limits_(limits), sessions_(std::move(sessions)), streams_(std::move(streams)) {}
+                  std::shared_ptr<StreamAdmission> streams, std::shared_ptr<HeavyCallPool> heavy)
+      : store_(store), limits_(limits), sessions_(std::move(sessions)), streams_(std::move(streams)),
+        heavy_(std::move(heavy)) {}
 
   grpc::ServerUnaryReactor* EvaluateClip(grpc::CallbackServerContext* context,
                                          const v1::EvaluateClipRequest* request,
@@ -37,14 +41,23 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
   const Limits& limits_;
   std::shared_ptr<SessionAdmission> sessions_;  // shared with the IK and deformation sessions
   std::shared_ptr<StreamAdmission> streams_;  // shared with the other streaming RPCs
+  std::shared_ptr<HeavyCallPool> heavy_;      // EvaluateClip and EvaluateMotion beyond a few milliseconds
   FrameScheduler scheduler_;  // paces StreamClip and PlaybackSession
 };
 
-// The handlers' work, callable without gRPC (benchmarks, tests).
+// What an evaluation costs (work_budget.h): times × the joints of the
+// clip's skeleton, × the layers for a motion (its first layer's skeleton).
+// An unknown clip costs 0 here; the handler reports it.
+RequestWork EvaluateClipWork(const Catalog& catalog, const v1::EvaluateClipRequest& request);
+RequestWork EvaluateMotionWork(const Catalog& catalog, const v1::EvaluateMotionRequest& request);
+
+// The handlers' work, callable without gRPC (benchmarks, tests). The cost is
+// checked against --max-request-work before any pose is computed; `progress`
+// stops the loop over times at the call's deadline or cancellation.
 Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
-                    v1::EvaluateClipResponse* response);
+                    v1::EvaluateClipResponse* response, CallProgress progress = {});
 Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::EvaluateMotionRequest& request,
-                      v1::EvaluateMotionResponse* response);
+                      v1::EvaluateMotionResponse* response, CallProgress progress = {});
 Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1::ComputeFkResponse* response);
 
 }  // namespace armature::server

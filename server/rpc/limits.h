@@ -25,6 +25,12 @@ struct Limits {
   int max_sessions = 256;                  // --max-sessions: open IK/deformation sessions in all
   int max_ik_sessions = 64;                // --max-ik-sessions: IK sessions open at once, all clients
   int64_t deform_cache_bytes = 256ll << 20;  // --deform-cache-mb: unary Deform factorizations kept (0: none)
+  // Work budgets, counted in joint samples (one layer of one joint at one time), checked before any work.
+  int64_t max_request_work = 20000000;     // --max-request-work: layers × times × joints of one EvaluateClip/EvaluateMotion
+  int64_t max_stream_work = 2000000;       // --max-stream-work: layers × joints × fps of one pose stream or playback session
+  // Heavy unary calls run on their own pool so that gRPC's threads stay free for cheap calls and health.
+  int heavy_threads = 0;                   // --heavy-threads: heavy calls run at once (0: the cores, at least 2)
+  int heavy_queue = 0;                     // --heavy-queue: heavy calls waiting beyond those (0: 4 per thread)
 };
 
 }  // namespace armature::server

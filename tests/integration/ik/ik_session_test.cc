@@ -23,22 +23,11 @@
 #include "support/metrics_scrape.h"
 #include "support/server_process.h"
 #include "ik/ik_rig.h"
+#include "support/process_cpu.h"
 
 namespace armature::testing {
 namespace {
 using nlohmann::json;
-
-double CpuSeconds(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string line;
-  std::getline(in, line);
-  std::istringstream fields(line.substr(line.rfind(')') + 2));  // after "pid (comm) "
-  std::string f;
-  double ticks = 0;
-  for (int i = 3; i <= 15 && fields >> f; ++i)
-    if (i == 14 || i == 15) ticks += std::stod(f);  // utime, stime
-  return ticks / static_cast<double>(::sysconf(_SC_CLK_TCK));
-}
 
 // Whether the server goes quiet (under `limit` CPU seconds in some 1 s
 // window) within a generous bound: a solve nobody waits for would keep a

@@ -66,6 +66,8 @@ class Playback {
   Motion Describe() const;
 
   size_t playing_count() const { return motions_.size(); }
+  // The layers each frame blends: those of every playing motion.
+  size_t layer_count() const { return blend_.layers.size(); }
   PlayingMotion playing(size_t i) const;  // 0 = the oldest; playing_count() - 1 = the newest
   const Skeleton& skeleton() const { return *skeleton_; }
   // The blend's root-motion mode (the newest motion's).
