@@ -8,6 +8,7 @@
 #include "server/assets/asset_store.h"
 #include "server/rpc/frame_scheduler.h"
 #include "server/rpc/limits.h"
+#include "server/rpc/reply_size.h"
 #include "server/rpc/session_admission.h"
 #include "server/rpc/stream_admission.h"
 
@@ -40,11 +41,12 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
   FrameScheduler scheduler_;  // paces StreamClip and PlaybackSession
 };
 
-// The handlers' work, callable without gRPC (benchmarks, tests).
+// The handlers' work, callable without gRPC (benchmarks, tests). `encoding`
+// is the answer's (reply_size.h): its size is bounded in it.
 Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
-                    v1::EvaluateClipResponse* response);
+                    v1::EvaluateClipResponse* response, ReplyEncoding encoding = ReplyEncoding::kProtobuf);
 Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::EvaluateMotionRequest& request,
-                      v1::EvaluateMotionResponse* response);
+                      v1::EvaluateMotionResponse* response, ReplyEncoding encoding = ReplyEncoding::kProtobuf);
 Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1::ComputeFkResponse* response);
 
 }  // namespace armature::server
