@@ -133,6 +133,7 @@ Status ArmatureServer::StartGateway() {
   options.tokens = tokens_;
   options.max_request_bytes = static_cast<size_t>(limits.max_request_bytes);
   options.max_upload_bytes = static_cast<size_t>(limits.max_upload_bytes);
+  options.max_reply_bytes = static_cast<size_t>(limits.max_message_bytes);
   // Keep threads free for ordinary requests however many streams are open.
   options.max_streams = limits.max_http_threads - std::min<size_t>(limits.max_http_threads / 4, 64);
   auto gw = gateway::Gateway::Create(gateway::GeneratedServicesIn("armature.v1"),

@@ -62,42 +62,52 @@ StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, co
 
 namespace {
 
-// The bytes of `mesh`'s positions and normals (and triangle indices) in a reply.
-double MeshReplyBytes(const Mesh& mesh, bool triangles) {
-  const double n = static_cast<double>(mesh.vertex_count());
-  double bytes = n * 12 * (mesh.normals.empty() ? 1 : 2);
+// What an answer carrying `mesh` holds: positions and normals (and triangle indices).
+ReplyContent MeshReply(const Mesh& mesh, bool triangles) {
+  ReplyContent reply;
+  reply.floats = static_cast<double>(mesh.vertex_count()) * 3 * (mesh.normals.empty() ? 1 : 2);
+  reply.proto_overhead = 64;
+  reply.json_overhead = 64;  // {"mesh":…,"vertexCount":…,"positions":[],"normals":[]}
   if (triangles)
-    for (uint32_t index : mesh.triangles) bytes += google::protobuf::io::CodedOutputStream::VarintSize32(index);
-  return bytes;
+    for (uint32_t index : mesh.triangles) {
+      reply.proto_overhead += google::protobuf::io::CodedOutputStream::VarintSize32(index);
+      reply.json_overhead += 1 + (index < 10 ? 1 : index < 100 ? 2 : index < 1000 ? 3 : index < 10000 ? 4 : 7);
+    }
+  return reply;
 }
 
 }  // namespace
 
-Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc) {
-  const double bytes = MeshReplyBytes(mesh, triangles);
-  const std::string how = std::to_string(mesh.vertex_count()) + " vertices" +
-                          (triangles ? " and " + std::to_string(mesh.triangles.size() / 3) + " triangles" : "");
-  return ValidateReplySize(bytes, limits, rpc, how + "; imports are capped by --max-mesh-vertices");
+Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc,
+                         ReplyEncoding encoding) {
+  ReplyContent reply = MeshReply(mesh, triangles);
+  reply.how = std::to_string(mesh.vertex_count()) + " vertices" +
+              (triangles ? " and " + std::to_string(mesh.triangles.size() / 3) + " triangles" : "") +
+              "; imports are capped by --max-mesh-vertices";
+  return ValidateReplySize(reply, encoding, limits, rpc);
 }
 
 Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool triangles, const Limits& limits,
-                         const std::string& rpc) {
+                         const std::string& rpc, ReplyEncoding encoding) {
   auto ref = catalog.FindMesh(name);
   if (!ref.ok()) return Status::Ok();  // the RPC itself reports it
-  return ValidateMeshReply(*ref->part->mesh, triangles, limits, rpc);
+  return ValidateMeshReply(*ref->part->mesh, triangles, limits, rpc, encoding);
 }
 
 Status ValidateCharacterReply(const std::vector<const NamedMesh*>& meshes, const Limits& limits,
-                              const std::string& rpc) {
-  double bytes = 0;
+                              const std::string& rpc, ReplyEncoding encoding) {
+  ReplyContent reply;
   size_t vertices = 0;
   for (const NamedMesh* mesh : meshes) {
-    bytes += MeshReplyBytes(*mesh->mesh, false);
+    const ReplyContent one = MeshReply(*mesh->mesh, false);
+    reply.floats += one.floats;
+    reply.proto_overhead += one.proto_overhead;
+    reply.json_overhead += one.json_overhead;
     vertices += mesh->mesh->vertex_count();
   }
-  return ValidateReplySize(bytes, limits, rpc,
-                           std::to_string(meshes.size()) + " meshes, " + std::to_string(vertices) +
-                               " vertices in all; imports are capped by --max-mesh-vertices");
+  reply.how = std::to_string(meshes.size()) + " meshes, " + std::to_string(vertices) +
+              " vertices in all; imports are capped by --max-mesh-vertices";
+  return ValidateReplySize(reply, encoding, limits, rpc);
 }
 
 }  // namespace armature::server

@@ -14,6 +14,7 @@
 #include "armature/v1/motion.pb.h"
 #include "server/assets/asset_store.h"
 #include "server/rpc/limits.h"
+#include "server/rpc/reply_size.h"
 
 namespace armature::server {
 
@@ -58,12 +59,13 @@ std::pair<std::span<float>, std::span<float>> OutputsOf(const Mesh& mesh, Respon
 // any work so an oversized reply is refused naming the flags instead of
 // failing in gRPC after the work. The second form looks the mesh up by name
 // (OK when it is unknown: the RPC itself reports that).
-Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc);
+Status ValidateMeshReply(const Mesh& mesh, bool triangles, const Limits& limits, const std::string& rpc,
+                         ReplyEncoding encoding = ReplyEncoding::kProtobuf);
 Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool triangles, const Limits& limits,
-                         const std::string& rpc);
+                         const std::string& rpc, ReplyEncoding encoding = ReplyEncoding::kProtobuf);
 
 // ValidateMeshReply for one answer carrying every mesh of `meshes` (a character, no triangles).
 Status ValidateCharacterReply(const std::vector<const NamedMesh*>& meshes, const Limits& limits,
-                              const std::string& rpc);
+                              const std::string& rpc, ReplyEncoding encoding = ReplyEncoding::kProtobuf);
 
 }  // namespace armature::server

@@ -20,7 +20,8 @@ grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMe
     auto catalog = store_.Snapshot();
     auto mesh = catalog->FindMesh(request->mesh());
     if (!mesh.ok()) return new Failed(mesh.status().WithContext("mesh: "));
-    if (Status st = ValidateMeshReply(*mesh->part->mesh, false, limits_, "StreamSkinnedMesh"); !st.ok())
+    if (Status st = ValidateMeshReply(*mesh->part->mesh, false, limits_, "StreamSkinnedMesh",
+                                         ReplyEncodingOf(*context)); !st.ok())
       return new Failed(st);
     if (Status st = ValidateClipOrMotion(request->clip(), request->has_motion()); !st.ok()) return new Failed(st);
     auto method = FromProto(request->method());
@@ -71,7 +72,8 @@ grpc::ServerUnaryReactor* MeshServiceImpl::GetMeshGeometry(grpc::CallbackServerC
                                                            v1::MeshGeometry* response) {
   return RunUnary(context, "GetMeshGeometry", [&]() -> Status {
     const auto catalog = store_.Snapshot();
-    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), true, limits_, "GetMeshGeometry"));
+    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), true, limits_, "GetMeshGeometry",
+                                               ReplyEncodingOf(*context)));
     return server::GetMeshGeometry(*catalog, *request, response);
   });
 }
@@ -81,7 +83,8 @@ grpc::ServerUnaryReactor* MeshServiceImpl::SkinMesh(grpc::CallbackServerContext*
                                                     v1::SkinMeshResponse* response) {
   return RunUnary(context, "SkinMesh", [&]() -> Status {
     const auto catalog = store_.Snapshot();
-    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), false, limits_, "SkinMesh"));
+    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), false, limits_, "SkinMesh",
+                                               ReplyEncodingOf(*context)));
     return server::SkinMesh(*catalog, *request, response, limits_);
   });
 }
@@ -93,7 +96,8 @@ grpc::ServerUnaryReactor* MeshServiceImpl::SkinCharacter(grpc::CallbackServerCon
     const auto catalog = store_.Snapshot();
     if (auto skeleton = catalog->FindSkeleton(request->skeleton()); skeleton.ok())
       ARMATURE_RETURN_IF_ERROR(
-          ValidateCharacterReply(catalog->MeshesOf(skeleton->part->name), limits_, "SkinCharacter"));
+          ValidateCharacterReply(catalog->MeshesOf(skeleton->part->name), limits_, "SkinCharacter",
+                                 ReplyEncodingOf(*context)));
     return server::SkinCharacter(*catalog, *request, response, limits_);
   });
 }
@@ -103,7 +107,8 @@ grpc::ServerUnaryReactor* MeshServiceImpl::EvaluateBlendshapes(grpc::CallbackSer
                                                                v1::EvaluateBlendshapesResponse* response) {
   return RunUnary(context, "EvaluateBlendshapes", [&]() -> Status {
     const auto catalog = store_.Snapshot();
-    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), false, limits_, "EvaluateBlendshapes"));
+    ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), false, limits_, "EvaluateBlendshapes",
+                                               ReplyEncodingOf(*context)));
     return server::EvaluateBlendshapes(*catalog, *request, response);
   });
 }

@@ -5,6 +5,7 @@
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
 #include "server/rpc/pose_convert.h"
+#include "server/rpc/reply_size.h"
 #include "server/rpc/request_validation.h"
 #include "server/assets/compiled_clips.h"
 #include "server/assets/motion_convert.h"
@@ -16,11 +17,17 @@ namespace armature::server {
 namespace {
 
 // Each pose carries 7 floats per listed joint (a repeated joint counts
-// again); refused before any pose is computed.
-Status ValidatePosesReplySize(int times, size_t joints, const Limits& limits, const std::string& rpc) {
-  constexpr double kBytesPerJoint = 7 * sizeof(float);
-  return ValidateReplySize(static_cast<double>(times) * (static_cast<double>(joints) * kBytesPerJoint + 16), limits,
-                           rpc, std::to_string(times) + " times x " + std::to_string(joints) + " joints x 28 bytes");
+// again) and its time; refused before any pose is computed.
+Status ValidatePosesReplySize(int times, size_t joints, const Limits& limits, ReplyEncoding encoding,
+                              const std::string& rpc, const std::string& alternative) {
+  ReplyContent reply;
+  reply.floats = static_cast<double>(times) * static_cast<double>(joints) * 7;
+  reply.doubles = times;
+  reply.proto_overhead = static_cast<double>(times) * 8;
+  // {"translations":[],"rotations":[],"scales":[]}, per pose; each joint index.
+  reply.json_overhead = static_cast<double>(times) * 48 + static_cast<double>(joints) * 4;
+  reply.how = std::to_string(times) + " times x " + std::to_string(joints) + " joints x 7 floats";
+  return ValidateReplySize(reply, encoding, limits, rpc, alternative);
 }
 
 // The joints of `clip`'s skeleton, 0 when there is no such clip.
@@ -41,7 +48,7 @@ RequestWork EvaluateMotionWork(const Catalog& catalog, const v1::EvaluateMotionR
 }
 
 Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
-                    v1::EvaluateClipResponse* response, CallProgress progress) {
+                    v1::EvaluateClipResponse* response, ReplyEncoding encoding, CallProgress progress) {
   auto ref = catalog.FindClip(request.clip());
   if (!ref.ok()) return ref.status();
   ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
@@ -53,7 +60,9 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   const Clip& clip = *ref->part->clip;
   auto joints = ResolveJoints(*clip.skeleton, request.joints(), "joints");
   if (!joints.ok()) return joints.status();
-  ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, "EvaluateClip"));
+  ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, encoding,
+                                                  "EvaluateClip",
+                                                  "stream the poses (StreamClip: GET /v1/clips/{clip}:stream)"));
 
   SampleOptions options;
   options.interpolation = FromProto(request.interpolation());
@@ -77,7 +86,7 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
 }
 
 Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::EvaluateMotionRequest& request,
-                      v1::EvaluateMotionResponse* response, CallProgress progress) {
+                      v1::EvaluateMotionResponse* response, ReplyEncoding encoding, CallProgress progress) {
   ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
   if (!request.has_motion()) return Status::InvalidArgument("motion: required (give at least one layer)");
@@ -88,7 +97,8 @@ Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::Ev
   const Skeleton& skeleton = *plan->skeleton;
   auto joints = ResolveJoints(skeleton, request.joints(), "joints");
   if (!joints.ok()) return joints.status();
-  ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, "EvaluateMotion"));
+  ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, encoding,
+                                                  "EvaluateMotion", "stream the poses (StreamClip with a motion)"));
   const v1::Space space = request.space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
   const bool extract = plan->root_motion == RootMotion::kExtract;
 
@@ -141,7 +151,8 @@ grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateClip(grpc::CallbackServerCont
   auto catalog = store_.Snapshot();
   const int64_t cost = EvaluateClipWork(*catalog, *request).total();
   return heavy_->Run(context, "EvaluateClip", cost, [this, context, request, response, catalog] {
-    return server::EvaluateClip(*catalog, limits_, *request, response, CallProgress(*context, "EvaluateClip", "times"));
+    return server::EvaluateClip(*catalog, limits_, *request, response, ReplyEncodingOf(*context),
+                                CallProgress(*context, "EvaluateClip", "times"));
   });
 }
 
@@ -151,7 +162,7 @@ grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateMotion(grpc::CallbackServerCo
   auto catalog = store_.Snapshot();
   const int64_t cost = EvaluateMotionWork(*catalog, *request).total();
   return heavy_->Run(context, "EvaluateMotion", cost, [this, context, request, response, catalog] {
-    return server::EvaluateMotion(*catalog, limits_, *request, response,
+    return server::EvaluateMotion(*catalog, limits_, *request, response, ReplyEncodingOf(*context),
                                   CallProgress(*context, "EvaluateMotion", "times"));
   });
 }

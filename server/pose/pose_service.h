@@ -10,6 +10,7 @@
 #include "server/rpc/frame_scheduler.h"
 #include "server/rpc/heavy_call_pool.h"
 #include "server/rpc/limits.h"
+#include "server/rpc/reply_size.h"
 #include "server/rpc/session_admission.h"
 #include "server/rpc/stream_admission.h"
 #include "server/rpc/work_budget.h"
@@ -53,11 +54,14 @@ RequestWork EvaluateMotionWork(const Catalog& catalog, const v1::EvaluateMotionR
 
 // The handlers' work, callable without gRPC (benchmarks, tests). The cost is
 // checked against --max-request-work before any pose is computed; `progress`
-// stops the loop over times at the call's deadline or cancellation.
+// stops the loop over times at the call's deadline or cancellation. `encoding`
+// is the answer's (reply_size.h): its size is bounded in it.
 Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
-                    v1::EvaluateClipResponse* response, CallProgress progress = {});
+                    v1::EvaluateClipResponse* response, ReplyEncoding encoding = ReplyEncoding::kProtobuf,
+                    CallProgress progress = {});
 Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::EvaluateMotionRequest& request,
-                      v1::EvaluateMotionResponse* response, CallProgress progress = {});
+                      v1::EvaluateMotionResponse* response, ReplyEncoding encoding = ReplyEncoding::kProtobuf,
+                      CallProgress progress = {});
 Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1::ComputeFkResponse* response);
 
 }  // namespace armature::server

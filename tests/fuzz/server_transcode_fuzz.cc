@@ -131,7 +131,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   gw::HttpBody out;
   const pb::Message& response = Prototype(binding->method->output_type());
-  if (gw::TranscodeResponse(*binding, response, std::string(in), &out).ok() &&
+  if (gw::TranscodeResponse(*binding, response, std::string(in), 64u << 20, &out).ok() &&
       out.content_type == "application/json")
     (void)nlohmann::json::parse(out.content);
   return 0;

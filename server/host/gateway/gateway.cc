@@ -15,6 +15,7 @@
 #include "server/host/gateway/openapi.h"
 #include "server/host/gateway/sse.h"
 #include "server/rpc/caller_identity.h"  // kRestPeerMetadata
+#include "server/rpc/reply_size.h"       // kReplyEncodingMetadata
 #include "server/rpc/session_admission.h"
 
 namespace armature::server::gateway {
@@ -375,10 +376,13 @@ void Gateway::Dispatch(const httplib::Request& req, const HttpBinding& binding, 
   std::unique_ptr<grpc::ClientContext> context;
   if (auto st = MakeContext(req, binding.server_streaming(), &context); !st.ok()) return WriteError(res, st);
   if (calls_.draining()) return WriteError(res, ShuttingDown());
+  const bool proto_response = !binding.server_streaming() && AcceptsProtobuf(req.get_header_value("Accept"));
+  // The handlers bound the answer in the encoding it is sent in.
+  if (!proto_response) context->AddMetadata(kReplyEncodingMetadata, "json");
   if (binding.server_streaming())
     CallStreaming(binding, std::move(context), std::move(requests), res);
   else
-    CallUnary(binding, std::move(context), std::move(requests), AcceptsProtobuf(req.get_header_value("Accept")), res);
+    CallUnary(binding, std::move(context), std::move(requests), proto_response, res);
 }
 
 void Gateway::CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
@@ -397,7 +401,9 @@ void Gateway::CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::Client
     return res.set_content(std::move(responses[0]), kProtobufMediaType);
   }
   HttpBody body;
-  if (auto st = TranscodeResponse(binding, Prototype(binding.method->output_type()), responses[0], &body); !st.ok())
+  if (auto st = TranscodeResponse(binding, Prototype(binding.method->output_type()), std::move(responses[0]),
+                                 options_.max_reply_bytes, &body);
+      !st.ok())
     return WriteError(res, st);
   res.status = 200;
   res.set_content(std::move(body.content), body.content_type);
@@ -433,9 +439,9 @@ void Gateway::CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::Cl
     case GenericCall::Next::kTimeout: break;
   }
   const pb::Message* prototype = &Prototype(binding.method->output_type());
-  stream.to_json = [&binding, prototype](const std::string& serialized) {
+  stream.to_json = [&binding, prototype, max_bytes = options_.max_reply_bytes](const std::string& serialized) {
     HttpBody body;
-    const grpc::Status st = TranscodeResponse(binding, *prototype, serialized, &body);
+    const grpc::Status st = TranscodeResponse(binding, *prototype, serialized, max_bytes, &body);
     return st.ok() ? body.content : ErrorJson(st.error_code(), st.error_message());
   };
   stream.heartbeat = options_.sse_heartbeat;

@@ -47,6 +47,7 @@ struct GatewayOptions {
   size_t max_request_bytes = 4u << 20;    // JSON, protobuf and gRPC-Web bodies (--max-request-kb)
   size_t max_upload_bytes = 256u << 20;   // raw bytes bodies, i.e. imports (--max-upload-mb)
   size_t upload_chunk_bytes = 1u << 20;   // raw bodies reach client-streaming RPCs in chunks of this size
+  size_t max_reply_bytes = 64u << 20;     // a JSON answer's text (--max-message-mb)
   // Deadline of calls that do not stream responses, unless the request sends
   // `grpc-timeout`. Response streams have none: they end with the client.
   std::chrono::milliseconds default_timeout{30000};

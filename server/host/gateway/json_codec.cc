@@ -1,8 +1,13 @@
 #include "server/host/gateway/json_codec.h"
 
+#include <algorithm>
+#include <limits>
+
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/util/json_util.h>
 #include <nlohmann/json.hpp>
+
+#include "server/host/gateway/json/json_writer.h"
 
 namespace armature::server::gateway {
 namespace {
@@ -64,13 +69,16 @@ grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* mes
   return grpc::Status::OK;
 }
 
+bool MessageToJson(const google::protobuf::Message& message, size_t max_bytes, std::string* out) {
+  // Room for the usual answer up front (floats take about 3 times their 4
+  // bytes), so the buffer seldom grows by copying.
+  out->reserve(std::min(max_bytes, 3 * message.ByteSizeLong() + 64));
+  return AppendMessageJson(message, max_bytes, out);
+}
+
 std::string MessageToJson(const google::protobuf::Message& message) {
-  google::protobuf::util::JsonPrintOptions options;
-  options.always_print_primitive_fields = true;
-  options.preserve_proto_field_names = false;
   std::string out;
-  // Printing a valid message cannot fail for the types the API uses.
-  (void)google::protobuf::util::MessageToJsonString(message, &out, options);
+  (void)MessageToJson(message, std::numeric_limits<size_t>::max(), &out);
   return out;
 }
 

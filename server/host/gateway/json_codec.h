@@ -22,7 +22,12 @@ grpc::Status JsonToMessage(std::string_view json, google::protobuf::Message* mes
 // INVALID_ARGUMENT "<where>: malformed JSON (byte N): …".
 grpc::Status CheckJsonSyntax(std::string_view json, const std::string& where);
 
-// lowerCamelCase names, enums by name, default values printed.
+// lowerCamelCase names, enums by name, default values printed: the bytes
+// protobuf's MessageToJsonString writes with these options, written by
+// json/json_writer (fast, one buffer). False, `out` cut short, once the text
+// passes `max_bytes`.
+bool MessageToJson(const google::protobuf::Message& message, size_t max_bytes, std::string* out);
+// The same without a bound, for messages whose size is known to be small.
 std::string MessageToJson(const google::protobuf::Message& message);
 
 }  // namespace armature::server::gateway

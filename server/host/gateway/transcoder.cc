@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <map>
 #include <memory>
 
 #include <nlohmann/json.hpp>
 
+#include "server/host/gateway/json/json_writer.h"
 #include "server/host/gateway/json_codec.h"
 
 namespace armature::server::gateway {
@@ -233,27 +235,43 @@ grpc::Status TranscodeRequest(const HttpBinding& binding, const pb::Message& pro
   return grpc::Status::OK;
 }
 
-grpc::Status TranscodeResponse(const HttpBinding& binding, const pb::Message& prototype, const std::string& serialized,
-                               HttpBody* out) {
+namespace {
+
+std::string Mib(size_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+  return text;
+}
+
+}  // namespace
+
+grpc::Status TranscodeResponse(const HttpBinding& binding, const pb::Message& prototype, std::string serialized,
+                               size_t max_json_bytes, HttpBody* out) {
   std::unique_ptr<pb::Message> m(prototype.New());
   if (!m->ParseFromString(serialized))
     return grpc::Status(grpc::StatusCode::INTERNAL, "could not parse the " + prototype.GetTypeName() + " response");
+  const size_t binary_bytes = serialized.size();
+  std::string().swap(serialized);
   out->content_type = "application/json";
+  out->content.clear();
+  bool fits = true;
   if (binding.response_field.empty()) {
-    out->content = MessageToJson(*m);
-    return grpc::Status::OK;
-  }
-  const pb::FieldDescriptor* field = binding.response_field.front();
-  const pb::Reflection* r = m->GetReflection();
-  if (field->type() == pb::FieldDescriptor::TYPE_BYTES && !field->is_repeated()) {
-    out->content = r->GetString(*m, field);
-    out->content_type = "application/octet-stream";
-  } else if (field->type() == pb::FieldDescriptor::TYPE_MESSAGE && !field->is_repeated()) {
-    out->content = MessageToJson(r->GetMessage(*m, field));
+    fits = MessageToJson(*m, max_json_bytes, &out->content);
   } else {
-    out->content = json::parse(MessageToJson(*m))[field->json_name()].dump();
+    const pb::FieldDescriptor* field = binding.response_field.front();
+    if (field->type() == pb::FieldDescriptor::TYPE_BYTES && !field->is_repeated()) {
+      out->content = m->GetReflection()->GetString(*m, field);  // no larger than the message
+      out->content_type = "application/octet-stream";
+      return grpc::Status::OK;
+    }
+    fits = AppendFieldJson(*m, *field, max_json_bytes, &out->content);
   }
-  return grpc::Status::OK;
+  if (fits) return grpc::Status::OK;
+  std::string().swap(out->content);
+  return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                      "the answer as JSON passes the message limit of " + Mib(max_json_bytes) +
+                          " (--max-message-mb); ask for less, or for its binary encoding (" + Mib(binary_bytes) +
+                          "): header Accept: application/x-protobuf, or call over gRPC");
 }
 
 }  // namespace armature::server::gateway

@@ -59,12 +59,15 @@ grpc::Status TranscodeRequest(const HttpBinding& binding, const google::protobuf
                               const HttpRequestParts& http, size_t chunk_bytes, std::vector<std::string>* requests);
 
 // A serialized response as the HTTP body: its JSON, or with response_body
-// that field's JSON (raw bytes for a bytes field).
+// that field's JSON (raw bytes for a bytes field). RESOURCE_EXHAUSTED, naming
+// the limit and the binary encoding's size, once the JSON passes
+// `max_json_bytes` (--max-message-mb): the writer stops there.
 struct HttpBody {
   std::string content;
   std::string content_type;
 };
+// `serialized` is freed once parsed, before the JSON is written.
 grpc::Status TranscodeResponse(const HttpBinding& binding, const google::protobuf::Message& prototype,
-                               const std::string& serialized, HttpBody* out);
+                               std::string serialized, size_t max_json_bytes, HttpBody* out);
 
 }  // namespace armature::server::gateway

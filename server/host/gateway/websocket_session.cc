@@ -307,7 +307,8 @@ void Gateway::RunWebSocketSession(int fd, void* ssl, const HttpBinding& binding,
         sent = send(WsOpcode::kBinary, answer);
       } else {
         HttpBody body;
-        const grpc::Status st = TranscodeResponse(binding, response_type, answer, &body);
+        const grpc::Status st =
+            TranscodeResponse(binding, response_type, std::move(answer), options_.max_reply_bytes, &body);
         if (!st.ok()) return fail(st);
         sent = send(WsOpcode::kText, body.content);
       }
