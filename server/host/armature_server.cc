@@ -76,7 +76,7 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   builder.experimental().SetInterceptorCreators(std::move(interceptors));
   // With a token file, each API service sits behind an auth gate; health and reflection (v1alpha, v1) stay open.
   std::vector<std::string> service_names;
-  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_)) {
+  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_, s->tokens_ != nullptr)) {
     service_names.push_back(entry.name);
     if (s->tokens_) {
       auto gated = GateService(std::move(entry.service), entry.name, s->tokens_);

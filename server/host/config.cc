@@ -74,6 +74,9 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   app.add_option("--max-streams-per-client", c.limits.max_streams_per_client,
                  "Most streams (StreamClip, StreamSkinnedMesh, IkSession, DeformSession) one client may hold open")
       ->envname("ARMATURE_MAX_STREAMS_PER_CLIENT")->check(CLI::PositiveNumber);
+  app.add_option("--max-streams", c.limits.max_streams,
+                 "Most streams open at once, all clients together (each client also: --max-streams-per-client)")
+      ->envname("ARMATURE_MAX_STREAMS")->check(CLI::PositiveNumber);
   app.add_option("--max-sessions", c.limits.max_sessions, "Most IK/deformation sessions open at once in all")
       ->envname("ARMATURE_MAX_SESSIONS")->check(CLI::PositiveNumber);
   app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most IK sessions open at once, all clients together")

@@ -22,6 +22,7 @@ struct Limits {
   int64_t max_ik_work = 5000000;           // --max-ik-work: effectors × chain joints × iterations of one IK request
   int max_sessions_per_client = 16;        // --max-sessions-per-client: open IK/deformation sessions per client
   int max_streams_per_client = 64;         // --max-streams-per-client: open server-streaming/bidi calls per client
+  int max_streams = 1024;                  // --max-streams: open server-streaming/bidi calls in all
   int max_sessions = 256;                  // --max-sessions: open IK/deformation sessions in all
   int max_ik_sessions = 64;                // --max-ik-sessions: IK sessions open at once, all clients
   int64_t deform_cache_bytes = 256ll << 20;  // --deform-cache-mb: unary Deform factorizations kept (0: none)
