@@ -152,6 +152,16 @@ void Gateway::HandleWebSocket(const httplib::Request& req, httplib::Response& re
   const HttpBinding& binding = *route->binding;
   if (req.method != "GET")
     return WriteError(res, 405, grpc::StatusCode::INVALID_ARGUMENT, "a WebSocket opens with GET, not " + req.method);
+  // httplib does not read a GET's body, so the session would read it as frames.
+  if (req.has_header("Transfer-Encoding") ||
+      (req.has_header("Content-Length") && req.get_header_value("Content-Length") != "0")) {
+    res.set_header("Connection", "close");
+    return WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT,
+                      "a WebSocket upgrade carries no body: header " +
+                          std::string(req.has_header("Transfer-Encoding") ? "Transfer-Encoding" : "Content-Length: " +
+                                                                                 req.get_header_value("Content-Length")) +
+                          " is refused");
+  }
   bool connection_upgrade = false;
   for (const auto& item : HeaderItems(req, "Connection")) connection_upgrade |= Lower(item) == "upgrade";
   if (!connection_upgrade)

@@ -381,6 +381,20 @@ TEST_F(WebSocketSession, AFailedCallEndsWithItsStatusThenACloseFrame) {
   EXPECT_TRUE(client.Healthy());
 }
 
+// httplib reads no body on a GET: an upgrade's body would be read as frames.
+TEST_F(WebSocketSession, AnUpgradeWithABodyIsRefused) {
+  ServerProcess server(data_.path());
+  const std::string path = "/v1/skeletons/demo_walk:ikSession";
+  WsClient sized(server.http_port(), path, {"Content-Length: 300000000"});
+  EXPECT_EQ(sized.status(), 400);
+  EXPECT_NE(sized.body().find("Content-Length: 300000000"), std::string::npos) << sized.body();
+  EXPECT_TRUE(sized.Closed());
+  WsClient chunked(server.http_port(), path, {"Transfer-Encoding: chunked"});
+  EXPECT_EQ(chunked.status(), 400);
+  EXPECT_NE(chunked.body().find("Transfer-Encoding"), std::string::npos) << chunked.body();
+  EXPECT_EQ(WsClient(server.http_port(), path, {"Content-Length: 0"}).status(), 101);
+}
+
 TEST_F(WebSocketSession, TheBearerTokenMayComeAsASubprotocol) {
   const auto token_file = data_.path() / "tokens";
   std::ofstream(token_file) << "ws-secret-1\n";
