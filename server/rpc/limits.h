@@ -11,6 +11,8 @@ struct Limits {
   int64_t max_message_bytes = 64ll << 20;  // gRPC send/receive
   int64_t max_request_bytes = 4ll << 20;   // --max-request-kb: REST JSON bodies (HTTP 413 above)
   size_t max_http_threads = 256;           // --http-threads: HTTP connections served at once
+  double http_head_timeout_seconds = 10;   // --http-head-timeout: TLS handshake, request line and headers
+  int max_http_connections_per_address = 64;  // --http-max-connections-per-address
   size_t max_times_per_request = 100000;   // EvaluateClip.times
   double max_stream_fps = 240;
   int max_motion_layers = 32;              // layers of one motion

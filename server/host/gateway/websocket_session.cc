@@ -15,6 +15,7 @@
 // The session is the gRPC method called over the in-process channel, so auth,
 // limits, session counting and metrics are gRPC's; it holds an HTTP thread
 // and counts as one of the gateway's open streams, so REST keeps its share.
+#include <fcntl.h>
 #include <netdb.h>
 #include <openssl/ssl.h>
 #include <netinet/in.h>
@@ -205,6 +206,9 @@ void Gateway::HandleWebSocket(const httplib::Request& req, httplib::Response& re
   }
   if (wire.fd < 0)
     return WriteError(res, grpc::Status(grpc::StatusCode::INTERNAL, "could not find the connection's socket"));
+  // The HTTP server's stream keeps the socket non-blocking; the session's
+  // reads follow poll() and its writes block up to the send timeout.
+  ::fcntl(wire.fd, F_SETFL, ::fcntl(wire.fd, F_GETFL) & ~O_NONBLOCK);
 
   httplib::Request forwarded = req;
   if (!authorization.empty()) forwarded.set_header("Authorization", authorization);
