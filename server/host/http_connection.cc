@@ -158,6 +158,15 @@ void ConnectionsPerAddress::Release(const std::string& address) {
   if (it != open_.end() && --it->second <= 0) open_.erase(it);
 }
 
+void WidenListenBacklog(httplib::Server& server) {
+  // The protected listening socket, through a member pointer named via a derived class.
+  struct Access : httplib::Server {
+    static socket_t Of(httplib::Server& s) { return (s.*&Access::svr_sock_).load(); }
+  };
+  const socket_t sock = Access::Of(server);
+  if (sock != INVALID_SOCKET) ::listen(sock, SOMAXCONN);  // on a listening socket: a new backlog
+}
+
 std::unique_ptr<httplib::Server> MakeGuardedHttpServer(const HttpConnectionLimits& limits, const std::string& cert,
                                                        const std::string& key) {
   if (cert.empty()) return std::make_unique<GuardedHttpServer<httplib::Server>>(limits);

@@ -40,6 +40,10 @@ class ConnectionsPerAddress {
   std::map<std::string, int> open_;
 };
 
+// httplib listens with a backlog of 5: a burst of connects beyond it is
+// ended by the kernel before the server sees it. Call after binding.
+void WidenListenBacklog(httplib::Server& server);
+
 // An httplib server, TLS when `cert` is set (SSLServer), whose connections
 // are served under `limits`.
 std::unique_ptr<httplib::Server> MakeGuardedHttpServer(const HttpConnectionLimits& limits, const std::string& cert,

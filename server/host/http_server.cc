@@ -61,6 +61,7 @@ int HttpServer::Start(const std::string& host, int port) {
   if (!http_->is_valid()) return -1;
   const int bound = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
   if (bound < 0) return -1;
+  WidenListenBacklog(*http_);
   thread_ = std::thread([this] { http_->listen_after_bind(); });
   return bound;
 }
