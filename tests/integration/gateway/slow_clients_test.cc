@@ -2,7 +2,8 @@
 // in all (--http-head-timeout), not a timeout per byte, and one address holds
 // at most --http-max-connections-per-address connections, so a few hundred
 // connections that each send a header byte now and then leave /healthz and
-// REST answering, and are all closed in the end. Loopback only: the slow
+// REST answering, and are all closed in the end; over TLS the handshake is
+// part of the head. Loopback only: the slow
 // connections come from 127.0.0.2, the probes from 127.0.0.1.
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -133,6 +134,30 @@ TEST(SlowClients, SlowHeadsAreCutAndOneAddressHoldsAFew) {
   }
   EXPECT_EQ(still_open, 0);
   EXPECT_EQ(timed_out, kPerAddress);
+}
+
+// Over TLS the handshake is part of the head: a ClientHello that comes a
+// byte at a time is cut at the same deadline.
+TEST(SlowClients, ASlowTlsHandshakeIsCutAtTheHeadDeadline) {
+  TempDir data, files;
+  const auto cert = files.path() / "server.crt", key = files.path() / "server.key";
+  const CommandResult made = RunCommand("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=localhost -keyout " +
+                                        ShellQuote(key.string()) + " -out " + ShellQuote(cert.string()));
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  ServerProcess server(data.path(), {"--tls-cert", cert.string(), "--tls-key", key.string(), "--http-head-timeout", "2"});
+  SlowConnection c;
+  c.fd = ConnectFrom("127.0.0.2", server.http_port());
+  ASSERT_GE(c.fd, 0);
+  // A handshake record's header announcing 512 bytes, then its body two bytes a second.
+  const std::string record = std::string("\x16\x03\x01\x02\x00", 5) + std::string(512, '\0');
+  const auto start = Clock::now();
+  for (size_t i = 0; !c.closed && i < record.size() && Clock::now() - start < std::chrono::seconds(12); ++i) {
+    (void)!::send(c.fd, &record[i], 1, MSG_NOSIGNAL);
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    c.Poll();
+  }
+  EXPECT_TRUE(c.closed) << "the server still held the handshake after 12 s";
+  ::close(c.fd);
 }
 
 // A head that arrives whole, however slowly it started, is served: the
