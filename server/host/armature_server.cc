@@ -45,6 +45,13 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
                    "'openssl rand -hex 32'",
                    config.auth_token_file, line);
   }
+  std::vector<gateway::Cidr> proxies;
+  for (const std::string& text : config.trusted_proxies) {
+    auto cidr = gateway::ParseCidr(text);
+    if (!cidr.ok()) return cidr.status();
+    proxies.push_back(*cidr);
+  }
+  s->trusted_proxies_ = gateway::TrustedProxies(std::move(proxies));
   auto credentials = MakeServerCredentials(config);
   if (!credentials.ok()) return credentials.status();
 
@@ -81,7 +88,7 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   builder.experimental().SetInterceptorCreators(std::move(interceptors));
   // With a token file, each API service sits behind an auth gate; health and reflection (v1alpha, v1) stay open.
   std::vector<std::string> service_names;
-  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_)) {
+  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_, s->tokens_ != nullptr)) {
     service_names.push_back(entry.name);
     if (s->tokens_) {
       auto gated = GateService(std::move(entry.service), entry.name, s->tokens_);
@@ -104,7 +111,12 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   s->grpc_->GetHealthCheckService()->SetServingStatus(true);
 
   if (config.http_port >= 0) {
-    s->http_ = std::make_unique<HttpServer>(config.limits.max_http_threads, config.tls_cert_file, config.tls_key_file);
+    const HttpConnectionLimits connections{
+        .head_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.limits.http_head_timeout_seconds * 1000)),
+        .max_per_address = config.limits.max_http_connections_per_address,
+        .trusted_proxies = s->trusted_proxies_};
+    s->http_ = std::make_unique<HttpServer>(config.limits.max_http_threads, config.tls_cert_file, config.tls_key_file,
+                                            connections);
     ServeMetrics(s->http_->routes(), *s->metrics_, s->tokens_);
     if (Status st = s->StartGateway(); !st.ok()) return st;
     s->http_port_ = s->http_->Start(config.host, config.http_port);
@@ -131,6 +143,7 @@ Status ArmatureServer::StartGateway() {
   gateway::GatewayOptions options;
   options.cors_origins = config_.cors_origins;
   options.tokens = tokens_;
+  options.trusted_proxies = trusted_proxies_;
   options.max_request_bytes = static_cast<size_t>(limits.max_request_bytes);
   options.max_upload_bytes = static_cast<size_t>(limits.max_upload_bytes);
   options.max_reply_bytes = static_cast<size_t>(limits.max_message_bytes);

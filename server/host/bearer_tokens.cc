@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "server/assets/file_io.h"
+#include "server/rpc/caller_identity.h"
 
 namespace armature::server {
 namespace {
@@ -15,14 +16,6 @@ std::string_view Trim(std::string_view s) {
   if (first == std::string_view::npos) return {};
   const auto last = s.find_last_not_of(" \t\r\n");
   return s.substr(first, last - first + 1);
-}
-
-bool StartsWithIgnoringCase(std::string_view s, std::string_view prefix) {
-  if (s.size() < prefix.size()) return false;
-  for (size_t i = 0; i < prefix.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(s[i])) != std::tolower(static_cast<unsigned char>(prefix[i])))
-      return false;
-  return true;
 }
 
 // RFC 7230's tchar, which a WebSocket subprotocol is made of (RFC 6455 4.1).
@@ -66,9 +59,8 @@ Status BearerTokens::Check(std::string_view authorization) const {
   authorization = Trim(authorization);
   if (authorization.empty())
     return Unauthenticated("missing credentials: send the header 'authorization: Bearer <token>'");
-  if (!StartsWithIgnoringCase(authorization, "bearer "))
-    return Unauthenticated("the authorization header must be 'Bearer <token>'");
-  const std::string_view token = Trim(authorization.substr(7));
+  const std::string_view token = BearerTokenOf(authorization);
+  if (token.empty()) return Unauthenticated("the authorization header must be 'Bearer <token>'");
   Digest presented;
   SHA256(reinterpret_cast<const unsigned char*>(token.data()), token.size(), presented.data());
   // Every accepted token is compared, whatever matches, so timing tells nothing.

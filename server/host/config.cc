@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "armature/build_info.h"
+#include "server/host/gateway/forwarded_for.h"
 
 namespace armature::server {
 namespace {
@@ -24,6 +25,30 @@ void AddWorkBudgetFlags(CLI::App& app, Limits& limits) {
   app.add_option("--heavy-queue", limits.heavy_queue,
                  "Heavy calls that may wait beyond those running before more are refused (0: 4 per thread)")
       ->envname("ARMATURE_HEAVY_QUEUE")->check(CLI::Range(0, 100000));
+}
+
+}  // namespace
+
+namespace {
+
+// How the HTTP port bounds slow and numerous connections (http_connection.h),
+// and whom it believes about a client's address.
+void AddHttpConnectionFlags(CLI::App& app, ServerConfig& c) {
+  Limits& limits = c.limits;
+  app.add_option("--http-head-timeout", limits.http_head_timeout_seconds,
+                 "Seconds an HTTP request's head (TLS handshake, request line, headers) may take in all")
+      ->envname("ARMATURE_HTTP_HEAD_TIMEOUT")->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--http-max-connections-per-address", limits.max_http_connections_per_address,
+                 "Most HTTP connections one client address may hold open (each SSE stream or WebSocket holds one)")
+      ->envname("ARMATURE_HTTP_MAX_CONNECTIONS_PER_ADDRESS")->check(CLI::PositiveNumber);
+  app.add_option("--trust-forwarded-for", c.trusted_proxies,
+                 "Proxy address or network (e.g. 10.0.0.0/8; repeatable) whose X-Forwarded-For names the HTTP "
+                 "client that per-client limits count; its own connections are not capped per address")
+      ->envname("ARMATURE_TRUST_FORWARDED_FOR")->delimiter(',')
+      ->check([](const std::string& value) {
+        auto cidr = gateway::ParseCidr(value);
+        return cidr.ok() ? std::string() : std::string(cidr.status().message());
+      });
 }
 
 }  // namespace
@@ -64,6 +89,7 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   app.add_option("--http-threads", c.limits.max_http_threads,
                  "Most HTTP connections served at once (each open SSE stream holds one)")
       ->envname("ARMATURE_HTTP_THREADS")->check(CLI::Range(16, 10000));
+  AddHttpConnectionFlags(app, c);
   app.add_option("--web-dir", c.web_dir, "The viewer's files, served at / (default: the installed or built viewer)")
       ->envname("ARMATURE_WEB_DIR");
   app.add_option("--auth-token-file", c.auth_token_file,
@@ -94,6 +120,9 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   app.add_option("--max-streams-per-client", c.limits.max_streams_per_client,
                  "Most streams (StreamClip, StreamSkinnedMesh, IkSession, DeformSession) one client may hold open")
       ->envname("ARMATURE_MAX_STREAMS_PER_CLIENT")->check(CLI::PositiveNumber);
+  app.add_option("--max-streams", c.limits.max_streams,
+                 "Most streams open at once, all clients together (each client also: --max-streams-per-client)")
+      ->envname("ARMATURE_MAX_STREAMS")->check(CLI::PositiveNumber);
   app.add_option("--max-sessions", c.limits.max_sessions, "Most IK/deformation sessions open at once in all")
       ->envname("ARMATURE_MAX_SESSIONS")->check(CLI::PositiveNumber);
   app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most IK sessions open at once, all clients together")

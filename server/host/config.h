@@ -23,6 +23,7 @@ struct ServerConfig {
   std::string auth_token_file;  // when set, API calls need "authorization: Bearer <a token in it>"
   std::string tls_cert_file;    // PEM certificate chain: TLS on the gRPC and HTTP ports
   std::string tls_key_file;     // PEM private key of tls_cert_file
+  std::vector<std::string> trusted_proxies;  // --trust-forwarded-for: networks whose X-Forwarded-For is believed
   Limits limits;
 };
 

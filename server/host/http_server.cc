@@ -10,11 +10,6 @@
 namespace armature::server {
 namespace {
 
-std::unique_ptr<httplib::Server> MakeHttplibServer(const std::string& cert, const std::string& key) {
-  if (cert.empty()) return std::make_unique<httplib::Server>();
-  return std::make_unique<httplib::SSLServer>(cert.c_str(), key.c_str());
-}
-
 // cpp-httplib's worker queue, served by an elastic pool.
 class HttpTaskQueue final : public httplib::TaskQueue {
  public:
@@ -28,8 +23,9 @@ class HttpTaskQueue final : public httplib::TaskQueue {
 
 }  // namespace
 
-HttpServer::HttpServer(size_t max_threads, const std::string& tls_cert_file, const std::string& tls_key_file)
-    : http_(MakeHttplibServer(tls_cert_file, tls_key_file)) {
+HttpServer::HttpServer(size_t max_threads, const std::string& tls_cert_file, const std::string& tls_key_file,
+                       const HttpConnectionLimits& connections)
+    : http_(MakeGuardedHttpServer(connections, tls_cert_file, tls_key_file)) {
   http_->new_task_queue = [max_threads] { return new HttpTaskQueue(max_threads); };
   // Small writes (SSE frames) go out at once instead of waiting on Nagle and delayed ACKs.
   http_->set_tcp_nodelay(true);
@@ -65,6 +61,7 @@ int HttpServer::Start(const std::string& host, int port) {
   if (!http_->is_valid()) return -1;
   const int bound = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
   if (bound < 0) return -1;
+  WidenListenBacklog(*http_);
   thread_ = std::thread([this] { http_->listen_after_bind(); });
   return bound;
 }

@@ -8,6 +8,8 @@
 #include <string>
 #include <thread>
 
+#include "server/host/http_connection.h"
+
 namespace httplib {
 class Server;
 }
@@ -16,10 +18,11 @@ namespace armature::server {
 
 class HttpServer {
  public:
-  // `max_threads`: connections served at once (see ElasticThreadPool). With
+  // `max_threads`: connections served at once (see ElasticThreadPool);
+  // `connections`: each one's head deadline and the cap per address. With
   // a PEM certificate chain and key (--tls-cert, --tls-key) it serves HTTPS.
   explicit HttpServer(size_t max_threads = 256, const std::string& tls_cert_file = "",
-                      const std::string& tls_key_file = "");
+                      const std::string& tls_key_file = "", const HttpConnectionLimits& connections = {});
   ~HttpServer();
 
   httplib::Server& routes() { return *http_; }

@@ -12,12 +12,13 @@
 
 namespace armature::server {
 
-std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics) {
+std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics,
+                                       bool tokens_verified) {
   // Sessions of every kind share one admission (per-client and total limits, the gauge).
-  auto sessions = std::make_shared<SessionAdmission>(limits);
+  auto sessions = std::make_shared<SessionAdmission>(limits, tokens_verified);
   metrics.AddCollector([sessions](PrometheusText& out) { sessions->Collect(out); });
-  // Streams of every RPC share one per-client admission (--max-streams-per-client).
-  auto streams = std::make_shared<StreamAdmission>(limits);
+  // Streams of every RPC share one admission (--max-streams-per-client, --max-streams).
+  auto streams = std::make_shared<StreamAdmission>(limits, tokens_verified);
   std::vector<ServiceEntry> services;
   services.push_back(MakeService<v1::AssetService, AssetServiceImpl>(store, limits));
   // Heavy unary calls of every service share one bounded pool (--heavy-threads, --heavy-queue).

@@ -30,6 +30,9 @@ ServiceEntry MakeService(Args&&... args) {
   return {Generated::service_full_name(), std::make_unique<Impl>(std::forward<Args>(args)...)};
 }
 
-std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics);
+// `tokens_verified`: the services sit behind an auth gate, so per-client
+// limits may count a caller by its token.
+std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics,
+                                       bool tokens_verified);
 
 }  // namespace armature::server

@@ -11,6 +11,8 @@ struct Limits {
   int64_t max_message_bytes = 64ll << 20;  // gRPC send/receive
   int64_t max_request_bytes = 4ll << 20;   // --max-request-kb: REST JSON bodies (HTTP 413 above)
   size_t max_http_threads = 256;           // --http-threads: HTTP connections served at once
+  double http_head_timeout_seconds = 10;   // --http-head-timeout: TLS handshake, request line and headers
+  int max_http_connections_per_address = 64;  // --http-max-connections-per-address
   size_t max_times_per_request = 100000;   // EvaluateClip.times
   double max_stream_fps = 240;
   int max_motion_layers = 32;              // layers of one motion
@@ -22,6 +24,7 @@ struct Limits {
   int64_t max_ik_work = 5000000;           // --max-ik-work: effectors × chain joints × iterations of one IK request
   int max_sessions_per_client = 16;        // --max-sessions-per-client: open IK/deformation sessions per client
   int max_streams_per_client = 64;         // --max-streams-per-client: open server-streaming/bidi calls per client
+  int max_streams = 1024;                  // --max-streams: open server-streaming/bidi calls in all
   int max_sessions = 256;                  // --max-sessions: open IK/deformation sessions in all
   int max_ik_sessions = 64;                // --max-ik-sessions: IK sessions open at once, all clients
   int64_t deform_cache_bytes = 256ll << 20;  // --deform-cache-mb: unary Deform factorizations kept (0: none)

@@ -20,7 +20,7 @@ Status Refused(SessionKind kind, const std::string& what, const char* flag, int 
 }  // namespace
 
 StatusOr<SessionAdmission::Ticket> SessionAdmission::Admit(const grpc::ServerContextBase& context, SessionKind kind) {
-  std::string client = ClientIdentityOf(context);
+  std::string client = ClientIdentityOf(context, tokens_verified_);
   {
     std::lock_guard lock(mu_);
     int& of_kind = per_kind_[IndexOf(kind)];

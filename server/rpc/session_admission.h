@@ -4,9 +4,9 @@
 //   --max-sessions-per-client  every kind together, per client
 //   --max-sessions             every kind together, all clients
 //   --max-ik-sessions          IK sessions, all clients (0 turns them off)
-// A client is its bearer token when it sends one, else its address without
-// the port (calls through the REST gateway arrive in-process and count as one
-// client unless they carry tokens). Open sessions are the
+// A client is its bearer token when an auth gate verified it, else its
+// address without the port (REST and WebSocket clients: the HTTP client's
+// address, which the gateway may take from a trusted proxy; caller_identity.h). Open sessions are the
 // armature_sessions_active{kind} gauge.
 #pragma once
 
@@ -30,7 +30,9 @@ inline constexpr int kSessionKindCount = 3;
 
 class SessionAdmission {
  public:
-  explicit SessionAdmission(const Limits& limits) : limits_(limits) {}
+  // `tokens_verified`: an auth gate admits only accepted tokens, so a token
+  // names its client (caller_identity.h).
+  SessionAdmission(const Limits& limits, bool tokens_verified) : limits_(limits), tokens_verified_(tokens_verified) {}
   SessionAdmission(const SessionAdmission&) = delete;
   SessionAdmission& operator=(const SessionAdmission&) = delete;
 
@@ -50,6 +52,7 @@ class SessionAdmission {
   void Release(const std::string& client, SessionKind kind);
 
   const Limits limits_;
+  const bool tokens_verified_;
   mutable std::mutex mu_;
   std::map<std::string, int> per_client_;
   std::array<int, kSessionKindCount> per_kind_{};

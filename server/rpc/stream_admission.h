@@ -1,9 +1,10 @@
 // Admission of streams (server-streaming and bidirectional calls: StreamClip,
 // StreamSkinnedMesh, IkSession, DeformSession): one place per open stream,
 // held by a Ticket until the call is done, at most --max-streams-per-client
-// per client (the client as SessionAdmission sees it: its bearer token, else
-// its address). Over the limit: RESOURCE_EXHAUSTED naming the flag. Sessions
-// also count against the session limits (session_admission.h).
+// per client (the client as SessionAdmission sees it: its verified bearer
+// token, else its address) and --max-streams in all. Over a limit:
+// RESOURCE_EXHAUSTED naming the flag. Sessions also count against the
+// session limits (session_admission.h).
 #pragma once
 
 #include <map>
@@ -21,7 +22,10 @@ namespace armature::server {
 
 class StreamAdmission {
  public:
-  explicit StreamAdmission(const Limits& limits) : limit_(limits.max_streams_per_client) {}
+  // `tokens_verified`: an auth gate admits only accepted tokens, so a token
+  // names its client (caller_identity.h).
+  StreamAdmission(const Limits& limits, bool tokens_verified)
+      : limit_(limits.max_streams_per_client), total_limit_(limits.max_streams), tokens_verified_(tokens_verified) {}
   StreamAdmission(const StreamAdmission&) = delete;
   StreamAdmission& operator=(const StreamAdmission&) = delete;
 
@@ -39,8 +43,11 @@ class StreamAdmission {
   void Release(const std::string& client);
 
   const int limit_;
+  const int total_limit_;
+  const bool tokens_verified_;
   mutable std::mutex mu_;
   std::map<std::string, int> per_client_;
+  int total_ = 0;
 };
 
 }  // namespace armature::server

@@ -23,6 +23,7 @@
 #include "server/host/bearer_tokens.h"
 #include "server/host/gateway/call_registry.h"
 #include "server/host/gateway/cors.h"
+#include "server/host/gateway/forwarded_for.h"
 #include "server/host/gateway/http_rule.h"
 #include "server/host/gateway/transcoder.h"
 
@@ -63,6 +64,8 @@ struct GatewayOptions {
   // --auth-token-file: checked before a request body is read, so token-less
   // uploads cost no memory (the gRPC auth gate checks again).
   std::shared_ptr<const BearerTokens> tokens;
+  // --trust-forwarded-for: proxies whose X-Forwarded-For names the client.
+  TrustedProxies trusted_proxies;
 };
 
 class Gateway {

@@ -4,7 +4,7 @@
 // handler takes the connection over: it finds the socket (the TLS session, or
 // the descriptor whose two addresses are the request's), writes the 101
 // itself and runs the session in the handler's thread, one poll() over the
-// socket and the call. When it returns, the connection is closed under
+// non-blocking socket and the call. When it returns, the connection is closed under
 // httplib (an unconnected socket takes its descriptor), so the response
 // httplib then writes fails harmlessly.
 //
@@ -15,6 +15,7 @@
 // The session is the gRPC method called over the in-process channel, so auth,
 // limits, session counting and metrics are gRPC's; it holds an HTTP thread
 // and counts as one of the gateway's open streams, so REST keeps its share.
+#include <fcntl.h>
 #include <netdb.h>
 #include <openssl/ssl.h>
 #include <netinet/in.h>
@@ -102,37 +103,62 @@ int FindConnectionFd(const httplib::Request& req) {
   return -1;
 }
 
-// The connection, plain or TLS. Reads follow poll(); writes block for at most
-// the socket's send timeout.
+// The connection, plain or TLS, on a non-blocking socket: a read takes what
+// has come and never waits (half a TLS record waits in OpenSSL for the
+// rest), so the session's writes never wait on its reads; a write waits for
+// room at most `write_timeout` in all.
 struct Wire {
+  static constexpr ssize_t kNothingYet = -2;
+
   int fd = -1;
   SSL* ssl = nullptr;
+  std::chrono::milliseconds write_timeout{10000};
 
   bool Buffered() const { return ssl && SSL_pending(ssl) > 0; }
-  // >0 bytes read, 0 the peer closed, <0 an error.
+  // >0 bytes read, kNothingYet, 0 the peer closed, -1 an error.
   ssize_t Read(char* buf, size_t n) const {
-    if (!ssl) return ::recv(fd, buf, n, 0);
+    if (!ssl) {
+      const ssize_t r = ::recv(fd, buf, n, 0);
+      return r >= 0 ? r : (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) ? kNothingYet : -1;
+    }
     const int r = SSL_read(ssl, buf, static_cast<int>(std::min<size_t>(n, 1 << 30)));
     if (r > 0) return r;
-    return SSL_get_error(ssl, r) == SSL_ERROR_ZERO_RETURN ? 0 : -1;
+    switch (SSL_get_error(ssl, r)) {
+      case SSL_ERROR_ZERO_RETURN: return 0;
+      case SSL_ERROR_WANT_READ:
+      case SSL_ERROR_WANT_WRITE: return kNothingYet;
+      default: return -1;
+    }
   }
   bool Write(std::string_view data) const {
+    const auto deadline = Clock::now() + write_timeout;
     while (!data.empty()) {
-      const ssize_t w = ssl ? SSL_write(ssl, data.data(), static_cast<int>(std::min<size_t>(data.size(), 1 << 30)))
-                            : ::send(fd, data.data(), data.size(), MSG_NOSIGNAL);
-      if (w <= 0) return false;
-      data.remove_prefix(static_cast<size_t>(w));
+      short want = POLLOUT;
+      if (ssl) {
+        const int w = SSL_write(ssl, data.data(), static_cast<int>(std::min<size_t>(data.size(), 1 << 30)));
+        if (w > 0) {
+          data.remove_prefix(static_cast<size_t>(w));
+          continue;
+        }
+        const int e = SSL_get_error(ssl, w);
+        if (e != SSL_ERROR_WANT_WRITE && e != SSL_ERROR_WANT_READ) return false;
+        if (e == SSL_ERROR_WANT_READ) want = POLLIN;
+      } else {
+        const ssize_t w = ::send(fd, data.data(), data.size(), MSG_NOSIGNAL);
+        if (w >= 0) {
+          data.remove_prefix(static_cast<size_t>(w));
+          continue;
+        }
+        if (errno == EINTR) continue;
+        if (errno != EAGAIN && errno != EWOULDBLOCK) return false;
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+      pollfd p{fd, want, 0};
+      if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) return false;
     }
     return true;
   }
 };
-
-void SetSocketTimeout(int fd, int option, std::chrono::milliseconds t) {
-  timeval tv{};
-  tv.tv_sec = static_cast<time_t>(t.count() / 1000);
-  tv.tv_usec = static_cast<suseconds_t>((t.count() % 1000) * 1000);
-  ::setsockopt(fd, SOL_SOCKET, option, &tv, sizeof(tv));
-}
 
 }  // namespace
 
@@ -152,6 +178,16 @@ void Gateway::HandleWebSocket(const httplib::Request& req, httplib::Response& re
   const HttpBinding& binding = *route->binding;
   if (req.method != "GET")
     return WriteError(res, 405, grpc::StatusCode::INVALID_ARGUMENT, "a WebSocket opens with GET, not " + req.method);
+  // httplib does not read a GET's body, so the session would read it as frames.
+  if (req.has_header("Transfer-Encoding") ||
+      (req.has_header("Content-Length") && req.get_header_value("Content-Length") != "0")) {
+    res.set_header("Connection", "close");
+    return WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT,
+                      "a WebSocket upgrade carries no body: header " +
+                          std::string(req.has_header("Transfer-Encoding") ? "Transfer-Encoding" : "Content-Length: " +
+                                                                                 req.get_header_value("Content-Length")) +
+                          " is refused");
+  }
   bool connection_upgrade = false;
   for (const auto& item : HeaderItems(req, "Connection")) connection_upgrade |= Lower(item) == "upgrade";
   if (!connection_upgrade)
@@ -195,6 +231,8 @@ void Gateway::HandleWebSocket(const httplib::Request& req, httplib::Response& re
   }
   if (wire.fd < 0)
     return WriteError(res, grpc::Status(grpc::StatusCode::INTERNAL, "could not find the connection's socket"));
+  ::fcntl(wire.fd, F_SETFL, ::fcntl(wire.fd, F_GETFL) | O_NONBLOCK);  // see Wire
+  wire.write_timeout = options_.websocket_write_timeout;
 
   httplib::Request forwarded = req;
   if (!authorization.empty()) forwarded.set_header("Authorization", authorization);
@@ -222,8 +260,6 @@ void Gateway::HandleWebSocket(const httplib::Request& req, httplib::Response& re
   // Each frame goes out at once (no Nagle wait for the ACK of the previous one).
   const int one = 1;
   ::setsockopt(wire.fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
-  SetSocketTimeout(wire.fd, SO_SNDTIMEO, options_.websocket_write_timeout);
-  SetSocketTimeout(wire.fd, SO_RCVTIMEO, options_.websocket_write_timeout);  // a TLS record cut short
   if (wire.Write(handshake)) RunWebSocketSession(wire.fd, wire.ssl, binding, route->variables, *call);
   call->Cancel();
   calls_.Remove(call.get());
@@ -251,7 +287,7 @@ void Gateway::HandleWebSocket(const httplib::Request& req, httplib::Response& re
 
 void Gateway::RunWebSocketSession(int fd, void* ssl, const HttpBinding& binding, const PathBindings& variables,
                                   BidiCall& call) {
-  const Wire wire{fd, static_cast<SSL*>(ssl)};
+  const Wire wire{fd, static_cast<SSL*>(ssl), options_.websocket_write_timeout};
   const pb::Message& request_type = Prototype(binding.method->input_type());
   const pb::Message& response_type = Prototype(binding.method->output_type());
   WebSocketReader reader(options_.max_request_bytes);
@@ -360,6 +396,7 @@ void Gateway::RunWebSocketSession(int fd, void* ssl, const HttpBinding& binding,
     const bool want_socket = !client_closed && !more_events && call.pending_writes() < kMaxPendingWrites;
     if (want_socket && wire.Buffered()) {
       const ssize_t n = wire.Read(buf.data(), buf.size());
+      if (n == Wire::kNothingYet) continue;
       if (n <= 0) return;
       reader.Feed(std::string_view(buf.data(), static_cast<size_t>(n)));
       continue;
@@ -371,6 +408,7 @@ void Gateway::RunWebSocketSession(int fd, void* ssl, const HttpBinding& binding,
     if (fds[1].revents & (POLLERR | POLLNVAL)) return;
     if (fds[1].revents & (POLLIN | POLLHUP)) {
       const ssize_t n = wire.Read(buf.data(), buf.size());
+      if (n == Wire::kNothingYet) continue;  // part of a TLS record: the rest comes later
       if (n <= 0) return;  // the client went away: the call is cancelled
       reader.Feed(std::string_view(buf.data(), static_cast<size_t>(n)));
     }

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 // Eigen (ik_rig.h) before httplib.h: the resolver header it pulls in defines a macro `_res`.
 #include "ik/ik_rig.h"
@@ -381,6 +382,20 @@ TEST_F(WebSocketSession, AFailedCallEndsWithItsStatusThenACloseFrame) {
   EXPECT_TRUE(client.Healthy());
 }
 
+// httplib reads no body on a GET: an upgrade's body would be read as frames.
+TEST_F(WebSocketSession, AnUpgradeWithABodyIsRefused) {
+  ServerProcess server(data_.path());
+  const std::string path = "/v1/skeletons/demo_walk:ikSession";
+  WsClient sized(server.http_port(), path, {"Content-Length: 300000000"});
+  EXPECT_EQ(sized.status(), 400);
+  EXPECT_NE(sized.body().find("Content-Length: 300000000"), std::string::npos) << sized.body();
+  EXPECT_TRUE(sized.Closed());
+  WsClient chunked(server.http_port(), path, {"Transfer-Encoding: chunked"});
+  EXPECT_EQ(chunked.status(), 400);
+  EXPECT_NE(chunked.body().find("Transfer-Encoding"), std::string::npos) << chunked.body();
+  EXPECT_EQ(WsClient(server.http_port(), path, {"Content-Length: 0"}).status(), 101);
+}
+
 TEST_F(WebSocketSession, TheBearerTokenMayComeAsASubprotocol) {
   const auto token_file = data_.path() / "tokens";
   std::ofstream(token_file) << "ws-secret-1\n";
@@ -485,22 +500,43 @@ TEST_F(WebSocketSession, PlaybackSessionStreamsPacedFramesAndTakesCommandsBeside
   EXPECT_EQ(f.close_code(), 1000);
 }
 
-TEST_F(WebSocketSession, RunsOverTls) {
-  // A self-signed certificate for localhost; the client (Python's ssl) trusts it.
+// A server over TLS with a self-signed certificate for localhost, and the
+// client script `script` (Python's ssl, trusting it) run against it.
+CommandResult RunTlsClient(const TempDir& data, const std::string& script) {
   TempDir files;
   const auto cert = files.path() / "server.crt", key = files.path() / "server.key";
   const CommandResult made = RunCommand("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=localhost"
                                         " -addext subjectAltName=DNS:localhost,IP:127.0.0.1 -keyout " +
                                         ShellQuote(key.string()) + " -out " + ShellQuote(cert.string()));
-  ASSERT_EQ(made.exit_code, 0) << made.err;
-  ServerProcess server(data_.path(), {"--tls-cert", cert.string(), "--tls-key", key.string()});
-  const CommandResult r = RunCommand(std::string(ARMATURE_PYTHON) + " " +
-                                     ShellQuote(std::string(ARMATURE_TEST_DIR) +
-                                                "/integration/gateway/websocket_tls_client.py") +
-                                     " " + std::to_string(server.http_port()) + " " + ShellQuote(cert.string()));
+  if (made.exit_code != 0) return made;
+  ServerProcess server(data.path(), {"--tls-cert", cert.string(), "--tls-key", key.string()});
+  return RunCommand(std::string(ARMATURE_PYTHON) + " " +
+                    ShellQuote(std::string(ARMATURE_TEST_DIR) + "/integration/gateway/" + script) + " " +
+                    std::to_string(server.http_port()) + " " + ShellQuote(cert.string()));
+}
+
+TEST_F(WebSocketSession, RunsOverTls) {
+  const CommandResult r = RunTlsClient(data_, "websocket_tls_client.py");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   // The 101, four answers with a pose (the start, three moves), then the server's close 1000.
   EXPECT_EQ(r.out, "HTTP/1.1 101 Switching Protocols\n1 True\n1 True\n1 True\n1 True\n8 1000\n") << r.err;
+}
+
+// The session's frames go on while a TLS record from the client is cut in
+// half (its reader waits on the socket, never its writer).
+TEST_F(WebSocketSession, HalfATlsRecordDoesNotStallTheFrames) {
+  const CommandResult r = RunTlsClient(data_, "websocket_tls_half_record.py");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  std::istringstream lines(r.out);
+  std::string status, word;
+  int stalled = -1;
+  std::getline(lines, status);
+  lines >> word >> stalled;
+  EXPECT_EQ(status, "HTTP/1.1 101 Switching Protocols");
+  EXPECT_EQ(word, "stalled");
+  // 2 s at 30 fps: about 60 frames; a session whose reader blocks sends none.
+  EXPECT_GE(stalled, 20) << r.out;
+  EXPECT_NE(r.out.find("pong True"), std::string::npos) << r.out << r.err;
 }
 
 }  // namespace
