@@ -140,9 +140,7 @@ Status ArmatureServer::StartGateway() {
   constexpr int64_t kFormFramingBytes = 1 << 20;
   routes.set_payload_max_length(
       static_cast<size_t>(std::max(limits.max_upload_bytes + kFormFramingBytes, limits.max_request_bytes)));
-  gateway_->Register(routes);
-  spdlog::info("REST gateway: {} routes; OpenAPI at /openapi.json", gateway_->bindings().size());
-
+  // The viewer first: its /docs redirect goes before the gateway's catch-all.
   const std::string web_dir = config_.web_dir.empty() ? DefaultWebDir() : config_.web_dir;
   if (web_dir.empty())
     spdlog::warn("viewer: no built viewer found (build the armature_web target or pass --web-dir)");
@@ -150,6 +148,9 @@ Status ArmatureServer::StartGateway() {
     return Status::InvalidArgument("--web-dir " + web_dir + ": not a directory");
   else
     spdlog::info("viewer: serving {} at /", web_dir);
+  gateway_->Register(routes);
+  spdlog::info("REST gateway: {} routes; OpenAPI at /openapi.json", gateway_->bindings().size());
+
   return Status::Ok();
 }
 
