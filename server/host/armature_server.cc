@@ -109,6 +109,10 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   }
   spdlog::info("serving gRPC on {}:{} and HTTP on {}:{}{}{}", config.host, s->grpc_port_, config.host, s->http_port_,
                config.tls_cert_file.empty() ? "" : " (TLS)", s->tokens_ ? ", bearer token required" : "");
+  if (!s->tokens_ && !IsLoopbackHost(config.host))
+    spdlog::warn("listening on {} beyond this machine with no --auth-token-file: anyone who reaches these ports "
+                 "can import, delete and call everything; set --auth-token-file, or --host 127.0.0.1",
+                 config.host);
 
   if (!config.port_file.empty()) {
     const std::string tmp = config.port_file + ".tmp";
