@@ -3,6 +3,7 @@
 #   scripts/setup.sh        build and run
 #   scripts/setup.sh test   also what the tests use (browser, Python, KDL)
 #   scripts/setup.sh bench  also the benchmarks' peers (assimp)
+# SETUP_LIST=1 only prints the packages of that mode (tests/docs/readme_python_install.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -11,13 +12,22 @@ packages=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libeigen3-dev libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libtinygltf-dev
   libcli11-dev libgtest-dev libbenchmark-dev liborocos-kdl-dev libssl-dev
+  # The Python client (clients/python) as the README installs it: Debian's Python sees these,
+  # and pip installs it offline into a venv with --system-site-packages.
+  python3 python3-grpcio python3-protobuf python3-numpy python3-venv python3-pip python3-setuptools
+  python3-wheel
 )
 if [[ "${1:-}" == "test" ]]; then
-  packages+=(python3 python3-numpy python3-scipy python3-grpcio)
+  packages+=(python3-scipy)
   # Further test-only packages are listed in scripts/test-packages.txt (one per line).
   if [[ -f scripts/test-packages.txt ]]; then
     while read -r p; do [[ -n "$p" && "$p" != \#* ]] && packages+=("$p"); done < scripts/test-packages.txt
   fi
+fi
+
+if [[ "${SETUP_LIST:-}" == 1 ]]; then
+  printf '%s\n' "${packages[@]}"
+  exit 0
 fi
 
 missing=()

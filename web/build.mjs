@@ -50,4 +50,10 @@ await esbuild.build({
   plugins: [generatedStubs],
 });
 for (const file of ['index.html', 'style.css']) await copyFile(path.join(here, file), path.join(outdir, file));
+// The API reference at /docs: swagger-ui-dist's prebuilt files, with our page that points it at /openapi.json.
+await mkdir(path.join(outdir, 'docs'), { recursive: true });
+for (const file of ['index.html', 'docs.js']) await copyFile(path.join(here, 'docs', file), path.join(outdir, 'docs', file));
+for (const file of ['swagger-ui.css', 'swagger-ui-bundle.js']) {
+  await copyFile(path.join(here, 'node_modules/swagger-ui-dist', file), path.join(outdir, 'docs', file));
+}
 console.log(`viewer bundled into ${outdir}`);

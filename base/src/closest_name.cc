@@ -26,6 +26,13 @@ size_t EditDistance(std::string_view a, std::string_view b) {
   return row[b.size()];
 }
 
+// A name without its namespace: "mixamorig:LeftHand" → "LeftHand", "rig|Hips" → "Hips". Exporters
+// prefix every joint, and a user types the part they see.
+std::string_view WithoutNamespace(std::string_view name) {
+  const size_t cut = name.find_last_of(":|");
+  return cut == std::string_view::npos || cut + 1 == name.size() ? name : name.substr(cut + 1);
+}
+
 }  // namespace
 
 std::string ClosestName(std::string_view name, const std::vector<std::string_view>& candidates) {
@@ -35,10 +42,13 @@ std::string ClosestName(std::string_view name, const std::vector<std::string_vie
   size_t best_distance = allowed + 1;
   for (std::string_view c : candidates) {
     if (c.size() > kMaxComparedLength || c == name) continue;
-    const size_t gap = c.size() > name.size() ? c.size() - name.size() : name.size() - c.size();
-    if (gap >= best_distance) continue;
-    const size_t d = EditDistance(name, c);
-    if (d < best_distance && d < std::max(name.size(), c.size())) best = c, best_distance = d;
+    // The whole name, or the name without its namespace prefix, whichever is closer.
+    for (std::string_view compared : {c, WithoutNamespace(c)}) {
+      const size_t gap = compared.size() > name.size() ? compared.size() - name.size() : name.size() - compared.size();
+      if (gap >= best_distance) continue;
+      const size_t d = EditDistance(name, compared);
+      if (d < best_distance && d < std::max(name.size(), compared.size())) best = c, best_distance = d;
+    }
   }
   return std::string(best);
 }

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "cli_context.h"
+#include "cli_messages.h"
 
 namespace armature::cli {
 
@@ -30,7 +31,7 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--name", *name, "Asset name (default: the file's stem)");
   cmd->add_option("--format", *format, "bvh, gltf, glb or obj, whatever the file name says (default: from its "
                                        "extension, else its content)")
-      ->check(CLI::IsMember({"bvh", "gltf", "glb", "obj"}));
+      ->transform(OneOf({"bvh", "gltf", "glb", "obj"}));
   cmd->add_flag("--replace", *replace, "Replace an existing asset of the same name");
   cmd->add_flag("--allow-outside-resources", *outside,
                 "Also upload the files a .gltf's buffer uris name outside its folder (absolute paths, '..', file: "

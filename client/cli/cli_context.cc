@@ -15,6 +15,8 @@ Client CliContext::MakeClient() const {
   return Client(o);
 }
 
+std::string CliContext::Target() const { return server.empty() ? ClientOptions::FromEnvironment().target : server; }
+
 nlohmann::json ToJson(const google::protobuf::Message& message) {
   std::string out;
   google::protobuf::util::JsonPrintOptions options;

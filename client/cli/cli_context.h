@@ -21,6 +21,8 @@ struct CliContext {
   std::function<int()> run;  // set by the chosen subcommand
 
   Client MakeClient() const;
+  // The server's address: --server, else $ARMATURE_SERVER, else localhost:50051.
+  std::string Target() const;
 };
 
 // proto3 JSON of a message (lowerCamelCase, defaults printed), as a json value.

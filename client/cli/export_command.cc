@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "cli_context.h"
+#include "cli_messages.h"
 #include "output_file.h"
 
 namespace armature::cli {
@@ -32,7 +33,7 @@ void AddExportCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("-o,--output", *out, "Output file; its extension says the format (.glb, .gltf, .bvh)")
       ->required();
   cmd->add_option("--format", *format, "Write this format whatever the extension: glb, gltf or bvh")
-      ->check(CLI::IsMember({"bvh", "glb", "gltf"}));
+      ->transform(OneOf({"bvh", "glb", "gltf"}));
   cmd->add_flag("--with-meshes", *with_meshes,
                 "glTF: also write the character's meshes (skinned to the clip's skeleton) and morph targets");
   cmd->callback([&ctx, clip, out, format, with_meshes] {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "cli_context.h"
+#include "cli_messages.h"
 #include "pose_output.h"
 
 namespace armature::cli {
@@ -71,19 +72,19 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--effector,-e", f->effectors, "JOINT=x,y,z: a world target for a joint (repeatable)")
       ->required()->allow_extra_args(false);
   cmd->add_option("--solver", f->solver, "dls, ccd, fabrik, two-bone or aim")
-      ->capture_default_str()->check(CLI::IsMember({"dls", "ccd", "fabrik", "two-bone", "aim"}));
+      ->capture_default_str()->transform(OneOf({"dls", "ccd", "fabrik", "two-bone", "aim"}));
   auto* clip = cmd->add_option("--from-clip", f->from_clip, "Start from this clip's pose (default: the rest pose)");
   cmd->add_option("--time,-t", f->time, "Clip time of the start pose, in seconds")->needs(clip);
   cmd->add_option("--max-iterations", f->max_iterations, "Solver iterations (default: the server's, 200)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber());
   cmd->add_option("--tolerance", f->tolerance, "Position tolerance, world units (default: 1e-4 x chain length)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber());
   cmd->add_option("--root", f->root,
                   "Only joints below this one move (default: those above the effectors but the skeleton root)");
   cmd->add_flag("--free-root{both}", f->free_root,
                 "Let the skeleton root (the hips) turn and move too; --free-root=rotation or =translation for one");
   cmd->add_option("--space", f->space, "Print the pose in local or world space")
-      ->capture_default_str()->check(CLI::IsMember({"local", "world"}));
+      ->capture_default_str()->transform(OneOf({"local", "world"}));
   cmd->callback([&ctx, f] {
     ctx.run = [&ctx, f] {
       v1::SolveIkRequest request;

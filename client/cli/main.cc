@@ -1,9 +1,12 @@
 // `armature`: the command-line client. Every error exits non-zero with the
 // server's message.
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "armature/build_info.h"
 #include "cli_context.h"
+#include "cli_messages.h"
 
 int main(int argc, char** argv) {
   using namespace armature::cli;
@@ -21,7 +24,7 @@ int main(int argc, char** argv) {
   app.add_option("--token", ctx.token, "Bearer token (default $ARMATURE_TOKEN)");
   app.add_option("--ca-file", ctx.ca_file, "Use TLS, trusting this CA certificate (default $ARMATURE_CA_FILE)");
   app.add_option("--timeout", ctx.timeout_seconds, "Deadline of each call, in seconds")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(PositiveNumber());
   app.add_flag("--json", ctx.json, "Print JSON instead of text (import and info always print JSON)");
   app.require_subcommand(1);
 
@@ -43,12 +46,18 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // A mistyped command or option: name it and the closest one, rather than what CLI11 checked first.
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    const std::string unknown = e.get_exit_code() == 0 ? "" : UnknownWordMessage(app, args);
+    if (unknown.empty()) return app.exit(e);
+    std::cerr << "error: " << unknown << "\nRun with --help for more information.\n";
+    return e.get_exit_code();
   }
   try {
     return ctx.run ? ctx.run() : 0;
   } catch (const armature::ClientError& e) {
-    std::cerr << "error: " << armature::StatusCodeName(e.code()) << ": " << e.what() << "\n";
+    const auto parsed = app.get_subcommands();
+    std::cerr << "error: " << CallErrorMessage(e, ctx.Target(), parsed.empty() ? nullptr : parsed[0]) << "\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "cli_context.h"
+#include "cli_messages.h"
 #include "motion_file.h"
 #include "obj_text.h"
 #include "output_file.h"
@@ -54,7 +55,7 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
       ->excludes(clip)
       ->check(CLI::ExistingFile);
   cmd->add_option("--time,-t", f->time, "Clip (or motion) time in seconds")->required();
-  cmd->add_option("--method", f->method, "lbs or dqs")->capture_default_str()->check(CLI::IsMember({"lbs", "dqs"}));
+  cmd->add_option("--method", f->method, "lbs or dqs")->capture_default_str()->transform(OneOf({"lbs", "dqs"}));
   cmd->add_flag("--loop", f->loop, "Wrap times past the end (default: clamp)");
   cmd->add_option("--weights", f->weights, "Morph weights overriding the clip's, one per target")->delimiter(',');
   cmd->add_option("-o,--output", f->out, "Also write the skinned mesh to this .obj file");

@@ -8,6 +8,7 @@
 
 #include "armature/v1/poses.grpc.pb.h"
 #include "cli_context.h"
+#include "cli_messages.h"
 #include "pose_output.h"
 
 namespace armature::cli {
@@ -89,11 +90,11 @@ void AddPlayCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--then", f->then, "A clip to crossfade to");
   cmd->add_option("--at", f->at, "Session time (s) at which --then is sent")->capture_default_str();
   cmd->add_option("--crossfade", f->crossfade, "Crossfade seconds for --then")->capture_default_str();
-  cmd->add_option("--fps", f->fps, "Frames per second")->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--duration", f->duration, "Session seconds")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--fps", f->fps, "Frames per second")->capture_default_str()->check(PositiveNumber());
+  cmd->add_option("--duration", f->duration, "Session seconds")->capture_default_str()->check(PositiveNumber());
   cmd->add_option("--space", f->space, "local or world")
       ->capture_default_str()
-      ->check(CLI::IsMember({"local", "world"}));
+      ->transform(OneOf({"local", "world"}));
   cmd->add_option("--joints", f->joints, "Only these joints")->delimiter(',');
   cmd->callback([&ctx, f] { ctx.run = [&ctx, f] { return Play(ctx, *f); }; });
 }

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "cli_context.h"
+#include "cli_messages.h"
 #include "motion_file.h"
 #include "pose_output.h"
 
@@ -28,9 +29,9 @@ void AddPoseFlags(CLI::App* cmd, PoseFlags& f) {
   cmd->add_option("--motion", f.motion, "A motion (clips in layers) as proto3 JSON, instead of CLIP")
       ->excludes(clip)
       ->check(CLI::ExistingFile);
-  cmd->add_option("--space", f.space, "local or world")->capture_default_str()->check(CLI::IsMember({"local", "world"}));
+  cmd->add_option("--space", f.space, "local or world")->capture_default_str()->transform(OneOf({"local", "world"}));
   cmd->add_option("--interpolation", f.interpolation, "step, linear or cubic (default: the clip's own)")
-      ->check(CLI::IsMember({"step", "linear", "cubic"}));
+      ->transform(OneOf({"step", "linear", "cubic"}));
   cmd->add_option("--joints", f.joints, "Only these joints")->delimiter(',');
 }
 
@@ -111,7 +112,7 @@ void AddStreamCommand(CLI::App& app, CliContext& ctx) {
   auto speed = std::make_shared<double>(1);
   auto loop = std::make_shared<bool>(false);
   AddPoseFlags(cmd, *flags);
-  cmd->add_option("--fps", *fps, "Frames per second")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--fps", *fps, "Frames per second")->capture_default_str()->check(PositiveNumber());
   cmd->add_option("--duration", *duration, "Stop after this many seconds (default: at the clip's end)");
   cmd->add_option("--speed", *speed, "Playback speed")->capture_default_str();
   cmd->add_flag("--loop", *loop, "Loop the clip (a motion: keep playing past its first layer's end)");

@@ -126,6 +126,10 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   }
   spdlog::info("serving gRPC on {}:{} and HTTP on {}:{}{}{}", config.host, s->grpc_port_, config.host, s->http_port_,
                config.tls_cert_file.empty() ? "" : " (TLS)", s->tokens_ ? ", bearer token required" : "");
+  if (!s->tokens_ && !IsLoopbackHost(config.host))
+    spdlog::warn("listening on {} beyond this machine with no --auth-token-file: anyone who reaches these ports "
+                 "can import, delete and call everything; set --auth-token-file, or --host 127.0.0.1",
+                 config.host);
 
   if (!config.port_file.empty()) {
     const std::string tmp = config.port_file + ".tmp";
@@ -159,9 +163,7 @@ Status ArmatureServer::StartGateway() {
   constexpr int64_t kFormFramingBytes = 1 << 20;
   routes.set_payload_max_length(
       static_cast<size_t>(std::max(limits.max_upload_bytes + kFormFramingBytes, limits.max_request_bytes)));
-  gateway_->Register(routes);
-  spdlog::info("REST gateway: {} routes; OpenAPI at /openapi.json", gateway_->bindings().size());
-
+  // The viewer first: its /docs redirect goes before the gateway's catch-all.
   const std::string web_dir = config_.web_dir.empty() ? DefaultWebDir() : config_.web_dir;
   if (web_dir.empty())
     spdlog::warn("viewer: no built viewer found (build the armature_web target or pass --web-dir)");
@@ -169,6 +171,9 @@ Status ArmatureServer::StartGateway() {
     return Status::InvalidArgument("--web-dir " + web_dir + ": not a directory");
   else
     spdlog::info("viewer: serving {} at /", web_dir);
+  gateway_->Register(routes);
+  spdlog::info("REST gateway: {} routes; OpenAPI at /openapi.json", gateway_->bindings().size());
+
   return Status::Ok();
 }
 

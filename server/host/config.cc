@@ -57,7 +57,8 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   CLI::App app{"armature-server: an animation server (pose evaluation, IK, skinning, deformation) over gRPC and HTTP"};
   app.option_defaults()->always_capture_default();
   app.set_version_flag("--version", build_info::VersionLine("armature-server"), "Print the version and git commit, then exit");
-  app.add_option("--host", c.host, "Address to listen on")->envname("ARMATURE_HOST");
+  app.add_option("--host", c.host, "Address to listen on (0.0.0.0: every interface; then set --auth-token-file)")
+      ->envname("ARMATURE_HOST");
   app.add_option("--grpc-port", c.grpc_port, "gRPC port (0: any free port)")
       ->envname("ARMATURE_GRPC_PORT")->check(CLI::Range(0, 65535));
   app.add_option("--http-port", c.http_port, "HTTP port for health, gateway and viewer (0: any free port, -1: off)")
@@ -144,6 +145,10 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   c.limits.max_request_bytes = static_cast<int64_t>(request_kb * 1024);
   c.limits.deform_cache_bytes = static_cast<int64_t>(deform_cache_mb * (1 << 20));
   return -1;
+}
+
+bool IsLoopbackHost(const std::string& host) {
+  return host == "localhost" || host == "::1" || host == "[::1]" || host.rfind("127.", 0) == 0;
 }
 
 std::string DefaultWebDir() {

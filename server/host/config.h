@@ -9,7 +9,7 @@
 namespace armature::server {
 
 struct ServerConfig {
-  std::string host = "0.0.0.0";
+  std::string host = "127.0.0.1";  // this machine only; the image and Kubernetes set 0.0.0.0
   int grpc_port = 50051;  // 0 picks a free port
   int http_port = 8080;   // 0 picks a free port; -1 disables HTTP
   std::string data_dir = "armature-data";
@@ -30,6 +30,9 @@ struct ServerConfig {
 // Parses argv (CLI11). Returns an exit code >= 0 when the process should
 // exit (e.g. --help printed, or a bad flag), -1 to go on.
 int ParseConfig(int argc, char** argv, ServerConfig& config);
+
+// True for an address only this machine reaches: 127.0.0.0/8, ::1, localhost.
+bool IsLoopbackHost(const std::string& host);
 
 // Where the viewer's files are when --web-dir is not given:
 // <the binary's dir>/../share/armature/web, which is where both the build

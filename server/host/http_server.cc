@@ -50,6 +50,8 @@ bool HttpServer::ServeDirectory(const std::string& dir) {
                                   {"css", "text/css"}, {"html", "text/html"}, {"json", "application/json"},
                                   {"map", "application/json"}, {"svg", "image/svg+xml"}, {"png", "image/png"}})
     http_->set_file_extension_and_mimetype_mapping(ext, type);
+  // The API reference (docs/index.html, rendered from /openapi.json) at /docs as well as /docs/.
+  http_->Get("/docs", [](const httplib::Request&, httplib::Response& res) { res.set_redirect("/docs/"); });
   // Cross-origin isolated (everything the viewer loads is its own origin's):
   // its timers then tick in 5 µs, not 100 µs, which the session round trips
   // it reports (0.3-1 ms) need.

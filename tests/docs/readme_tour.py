@@ -134,8 +134,10 @@ def main():
         raise SystemExit(__doc__)
     server_bin, bin_dir, readme = args
     steps = tour_steps(open(readme, encoding="utf-8").read())
-    with tempfile.TemporaryDirectory(prefix="armature-tour-") as workdir:
-        env = dict(os.environ, PATH=bin_dir + os.pathsep + os.environ.get("PATH", ""))
+    with tempfile.TemporaryDirectory(prefix="armature-tour-") as workdir, \
+            tempfile.TemporaryDirectory(prefix="armature-tour-tmp-") as tmp:
+        # TMPDIR: the tour's own scratch folders (mktemp) are removed with the test's.
+        env = dict(os.environ, PATH=bin_dir + os.pathsep + os.environ.get("PATH", ""), TMPDIR=tmp)
         for k in ("ARMATURE_TOKEN", "ARMATURE_CA_FILE"):
             env.pop(k, None)
         if "--no-server" in sys.argv:  # the runner's own test: no server needed
@@ -146,6 +148,11 @@ def main():
                 code, ran = run(steps, env, workdir, server.grpc_port, server.http_port, bin_dir)
                 if code != 0:
                     print("\nserver log:\n" + server.read_log()[-4000:])
+        # The tour starts in the repository's folder: what it writes there, a user finds in `git status`.
+        left = sorted(os.listdir(workdir))
+        if code == 0 and left:
+            print(f"\nFAIL: the tour leaves {len(left)} files in the folder it starts in: {', '.join(left)}")
+            code = 1
     skipped = [s for s in steps if s.needs]
     print(f"\nreadme tour: {len(steps)} commands, {len(skipped)} skipped"
           + (" (needs: " + ", ".join(sorted({s.needs for s in skipped})) + ")" if skipped else "")

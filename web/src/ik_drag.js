@@ -77,6 +77,7 @@ export class IkDrag extends EventTarget {
 
   onPointerDown(event) {
     if (!this.enabled || event.button !== 0 || !this.view.skeleton || !this.player.clip) return;
+    if (event.target !== this.view.renderer.domElement) return;  // a panel over the view (the joint list)
     const joint = this.pick(event);
     if (joint < 0) return;
     event.stopPropagation();

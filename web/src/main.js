@@ -4,11 +4,13 @@
 // clip on a character (every mesh of a skeleton); retarget a clip onto the
 // character and play it there; drop a file to import it.
 import * as api from './api.js';
+import { BlendCharacter } from './blend_character.js';
 import { BlendPanel } from './blend_panel.js';
 import { CharacterPlayer, charactersOf, clipsForCharacter } from './character_player.js';
 import { CharacterView } from './character_view.js';
 import { DropImport } from './drop_import.js';
 import { IkDrag } from './ik_drag.js';
+import { JointTree } from './joint_tree.js';
 import { MeshPlayer, SKINNING_METHODS, clipsFor } from './mesh_player.js';
 import { MeshView } from './mesh_view.js';
 import { Player } from './player.js';
@@ -38,12 +40,14 @@ const meshView = new MeshView(view);
 const player = new Player({ fps: 30 });          // the skeleton (alone, or over the mesh)
 const meshPlayer = new MeshPlayer({ fps: 30 });  // the chosen mesh
 const ik = new IkDrag(view, player);
+const jointTree = new JointTree($('joint-tree'), view, (event) => ik.pick(event));
 const vertexDrag = new VertexDrag(view, meshView);
 const characterView = new CharacterView(view);
 const characterPlayer = new CharacterPlayer({ fps: 30 });  // the chosen character
 const dropImport = new DropImport(document.body, { progress: ui.importProgress, label: ui.importLabel });
 const blend = new BlendPanel($('blend-panel'), { speed: () => Number(ui.speed.value) });
 const retarget = new RetargetPanel($('retarget-panel'));
+const blendCharacter = new BlendCharacter(characterView);  // the blend on the skeleton's meshes
 let clips = [];
 let meshes = [];
 let characters = [];  // charactersOf(meshes)
@@ -120,13 +124,19 @@ function updateControls() {
   ui.character.disabled = blending;
   ui.hint.textContent = editing ? HINTS.edit : blending ? HINTS.blend : meshMode() ? HINTS.mesh : HINTS.skeleton;
   view.figure.visible = !characterMode() && (!meshMode() || overlay());
+  $('joint-tree').hidden = !view.figure.visible || !view.skeleton;
+  if ($('joint-tree').hidden) jointTree.setHovered(-1);
 }
 
 player.addEventListener('load', ({ detail: { clip, skeleton } }) => {
   view.setSkeleton(skeleton);
+  jointTree.setSkeleton(skeleton);
   ui.joints.textContent = `${skeleton.joints.length} joints`;
   if (!meshMode() && !characterMode()) showClip(clip);
-  if (blend.enabled) blend.setCharacter(skeleton, clipsOf(skeleton), clip.name);
+  if (blend.enabled) {
+    blend.setCharacter(skeleton, clipsOf(skeleton), clip.name);
+    showBlendBody(skeleton).catch(failed('Blend: '));
+  }
   updateControls();
 });
 player.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
@@ -183,10 +193,11 @@ characterPlayer.addEventListener('state', ({ detail: { playing } }) => character
 characterPlayer.addEventListener('error', ({ detail }) => showMessage(detail));
 
 let blendFailed = false;  // a blend error is on screen until a motion evaluates again
-blend.addEventListener('pose', ({ detail: { time, pose, frame } }) => {
+blend.addEventListener('pose', ({ detail: { time, motion, pose, frame } }) => {
   if (blendFailed) showMessage('');
   blendFailed = false;
   view.setPose(pose);
+  blendCharacter.pose(motion, time);
   ui.time.textContent = `t = ${time.toFixed(3)} s · blend`;
   if (frame) showRate('poses');
 });
@@ -194,6 +205,7 @@ blend.addEventListener('state', () => {
   ui.rate.textContent = '';
   arrivals.length = 0;
 });
+blendCharacter.addEventListener('error', ({ detail }) => showMessage(`Blend: ${detail}`));
 blend.addEventListener('error', ({ detail }) => {
   blendFailed = true;
   showMessage(`Blend: ${detail}`);
@@ -328,15 +340,25 @@ async function setBlending(on) {
     player.pause();
     ik.enabled = false;
     blend.setCharacter(player.skeleton, clipsOf(player.skeleton), player.clip.name);
+    await showBlendBody(player.skeleton);
     blend.setEnabled(true);
   } else if (!on) {
     blend.setEnabled(false);
+    await blendCharacter.show(null);
+    view.setOverlay(false);
     ik.enabled = !meshMode();
     showMessage('');
     if (player.clip) await player.refresh();
   }
   ui.blend.checked = blend.enabled;
   updateControls();
+}
+
+// While blending: the skeleton's meshes (its character), if it has any, under the skeleton drawn thin.
+async function showBlendBody(skeleton) {
+  await blendCharacter.show(characters.find((c) => c.skeleton === skeleton.name) ?? null);
+  view.setOverlay(Boolean(blendCharacter.character));
+  if (blend.enabled) await blend.refresh();
 }
 
 const plural = (n, one, many) => `${n} ${n === 1 ? one : many}`;
@@ -456,6 +478,7 @@ async function start() {
 // For tests and the console.
 window.armatureViewer = {
   player, view, ik, meshPlayer, meshView, vertexDrag, blend, characterPlayer, characterView, dropImport, retarget,
+  jointTree, blendCharacter,
 };
 
 start().catch(failed('Cannot reach the server: '));

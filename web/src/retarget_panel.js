@@ -2,9 +2,12 @@
 // onto the character shown with RetargetClip. The new asset takes the
 // server's default name, `<clip>_on_<skeleton>`, and replaces an earlier one
 // (so pressing twice works); "Feet" pins the feet the source plants. Shows the
-// answer (pairs mapped, joints unmapped on each side) or the server's message.
+// answer (pairs mapped, joints unmapped on each side) or the server's message,
+// until the character changes. The source offered first is a clip of another
+// body (retarget_source.js) until the user picks one.
 // Emits 'retargeted' ({ response, skeleton }) and 'error' (message).
 import * as api from './api.js';
+import { defaultRetargetSource } from './retarget_source.js';
 
 // One line for a RetargetClipResponse (as JSON).
 export function describeRetarget(response) {
@@ -29,8 +32,14 @@ export class RetargetPanel extends EventTarget {
     this.busy = false;
     this.last = null;    // the last answer, or null after a failure
     this.calls = 0;      // calls answered (for tests)
+    this.clips = [];
+    this.picked = false;  // the user chose the source: it is kept
+    this.defaulted = 0;   // defaults chosen (for tests)
     this.ui.run.addEventListener('click', () => this.retarget());
-    this.ui.source.addEventListener('change', () => this.update());
+    this.ui.source.addEventListener('change', () => {
+      this.picked = true;
+      this.update();
+    });
   }
 
   emit(type, detail) {
@@ -42,13 +51,38 @@ export class RetargetPanel extends EventTarget {
     const current = this.ui.source.value;
     this.ui.source.replaceChildren(...clips.map((c) => new Option(`${c.name} (${c.skeleton})`, c.name)));
     if (clips.some((c) => c.name === current)) this.ui.source.value = current;
+    else this.picked = false;
+    this.clips = clips;
     this.update();
+    return this.chooseDefault();
   }
 
-  // The character shown ('' for none): the target.
+  // The character shown ('' for none): the target. Another character clears the last answer.
   setCharacter(skeleton) {
+    if (skeleton !== this.skeleton) {
+      this.last = null;
+      this.ui.result.textContent = '';
+      this.ui.result.title = '';
+      this.picked = false;
+    }
     this.skeleton = skeleton;
     this.ui.target.textContent = skeleton ? `onto ${skeleton}` : 'onto: choose a character';
+    this.update();
+    return this.chooseDefault();
+  }
+
+  // Preselects a clip of another body, unless the user picked one.
+  async chooseDefault() {
+    const { skeleton, clips } = this;
+    if (!skeleton || this.picked || clips.length === 0) return;
+    const joints = new Map();
+    await Promise.all([...new Set(clips.map((c) => c.skeleton))].map(async (s) => {
+      joints.set(s, await api.jointNames(s).catch(() => []));  // deleted meanwhile: no body
+    }));
+    if (skeleton !== this.skeleton || clips !== this.clips || this.picked) return;  // changed meanwhile
+    const name = defaultRetargetSource(clips, skeleton, (s) => joints.get(s) ?? []);
+    if (name) this.ui.source.value = name;
+    this.defaulted += 1;
     this.update();
   }
 

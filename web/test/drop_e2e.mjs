@@ -6,31 +6,7 @@
 // server refuses shows its message. Saves a screenshot.
 //   node drop_e2e.mjs <armature-server> <web dir> <screenshot.png>
 import { check, colourStats, runViewerTest } from './browser.mjs';
-import { twistTubeGltf } from './fixtures.mjs';
-
-// The arm of the integration tests: two joints, three frames.
-const ARM_BVH = `HIERARCHY
-ROOT Base
-{
-  OFFSET 0 0 0
-  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-  JOINT Tip
-  {
-    OFFSET 2 0 0
-    CHANNELS 3 Zrotation Xrotation Yrotation
-    End Site
-    {
-      OFFSET 1 0 0
-    }
-  }
-}
-MOTION
-Frames: 3
-Frame Time: 0.5
-0 0 0 0 0 0 0 0 0
-0 0 0 90 0 0 0 0 0
-0 0 0 180 0 0 0 0 0
-`;
+import { ARM_BVH, twistTubeGltf } from './fixtures.mjs';
 
 // Drops files [{ name, text }] on the page, as dragenter, dragover and drop events.
 async function drop(page, files) {

@@ -137,3 +137,27 @@ export function bumpGridObj({ n = 40, half = 1, bump = 0.3, width = 0.35 } = {})
   }
   return { text: lines.join('\n') + '\n', n, vertexCount: n * n, half };
 }
+
+// The arm of the integration tests: two joints, three frames.
+export const ARM_BVH = `HIERARCHY
+ROOT Base
+{
+  OFFSET 0 0 0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
+  JOINT Tip
+  {
+    OFFSET 2 0 0
+    CHANNELS 3 Zrotation Xrotation Yrotation
+    End Site
+    {
+      OFFSET 1 0 0
+    }
+  }
+}
+MOTION
+Frames: 3
+Frame Time: 0.5
+0 0 0 0 0 0 0 0 0
+0 0 0 90 0 0 0 0 0
+0 0 0 180 0 0 0 0 0
+`;

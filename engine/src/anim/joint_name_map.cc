@@ -25,6 +25,19 @@ bool StartsWith(std::string_view s, std::string_view prefix) { return s.substr(0
 constexpr std::string_view kPrefixes[] = {"mixamorig_", "mixamorig", "cc_base_", "bip001_", "bip001 ", "bip001",
                                           "bip01_",     "bip01 ",    "bip01",    "def-",    "def_",    "b_"};
 
+// One name per finger: Mixamo's "HandThumb1", Character Creator's "Thumb1" and "Mid1", Unreal's
+// "middle_01" (and "little", "pinkie") read alike, so the fingers pair by name.
+std::string CanonicalFinger(const std::string& base) {
+  constexpr std::pair<std::string_view, std::string_view> kFingers[] = {
+      {"thumb", "thumb"}, {"index", "index"},   {"middle", "middle"}, {"mid", "middle"},
+      {"ring", "ring"},   {"pinky", "pinky"},   {"pinkie", "pinky"},  {"little", "pinky"}};
+  std::string_view rest = base;
+  if (StartsWith(rest, "hand") && rest.size() > 4) rest.remove_prefix(4);
+  for (const auto& [word, canonical] : kFingers)
+    if (rest == word) return std::string(canonical);
+  return base;
+}
+
 // Splits at separators, lower→upper ("upLeg"), upper→Upper+lower ("LHip")
 // and letter↔digit boundaries.
 std::vector<std::string> Tokens(std::string_view s) {
@@ -241,6 +254,7 @@ JointNameKey NormalizeJointName(std::string_view name) {
       key.base += token;
     }
   }
+  key.base = CanonicalFinger(key.base);
   return key;
 }
 

@@ -12,6 +12,21 @@
 #include <vector>
 
 namespace armature::gltf_internal {
+namespace {
+
+// The clip's own interpolation, as ClipInfo reports it: the one its joint
+// tracks share (a CUBICSPLINE clip is CUBIC), LINEAR when they differ or
+// there are none.
+Interpolation SharedInterpolation(const Clip& clip) {
+  std::set<Interpolation> seen;
+  auto note = [&seen](const auto& track) {
+    if (!track.empty()) seen.insert(track.interpolation);
+  };
+  for (const JointTrack& t : clip.joints) note(t.translation), note(t.rotation), note(t.scale);
+  return seen.size() == 1 ? *seen.begin() : Interpolation::kLinear;
+}
+
+}  // namespace
 
 Status Importer::ImportAnimation(size_t a) {
   const tinygltf::Animation& anim = model_.animations[a];
@@ -47,6 +62,7 @@ Status Importer::ImportAnimation(size_t a) {
     ARMATURE_RETURN_IF_ERROR(ImportChannel(anim, channel, where + ".samplers[" + std::to_string(channel.sampler) + "]",
                                            *clip));
   }
+  clip->default_interpolation = SharedInterpolation(*clip);
   ARMATURE_RETURN_IF_ERROR(clip->Validate().WithContext(where + ": "));
   ARMATURE_RETURN_IF_ERROR(CheckName(anim.name, where + ".name"));
   const std::string local = Unique(anim.name.empty() ? std::to_string(a) : anim.name, used_clip_names_);

@@ -8,15 +8,12 @@ usage: test_client.py PYTHON SERVER_BIN CLI_BIN
 PYTHON is the interpreter the package is installed in (python_client.install_offline's venv);
 the test runs itself again in it.
 """
-import contextlib
-import io
 import json
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
-import textwrap
 import time
 import unittest
 import urllib.request
@@ -293,22 +290,6 @@ class ClientTest(unittest.TestCase):
         with Client("127.0.0.1:1", timeout=2) as down:
             with self.assertRaises(Unavailable):
                 down.list_assets()
-
-
-    def test_readme_example_runs(self):
-        readme = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "README.md")
-        with open(readme) as f:
-            text = f.read()
-        start = text.index("```python", text.index("**Python**")) + len("```python")
-        example = textwrap.dedent(text[start:text.index("```", start)])
-        self.assertLess(len(example.strip().splitlines()), 6, "the README's example is five lines")
-        out = io.StringIO()
-        with contextlib.redirect_stdout(out):
-            scope = {}
-            exec(example.replace("localhost:50051", self.server.target), scope)
-        n = len(self.client.get_skeleton("demo_walk").joints)
-        self.assertEqual(out.getvalue().split(), ["Hips", "(2,", f"{n},", "3)", "(2,", f"{n},", "4)"])
-        self.assertEqual(scope["body"].shape[1], 3)
 
 
 class AuthTest(unittest.TestCase):

@@ -3,6 +3,7 @@
 // character, mixamo, Character Creator), explicit pairs overriding it, and
 // bad explicit pairs named.
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <memory>
@@ -90,7 +91,17 @@ TEST(JointNameMap, NormalizesPrefixesSeparatorsSidesAndNumbers) {
   }
 }
 
-std::shared_ptr<Skeleton> Mixamo() {
+// Three joints per finger under each hand, named by `name(side, finger, k)`.
+void AddFingers(std::vector<std::pair<std::string, std::string>>& j, const std::string& hand_of_side_left,
+                const std::string& hand_of_side_right, const std::vector<std::string>& fingers,
+                const std::function<std::string(bool left, const std::string& finger, int k)>& name) {
+  for (bool left : {true, false})
+    for (const std::string& f : fingers)
+      for (int k = 1; k <= 3; ++k)
+        j.push_back({name(left, f, k), k == 1 ? (left ? hand_of_side_left : hand_of_side_right) : name(left, f, k - 1)});
+}
+
+std::shared_ptr<Skeleton> Mixamo(bool fingers = false) {
   std::vector<std::pair<std::string, std::string>> j = {{"mixamorig:Hips", ""},
                                                         {"mixamorig:Spine", "mixamorig:Hips"},
                                                         {"mixamorig:Spine1", "mixamorig:Spine"},
@@ -104,10 +115,15 @@ std::shared_ptr<Skeleton> Mixamo() {
                        {m + "Hand", m + "ForeArm"}, {m + "UpLeg", "mixamorig:Hips"}, {m + "Leg", m + "UpLeg"},
                        {m + "Foot", m + "Leg"}, {m + "ToeBase", m + "Foot"}});
   }
+  if (fingers)
+    AddFingers(j, "mixamorig:LeftHand", "mixamorig:RightHand", {"Thumb", "Index", "Middle", "Ring", "Pinky"},
+               [](bool left, const std::string& f, int k) {
+                 return std::string("mixamorig:") + (left ? "Left" : "Right") + "Hand" + f + std::to_string(k);
+               });
   return Tree(j);
 }
 
-std::shared_ptr<Skeleton> CharacterCreator() {
+std::shared_ptr<Skeleton> CharacterCreator(bool fingers = false) {
   std::vector<std::pair<std::string, std::string>> j = {
       {"CC_Base_BoneRoot", ""},          {"CC_Base_Hip", "CC_Base_BoneRoot"},
       {"CC_Base_Pelvis", "CC_Base_Hip"}, {"CC_Base_Waist", "CC_Base_Hip"},
@@ -120,7 +136,35 @@ std::shared_ptr<Skeleton> CharacterCreator() {
                        {m + "Forearm", m + "Upperarm"}, {m + "Hand", m + "Forearm"}, {m + "Thigh", "CC_Base_Pelvis"},
                        {m + "Calf", m + "Thigh"}, {m + "Foot", m + "Calf"}, {m + "ToeBase", m + "Foot"}});
   }
+  if (fingers)
+    AddFingers(j, "CC_Base_L_Hand", "CC_Base_R_Hand", {"Thumb", "Index", "Mid", "Ring", "Pinky"},
+               [](bool left, const std::string& f, int k) {
+                 return std::string("CC_Base_") + (left ? "L_" : "R_") + f + std::to_string(k);
+               });
   return Tree(j);
+}
+
+TEST(JointNameMap, MapsMixamoFingersOntoCharacterCreatorsAndBack) {
+  const auto mixamo = Mixamo(true), cc = CharacterCreator(true);
+  for (bool cc_is_target : {true, false}) {
+    const Skeleton& source = cc_is_target ? *mixamo : *cc;
+    const Skeleton& target = cc_is_target ? *cc : *mixamo;
+    auto map = MapJointsByBodyParts(source, target, {});
+    ASSERT_TRUE(map.ok()) << map.status().message();
+    const auto pairs = Pairs(source, target, *map);
+    for (const std::string side : {"Left", "Right"})
+      for (const auto& [mixamo_finger, cc_finger] : std::vector<std::pair<std::string, std::string>>{
+               {"Thumb", "Thumb"}, {"Index", "Index"}, {"Middle", "Mid"}, {"Ring", "Ring"}, {"Pinky", "Pinky"}})
+        for (int k = 1; k <= 3; ++k) {
+          const std::string m = "mixamorig:" + side + "Hand" + mixamo_finger + std::to_string(k);
+          const std::string c = "CC_Base_" + side.substr(0, 1) + "_" + cc_finger + std::to_string(k);
+          const std::string& t = cc_is_target ? c : m;
+          EXPECT_EQ(pairs.count(t) ? pairs.at(t) : "(unmapped)", cc_is_target ? m : c) << t;
+        }
+  }
+  EXPECT_EQ(NormalizeJointName("middle_01_l").base, "middle");
+  EXPECT_EQ(NormalizeJointName("LeftHandMiddle2").base, "middle");
+  EXPECT_EQ(NormalizeJointName("CC_Base_R_Mid3").base, "middle");
 }
 
 TEST(JointNameMap, MapsMixamoOntoCharacterCreator) {

@@ -31,6 +31,19 @@ const char kKeys[] = R"({"tracks":[{"joint":"Head","times":[0,0.5],
   "rotations":[1,0,0,0, 0.7071067811865476,0,0.7071067811865476,0],
   "translations":[0,0.1,0, 0,0.3,0],"interpolation":"LINEAR"}]})";
 
+TEST_F(CliCreateClip, ACubicClipReportsCubic) {
+  const std::string file = WriteTemp(files_, "cubic.json", R"({"tracks":[{"joint":"Head","times":[0,0.5,1],
+    "euler":[0,0,0, 25,0,0, 0,0,0],"interpolation":"CUBIC"}]})").string();
+  const CommandResult r = Cli({"create-clip", "--skeleton", "demo_walk", "--keys", file, "--name", "nod"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json out = json::parse(r.out);
+  EXPECT_EQ(out["clip"]["interpolation"], "CUBIC") << out["clip"].dump();  // was LINEAR
+  const CommandResult linear = Cli({"create-clip", "--skeleton", "demo_walk", "--keys",
+                                    WriteTemp(files_, "linear.json", kKeys).string(), "--name", "slide"});
+  ASSERT_EQ(linear.exit_code, 0) << linear.err;
+  EXPECT_EQ(json::parse(linear.out)["clip"]["interpolation"], "LINEAR");
+}
+
 TEST_F(CliCreateClip, KeysFileMakesAClipPrintedAsImportDoes) {
   const std::string file = WriteTemp(files_, "nod.json", kKeys).string();
   const CommandResult r = Cli({"create-clip", "--skeleton", "demo_walk", "--keys", file, "--name", "nod"});

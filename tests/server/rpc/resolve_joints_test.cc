@@ -37,5 +37,18 @@ TEST(ClosestName, SuggestsOnlyWhatIsCloseEnoughToBeATypo) {
   EXPECT_EQ(JoinNames({"a", "b", "c"}, 2), "a, b, … (1 more)");
 }
 
+TEST(ClosestName, AJointTypedWithoutItsNamespaceFindsIt) {
+  const std::vector<std::string> mixamo = {"mixamorig:Hips", "mixamorig:LeftHand", "mixamorig:LeftHandIndex1",
+                                           "mixamorig:RightHand"};
+  const std::vector<std::string_view> names(mixamo.begin(), mixamo.end());
+  EXPECT_EQ(ClosestName("LeftHand", names), "mixamorig:LeftHand");
+  EXPECT_EQ(ClosestName("lefthnd", names), "mixamorig:LeftHand");
+  EXPECT_EQ(ClosestName("mixamorig:LeftHnd", names), "mixamorig:LeftHand");
+  EXPECT_EQ(ClosestName("Spine", names), "");
+  EXPECT_EQ(ClosestName("Hips", {"rig|Hips", "rig|Head"}), "rig|Hips");
+  EXPECT_NE(UnknownJoint("LeftHand", mixamo).find("did you mean 'mixamorig:LeftHand'?"), std::string::npos)
+      << UnknownJoint("LeftHand", mixamo);
+}
+
 }  // namespace
 }  // namespace armature::server

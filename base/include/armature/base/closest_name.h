@@ -8,7 +8,8 @@
 namespace armature {
 
 // The candidate closest to `name` (Levenshtein distance, case ignored) when it is close enough to be
-// a typo: at most 2 edits, or a third of the name's length for longer names. "" when none is.
+// a typo: at most 2 edits, or a third of the name's length for longer names. "" when none is. A
+// candidate's name without its namespace ("LeftHand" of "mixamorig:LeftHand") counts as well.
 std::string ClosestName(std::string_view name, const std::vector<std::string_view>& candidates);
 
 // "; did you mean 'X'?" when ClosestName finds one, else "".
