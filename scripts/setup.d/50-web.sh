@@ -21,5 +21,7 @@ if [[ -f "$stamp" && "$(cat "$stamp")" == "$want" ]]; then
   exit 0
 fi
 echo "setup: npm ci in web/"
-npm ci --no-audit --no-fund
+# swagger-ui-dist (the /docs page) depends on @scarf/scarf, whose install script would send
+# telemetry: off here and in package.json's scarfSettings.
+SCARF_ANALYTICS=false npm ci --no-audit --no-fund
 echo "$want" > "$stamp"
