@@ -24,7 +24,8 @@ namespace armature::testing {
 namespace {
 
 constexpr double kTime = 1.0;
-const char* const kStill[] = {"Body", "Hips", "UpperLegL", "LowerLegL", "FootL", "UpperLegR", "LowerLegR", "FootR"};
+// RobotExpressive's hips are `Body`; its `Hips` is the spine's base below it, which the reach may turn.
+const char* const kStill[] = {"Body", "UpperLegL", "LowerLegL", "FootL", "UpperLegR", "LowerLegR", "FootR"};
 
 class IkBodyRoot : public ::testing::Test {
  protected:
@@ -100,7 +101,7 @@ TEST_F(IkBodyRoot, AHandReachOnAMixamoStyleRigLeavesTheHipsAndFeetStill) {
 
   // Out of the arm's reach: ROOT_TRANSLATION moves the body root in world space (through the
   // scaled, turned Armature above it) until the hand is there.
-  const Eigen::Vector3d far = At3(clip_world_.translations(), hand) + Eigen::Vector3d(0, 0, 0.8 * height);
+  const Eigen::Vector3d far = At3(clip_world_.translations(), hand) + Eigen::Vector3d(0, 0, 3 * height);
   r.mutable_effectors(0)->clear_target_position();
   for (int k = 0; k < 3; ++k) r.mutable_effectors(0)->add_target_position(far[k]);
   r.set_free_root(v1::ROOT_FIXED);
@@ -109,7 +110,7 @@ TEST_F(IkBodyRoot, AHandReachOnAMixamoStyleRigLeavesTheHipsAndFeetStill) {
   const v1::SolveIkResponse carried = client_->SolveIk(r);
   EXPECT_TRUE(carried.converged()) << "off by " << carried.residuals(0).position_error();
   const int body = Joint("Body");
-  EXPECT_GT((At3(carried.world().translations(), body) - At3(clip_world_.translations(), body)).norm(), 0.05 * height);
+  EXPECT_GT((At3(carried.world().translations(), body) - At3(clip_world_.translations(), body)).norm(), height);
 }
 
 }  // namespace
