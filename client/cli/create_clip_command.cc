@@ -35,7 +35,7 @@ void AddCreateClipCommand(CLI::App& app, CliContext& ctx) {
                                    "\"translations\":[x,y,z,…],\"interpolation\":\"LINEAR\"}]}")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--name", *name, "The new asset's name (overrides the file's); the clip is NAME.NAME");
+  cmd->add_option("--name", *name, "The new asset's name (overrides the file's); the clip is NAME, a clip of the skeleton");
   cmd->add_flag("--replace", *replace, "Replace an existing asset of the same name");
   cmd->add_flag("--merge", *merge, "Edit the clip stored under NAME: the file's tracks replace those joints' tracks, "
                                    "a track without times deletes one, the others are kept");

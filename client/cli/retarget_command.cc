@@ -53,7 +53,7 @@ void AddRetargetCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--to", *skeleton, "The target skeleton")->required();
   cmd->add_option("--map", *pairs, "SOURCE=TARGET: drive this target joint from this source joint (repeatable; "
                                    "overrides the automatic map)");
-  cmd->add_option("--name", *name, "The new asset's name (default <clip>_on_<skeleton>, dots as '_')");
+  cmd->add_option("--name", *name, "The new clip's name, a clip of the target skeleton (default <clip>_on_<skeleton>, dots as '_')");
   cmd->add_flag("--feet", *feet, "Keep the feet where the source plants them (two-bone IK per leg)");
   cmd->add_flag("--replace", *replace, "Replace an asset of the same name");
   cmd->callback([&ctx, clip, skeleton, pairs, name, feet, replace] {

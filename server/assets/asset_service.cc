@@ -32,8 +32,9 @@ StatusOr<AssetFormat> ExportFormat(const std::string& format) {
   return Status::InvalidArgument("format: unknown export format '" + format + "'; allowed: bvh, glb, gltf");
 }
 
-// The meshes of the clip's character: every mesh skinned to its skeleton, else
-// (a retargeted or authored clip, whose asset holds a copy of the
+// The meshes of the clip's character: every mesh skinned to its skeleton (or
+// to the one it animates by name: a retargeted or authored clip), else (such
+// a clip stored before it was made the skeleton's own, with a copy of the
 // character's skeleton) the meshes of the first skeleton, by name, with the
 // same joint names in the same order.
 std::vector<const Mesh*> CharacterMeshes(const Catalog& catalog, const NamedClip& clip) {
@@ -45,7 +46,7 @@ std::vector<const Mesh*> CharacterMeshes(const Catalog& catalog, const NamedClip
     auto skeleton = catalog.FindSkeleton(ref.part->skeleton);
     if (!skeleton.ok()) continue;
     const Skeleton& theirs = *skeleton->part->skeleton;
-    if (&theirs == &own)
+    if (&theirs == &own || ref.part->skeleton == clip.skeleton)
       same_object.push_back(ref.part->mesh.get());
     else if (theirs.names == own.names && theirs.parents == own.parents)
       same_joints[ref.part->skeleton].push_back(ref.part->mesh.get());

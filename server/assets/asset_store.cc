@@ -58,6 +58,7 @@ json RecordToJson(const AssetRecord& r) {
   json j = {{"name", r.name},          {"format", FormatName(r.format)}, {"filename", r.filename},
             {"file", r.file},          {"size_bytes", r.size_bytes},     {"imported_at", r.imported_at}};
   if (!r.resources.empty()) j["resources"] = r.resources;
+  if (!r.animates.empty()) j["animates"] = r.animates;
   return j;
 }
 
@@ -73,6 +74,7 @@ StatusOr<AssetRecord> RecordFromJson(const json& j) {
     r.size_bytes = j.value("size_bytes", int64_t{0});
     r.imported_at = j.value("imported_at", "");
     if (j.contains("resources")) r.resources = j.at("resources").get<std::map<std::string, std::string>>();
+    r.animates = j.value("animates", "");
   } catch (const json::exception& e) {
     return Status::InvalidArgument(std::string("manifest entry: ") + e.what());
   }
@@ -99,7 +101,7 @@ Status CheckRecordPaths(const AssetRecord& r) {
 // The same stored files: stored names are unique per import, so equal
 // records mean equal contents and the parsed asset can be kept.
 bool SameStoredFiles(const AssetRecord& a, const AssetRecord& b) {
-  return a.format == b.format && a.file == b.file && a.resources == b.resources;
+  return a.format == b.format && a.file == b.file && a.resources == b.resources && a.animates == b.animates;
 }
 
 // Reads a stored asset's files back and parses them.
@@ -113,7 +115,9 @@ StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r, 
     resources.emplace(uri, std::move(*data));
   }
   auto contents = WithLimitFlags(ParseAsset(r.format, *bytes, r.name, resources, LoadLimitsOf(limits)));
-  if (contents.ok()) CompileClips(*contents);
+  if (!contents.ok()) return contents;
+  ARMATURE_RETURN_IF_ERROR(AdoptDerivedClip(r, *contents));
+  CompileClips(*contents);
   return contents;
 }
 
@@ -330,6 +334,10 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
       ParseAsset(*format, request.bytes, request.name, request.resources, ImportLimitsOf(options_.limits)));
   if (!contents.ok()) return contents.status().WithContext(label + ": ");
   ARMATURE_RETURN_IF_ERROR(CheckAssetLimits(*contents, options_.limits).WithContext(label + ": "));
+  AssetRecord record;
+  record.name = request.name;
+  record.animates = request.animates;
+  ARMATURE_RETURN_IF_ERROR(AdoptDerivedClip(record, *contents));
   CompileClips(*contents);  // before the write lock: other writers need not wait for it
 
   // Read-modify-write of the manifest, exclusive across every server on this data dir.
@@ -349,8 +357,6 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   if (request.replace_only && replaced != request.replace_only)
     return Status::Aborted("asset '" + request.name + "' changed while this edit was made from it");
 
-  AssetRecord record;
-  record.name = request.name;
   record.format = *format;
   record.filename = request.filename;
   record.size_bytes = static_cast<int64_t>(request.bytes.size());

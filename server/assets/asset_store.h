@@ -46,6 +46,7 @@ struct ImportRequest {
   std::shared_ptr<const StoredAsset> replace_only;
   std::string bytes;
   ResourceMap resources;  // further files by uri (a .gltf's .bin buffers)
+  std::string animates;   // a clip the server made for this skeleton (AssetRecord::animates)
 };
 
 struct StoreOptions {

@@ -69,6 +69,18 @@ StatusOr<std::shared_ptr<const StoredAsset>> Catalog::FindOwner(std::string_view
   return Status::NotFound("no asset, clip, skeleton or mesh named '" + key + "'");
 }
 
+Status AdoptDerivedClip(const AssetRecord& record, AssetContents& contents) {
+  if (record.animates.empty()) return Status::Ok();
+  if (contents.clips.size() != 1 || !contents.meshes.empty())
+    return Status::InvalidArgument("asset '" + record.name + "': a clip made for skeleton '" + record.animates +
+                                   "' must hold one clip and no mesh, not " + std::to_string(contents.clips.size()) +
+                                   " clips and " + std::to_string(contents.meshes.size()) + " meshes");
+  contents.clips[0].name = record.name;
+  contents.clips[0].skeleton = record.animates;
+  contents.skeletons.clear();
+  return Status::Ok();
+}
+
 StatusOr<std::shared_ptr<Catalog>> BuildCatalog(std::map<std::string, std::shared_ptr<const StoredAsset>> assets) {
   auto c = std::make_shared<Catalog>();
   c->assets = std::move(assets);

@@ -24,6 +24,11 @@ struct AssetRecord {
   int64_t size_bytes = 0;
   std::string imported_at;  // RFC 3339, UTC
   std::map<std::string, std::string> resources;  // uri → stored file, relative to the data dir
+  // Set: the asset is one clip the server made for this skeleton (retargeted,
+  // created from keys): its clip is named after the asset and animates the
+  // skeleton of that name, joint for joint; the file's copy of the skeleton
+  // is not listed as a skeleton of its own (AdoptDerivedClip).
+  std::string animates;
 };
 
 struct StoredAsset {
@@ -53,6 +58,11 @@ struct Catalog {
   // The asset named `name`, or the one owning a clip, skeleton or mesh of that name.
   StatusOr<std::shared_ptr<const StoredAsset>> FindOwner(std::string_view name) const;
 };
+
+// A derived clip's parsed file made the clip of skeleton `record.animates`:
+// its one clip renamed `record.name`, its copy of the skeleton dropped from
+// the parts. INVALID_ARGUMENT when the file holds other than one clip.
+Status AdoptDerivedClip(const AssetRecord& record, AssetContents& contents);
 
 // Builds a Catalog's part indexes from its assets.
 StatusOr<std::shared_ptr<Catalog>> BuildCatalog(std::map<std::string, std::shared_ptr<const StoredAsset>> assets);

@@ -17,15 +17,18 @@
 namespace armature::server {
 namespace {
 
-// With merge: the clip stored under `name`, which CreateClip named "<name>.<name>".
+// With merge: the clip stored under `name`, which CreateClip named `name`
+// ("<name>.<name>" before clips were made their skeleton's own).
 StatusOr<PartRef<NamedClip>> StoredClipToEdit(const Catalog& catalog, const std::string& name) {
-  if (catalog.assets.find(name) == catalog.assets.end())
+  auto asset = catalog.assets.find(name);
+  if (asset == catalog.assets.end())
     return Status::NotFound("merge: there is no asset '" + name + "' to edit (create it first, without merge)");
-  auto clip = catalog.FindClip(name + "." + name);
-  if (!clip.ok())
-    return Status::NotFound("merge: asset '" + name + "' has no clip '" + name + "." + name +
-                            "' (only clips made by CreateClip can be merged into)");
-  return clip;
+  for (const std::string& clip_name : {name, name + "." + name}) {
+    auto clip = catalog.clips.find(clip_name);
+    if (clip != catalog.clips.end() && clip->second.asset == asset->second) return clip->second;
+  }
+  return Status::NotFound("merge: asset '" + name + "' has no clip '" + name +
+                          "' (only clips made by CreateClip can be merged into)");
 }
 
 // The stored clip's tracks moved onto `skeleton` by joint name.
@@ -121,7 +124,9 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
 
   DerivedClipOptions options;
   options.asset_name = request.name();
-  options.animation_name = request.name();
+  // A merge into an older clip that animates its own asset's copy of a skeleton keeps it so.
+  const bool own_copy = stored && stored->asset->record.animates.empty();
+  options.skeleton = own_copy ? "" : skeleton_name;
   options.replace = request.replace() || request.merge();
   if (stored) options.replace_only = stored->asset;
   auto derived = StoreDerivedClip(store, clip, options, limits);

@@ -11,7 +11,7 @@ StatusOr<DerivedClip> StoreDerivedClip(AssetStore& store, const Clip& clip, cons
   ARMATURE_RETURN_IF_ERROR(ValidateAssetName(options.asset_name));
   GltfExportOptions gltf;
   gltf.binary = true;
-  gltf.animation_name = options.animation_name;
+  gltf.animation_name = options.asset_name;
   gltf.max_bytes = static_cast<uint64_t>(limits.max_upload_bytes);
   auto bytes = ExportGltf(clip, {}, gltf);
   if (!bytes.ok()) {
@@ -29,10 +29,12 @@ StatusOr<DerivedClip> StoreDerivedClip(AssetStore& store, const Clip& clip, cons
   request.replace = options.replace;
   request.replace_only = options.replace_only;
   request.bytes = std::move(*bytes);
+  request.animates = options.skeleton;
   auto stored = store.Import(std::move(request));
   if (!stored.ok()) return stored.status();
   DerivedClip result{*stored, nullptr};
-  const std::string clip_name = options.asset_name + "." + options.animation_name;
+  const std::string clip_name =
+      options.skeleton.empty() ? options.asset_name + "." + options.asset_name : options.asset_name;
   for (const NamedClip& named : result.asset->contents.clips) {
     if (named.name == clip_name) result.clip = &named;
   }

@@ -12,9 +12,6 @@
 namespace armature::server {
 namespace {
 
-// The animation inside the stored file: the new clip is "<asset>.retarget".
-constexpr const char* kAnimationName = "retarget";
-
 std::string DefaultName(const std::string& clip, const std::string& skeleton) {
   std::string name = clip + "_on_" + skeleton;
   std::replace(name.begin(), name.end(), '.', '_');
@@ -51,7 +48,7 @@ Status RetargetClip(AssetStore& store, const Limits& limits, const v1::RetargetC
 
   DerivedClipOptions store_options;
   store_options.asset_name = request.name().empty() ? DefaultName(request.clip(), request.skeleton()) : request.name();
-  store_options.animation_name = kAnimationName;
+  store_options.skeleton = request.skeleton();
   store_options.replace = request.replace();
   auto stored = StoreDerivedClip(store, result->clip, store_options, limits);
   if (!stored.ok()) return stored.status();

@@ -176,6 +176,15 @@ Status StartFromClip(const Catalog& catalog, const v1::ClipTime& in, const Named
   return SampleClipOnto(*clip->part->clip, map, sk, in.time(), options, start);
 }
 
+// Which joints may carry the body (ik_body_root.h), from every clip of the skeleton.
+std::vector<uint8_t> BodyRootCandidatesOf(const Catalog& catalog, const NamedSkeleton& skeleton) {
+  std::vector<const Clip*> clips;
+  for (const auto& [name, ref] : catalog.clips)
+    if (ref.part->skeleton == skeleton.name && ref.part->clip->skeleton->size() == skeleton.skeleton->size())
+      clips.push_back(ref.part->clip.get());
+  return BodyRootCandidates(*skeleton.skeleton, clips);
+}
+
 }  // namespace
 
 Status ApiFieldNames(const Status& status) {
@@ -245,6 +254,8 @@ Status IkCallFromProto(const Catalog& catalog, const Limits& limits, const v1::S
   r.max_chain_depth = in.max_chain_depth();
   r.free_joints.assign(in.free_joints().begin(), in.free_joints().end());
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(in.free_root(), v1::FreeRoot_descriptor(), "free_root"));
+  call.body_root_candidates = BodyRootCandidatesOf(catalog, *call.skeleton.part);
+  r.body_root_candidates = call.body_root_candidates;
   r.free_root_rotation = in.free_root() == v1::ROOT_ROTATION || in.free_root() == v1::ROOT_ROTATION_AND_TRANSLATION;
   r.free_root_translation =
       in.free_root() == v1::ROOT_TRANSLATION || in.free_root() == v1::ROOT_ROTATION_AND_TRANSLATION;
@@ -294,6 +305,7 @@ void IkResponseToProto(const IkCall& call, const IkResult& result, PoseWorkspace
     p->set_position_error(r.position_error);
     p->set_rotation_error(r.rotation_error);
     p->set_reached(r.reached);
+    if (r.body_root >= 0) p->set_body_root(sk.names[static_cast<size_t>(r.body_root)]);
   }
   out->set_converged(result.converged);
   out->set_stop(StopToProto(result.stop));

@@ -7,6 +7,7 @@
 
 #include <google/protobuf/repeated_field.h>
 
+#include "armature/engine/kinematics/ik_body_root.h"
 #include "armature/engine/kinematics/ik_types.h"
 #include "armature/base/status.h"
 #include "armature/v1/ik.pb.h"
@@ -22,6 +23,7 @@ struct IkCall {
   PartRef<NamedSkeleton> skeleton;
   IkRequest request;
   std::vector<Trs> start;  // empty = the rest pose
+  std::vector<uint8_t> body_root_candidates;  // request.body_root_candidates views it
 };
 
 // Fills `call` from `in`: looks up the skeleton and any from_clip, samples

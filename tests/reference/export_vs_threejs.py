@@ -27,7 +27,7 @@ RELATIVE_TOLERANCE = 1e-4
 
 # (clip, output file, extra export flags, times[, the skeleton whose meshes come along])
 CASES = [
-    ("cmu_on_robot.retarget", "retargeted.glb", ["--with-meshes"], [0.0, 2.5, 9.81, 17.3], "robot"),
+    ("cmu_on_robot", "retargeted.glb", ["--with-meshes"], [0.0, 2.5, 9.81, 17.3], "robot"),
     ("cmu", "cmu.glb", [], [0.0, 1.0 / 240, 3.3, 11.27, 22.9]),
     ("cmu", "cmu.gltf", [], [0.5, 7.77]),
     ("robot.Walking", "walking.glb", ["--with-meshes"], [0.0, 0.13, 0.51, 0.97]),

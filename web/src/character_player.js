@@ -22,9 +22,9 @@ export function charactersOf(meshes) {
 }
 
 // The clips a character plays (from `clips`, ClipInfos): its skeleton's, and
-// those of skeletons with the same joint names — a clip retargeted onto the
-// character lives on a copy of its skeleton, and SkinCharacter poses the
-// meshes by joint name.
+// those of skeletons with the same joint names — SkinCharacter poses the
+// meshes by joint name (a retargeted clip is the character's own; one stored
+// by an older server lives on a copy of its skeleton).
 export async function clipsForCharacter(skeleton, clips) {
   const key = (names) => [...names].sort().join('\n');
   const own = key(await api.jointNames(skeleton));

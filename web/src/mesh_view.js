@@ -18,14 +18,9 @@ export function frameOnGrid(view, box) {
   view.grid.position.y -= span * 1e-3;
 }
 
-// Moves `view`'s camera by the ground shift from `from` to `to`; the grid
-// comes along a whole number of cells at a time, so it looks still.
+// Moves `view`'s camera (and its grid) by the ground shift from `from` to `to`.
 export function panAcross(view, from, to) {
   view.panAlongGround(to.clone().sub(from));
-  const { grid, controls } = view;
-  const cell = grid.userData.cell;
-  grid.position.x = Math.round(controls.target.x / cell) * cell;
-  grid.position.z = Math.round(controls.target.z / cell) * cell;
 }
 
 export class MeshView {

@@ -59,6 +59,8 @@ export class SkeletonView {
   }
 
   // `skeleton`: the GetSkeleton response (joints with parent and endSite).
+  // Bones and joints get their thickness, and the grid its size, from the
+  // first pose drawn (sizeFrom).
   setSkeleton(skeleton) {
     for (const child of [...this.figure.children]) {
       this.figure.remove(child);
@@ -66,11 +68,10 @@ export class SkeletonView {
     }
     this.skeleton = skeleton;
     this.framed = false;
+    this.sized = false;
     this.lastRoot = null;
-    const size = restHeight(skeleton);
-    const radius = Math.max(size * 0.012, 1e-3);
     const boneGeometry = new THREE.CylinderGeometry(1, 1, 1, 10).translate(0, 0.5, 0);  // spans y ∈ [0, 1]
-    const jointGeometry = new THREE.SphereGeometry(radius * 1.7, 12, 8);
+    const jointGeometry = new THREE.SphereGeometry(1, 12, 8);  // scaled to the joint radius
     const boneMaterial = new THREE.MeshStandardMaterial({ color: BONE_COLOR, roughness: 0.6 });
     const jointMaterial = new THREE.MeshStandardMaterial({ color: JOINT_COLOR, roughness: 0.4 });
     this.materials.forEach((m) => m.dispose());
@@ -81,7 +82,6 @@ export class SkeletonView {
       this.figure.add(sphere);
       const bone = (extra) => {
         const mesh = new THREE.Mesh(boneGeometry, boneMaterial);
-        mesh.userData.radius = radius;
         this.figure.add(mesh);
         this.bones.push({ mesh, ...extra });
       };
@@ -89,7 +89,26 @@ export class SkeletonView {
       if (joint.endSite?.length === 3) bone({ from: i, endSite: new THREE.Vector3(...joint.endSite) });
       return sphere;
     });
-    if (this.followRoot) this.setGrid(size);  // else a mesh sized the grid
+    this.setRadius(1e-3);
+    this.setOverlay(this.overlay);
+  }
+
+  // Sizes bones, joints and (unless a mesh sized it) the grid from world
+  // joint positions `positions` (Vector3s): the rest pose's local offsets do
+  // not say how big the figure is drawn, as a root scaled by 0.01 above joints
+  // in centimetres (Mixamo) shows.
+  sizeFrom(positions) {
+    const size = figureSize(positions);
+    this.setRadius(size * 0.012);
+    // Three figures across, as frameOnGrid: the camera (two sizes away) stays
+    // off it, so software WebGL draws all of it, not a clipped strip.
+    if (this.followRoot) this.setGrid(size / 4);
+    this.sized = true;
+  }
+
+  setRadius(radius) {
+    this.radius = Math.max(radius, 1e-9);
+    for (const bone of this.bones) bone.mesh.userData.radius = this.radius;
     this.setOverlay(this.overlay);
   }
 
@@ -105,7 +124,7 @@ export class SkeletonView {
     }
     const thickness = on ? 0.5 : 1;
     for (const child of this.figure.children) child.renderOrder = on ? 1 : 0;
-    for (const joint of this.joints) joint.scale.setScalar(thickness);
+    for (const joint of this.joints) joint.scale.setScalar(1.7 * (this.radius ?? 1e-3) * thickness);
     for (const bone of this.bones) bone.mesh.userData.thickness = thickness;
   }
 
@@ -127,7 +146,9 @@ export class SkeletonView {
     if (t.length < 3 * n || r.length < 4 * n) return;
     const position = (i) => new THREE.Vector3(t[3 * i], t[3 * i + 1], t[3 * i + 2]);
     const rotation = (i) => new THREE.Quaternion(r[4 * i + 1], r[4 * i + 2], r[4 * i + 3], r[4 * i]);
-    for (let i = 0; i < n; ++i) this.joints[i].position.copy(position(i));
+    const positions = Array.from({ length: n }, (_, i) => position(i));
+    if (!this.sized) this.sizeFrom(positions);
+    for (let i = 0; i < n; ++i) this.joints[i].position.copy(positions[i]);
     for (const bone of this.bones) {
       const a = position(bone.from);
       const b = bone.endSite ? bone.endSite.clone().applyQuaternion(rotation(bone.from)).add(a) : position(bone.to);
@@ -147,11 +168,16 @@ export class SkeletonView {
     this.lastRoot = root;
   }
 
-  // Moves the camera and its target by `delta`'s shift across the ground.
+  // Moves the camera and its target by `delta`'s shift across the ground; the
+  // grid comes along a whole number of cells at a time, so it looks still.
   panAlongGround(delta) {
     delta.setY(0);
     this.controls.target.add(delta);
     this.camera.position.add(delta);
+    if (!this.grid) return;
+    const cell = this.grid.userData.cell;
+    this.grid.position.x = Math.round(this.controls.target.x / cell) * cell;
+    this.grid.position.z = Math.round(this.controls.target.z / cell) * cell;
   }
 
   // Client (page) coordinates of the world point `point` as drawn now.
@@ -199,16 +225,10 @@ function placeCylinder(mesh, a, b) {
   mesh.quaternion.setFromUnitVectors(UP, direction.divideScalar(length));
 }
 
-// The rest pose's extent (sum of offsets along the longest chain), to size
-// bones and the grid for any unit (cm, m, inches).
-function restHeight(skeleton) {
-  const depth = new Array(skeleton.joints.length).fill(0);
-  let most = 0;
-  skeleton.joints.forEach((joint, i) => {
-    const o = joint.offset ?? [0, 0, 0];
-    const length = Math.hypot(o[0] ?? 0, o[1] ?? 0, o[2] ?? 0);
-    depth[i] = (joint.parent >= 0 ? depth[joint.parent] : 0) + length;
-    most = Math.max(most, depth[i]);
-  });
-  return most || 1;
+// The figure's extent in a pose: the largest side of the joints' bounding
+// box (any unit: cm, m, inches; any scale above the joints).
+function figureSize(positions) {
+  const box = new THREE.Box3().setFromPoints(positions);
+  const size = Math.max(...box.getSize(new THREE.Vector3()).toArray());
+  return Number.isFinite(size) && size > 0 ? size : 1;
 }

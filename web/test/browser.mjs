@@ -120,7 +120,8 @@ function definePngDecoder(page) {
 
 // Counts the pixels of a PNG screenshot (decoded by the browser) close to a
 // colour the viewer draws: 'bone' (#ff8c1a), 'mesh' (#8fb3d9) or 'character' (any
-// of CharacterView's shades), however lit; and their bounding box, and the image's size.
+// of CharacterView's shades), 'joint' (the joints' near white) or 'grid' (its
+// greys), however lit; and their bounding box, and the image's size.
 export async function colourStats(page, png, colour) {
   await definePngDecoder(page);
   return page.evaluate(async ({ base64, colour }) => {
@@ -131,6 +132,9 @@ export async function colourStats(page, png, colour) {
       mesh: (r, g, b) => b > 60 && g > r && b > g && b - r > 0.25 * b,
       // Any of a character's shades: coloured and not dark (the grid and the background are grey).
       character: (r, g, b) => Math.max(r, g, b) > 60 && Math.max(r, g, b) - Math.min(r, g, b) > 0.3 * Math.max(r, g, b),
+      joint: (r, g, b) => Math.min(r, g, b) > 190,
+      // Bluish greys brighter than the background (#1c1f24), dimmer than the joints.
+      grid: (r, g, b) => b >= g && g >= r && b - r < 30 && b > 48 && b < 150,
     }[colour];
     const { data, width, height } = await window.decodePng(base64);
     let count = 0, minX = Infinity, maxX = -1, minY = Infinity, maxY = -1;

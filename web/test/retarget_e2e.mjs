@@ -2,8 +2,8 @@
 // imported over REST, the robot chosen as the character, the CMU clip chosen
 // in the Retarget panel and Retarget pressed. Checks that the answer shown
 // (pairs mapped, joints unmapped on each side) is what RetargetClip answers
-// for the same request over REST; that the new clip (on a copy of the robot's
-// skeleton) is offered for the robot and plays on it; that what is drawn at
+// for the same request over REST; that the new clip (the robot's own, named
+// as the panel asked) is offered for the robot and plays on it; that what is drawn at
 // two times is a direct SkinCharacter of the retargeted clip, mesh by mesh;
 // that the two times give different pictures with the robot framed; that
 // pressing again (with Feet) replaces the clip; and that a failure shows the
@@ -56,8 +56,8 @@ await runViewerTest('retarget_e2e.mjs', async ({ page, server, screenshot }) => 
         `the panel shows REST's answer for the same request (${reference.mapping.length} pairs, unmapped ` +
         `${reference.unmapped.source.length} source / ${reference.unmapped.target.length} target)`);
   const info = await rest(`/v1/clips/${encodeURIComponent(name)}`);
-  check(info.skeleton !== skeleton && Math.abs(info.duration - source.duration) < 1e-3,
-        `${name} lives on a copy of the robot's skeleton (${info.skeleton}) and lasts ${info.duration.toFixed(3)} s`);
+  check(info.skeleton === skeleton && info.name === answer.asset.name && Math.abs(info.duration - source.duration) < 1e-3,
+        `${name} is a clip of the robot's skeleton (${info.skeleton}), named as its asset, and lasts ${info.duration.toFixed(3)} s`);
 
   // It plays on the robot: offered in the clip picker beside the robot's own clips, not CMU's.
   await page.waitForFunction((clip) => {

@@ -19,6 +19,7 @@ bool MeasureResiduals(const IkWorkspace& ws, double rotation_tolerance, std::spa
     r.position_error = e.has_position ? (e.target_position - EffectorPoint(ws, e)).norm() : 0.0;
     r.rotation_error = e.has_rotation ? RotationResidual(ws, e).norm() : 0.0;
     r.reached = r.position_error <= ws.position_tolerance && r.rotation_error <= rotation_tolerance;
+    r.body_root = e.body_root;
     all = all && r.reached;
   }
   return all;

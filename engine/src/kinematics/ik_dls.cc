@@ -349,7 +349,8 @@ void ApplyStep(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& 
         break;
       case Param::kTranslation:
         d.coords += ws.step.segment<3>(d.first_column);
-        local.translation += ws.chain_length * ws.step.segment<3>(d.first_column);
+        local.translation +=
+            ik_internal::WorldMoveToLocal(skeleton, ws, d.joint, ws.chain_length * ws.step.segment<3>(d.first_column));
         break;
       case Param::kRotationVector: {
         const Eigen::Vector3d w = d.axes * ws.step.segment<3>(d.first_column);
@@ -404,7 +405,7 @@ bool Perturb(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws
         if (shake == Shake::kOffBounds) break;
         const Eigen::Vector3d move(uniform(), uniform(), uniform());
         d.coords += 0.25 * size * move;
-        local.translation += 0.25 * size * ws.chain_length * move;
+        local.translation += ik_internal::WorldMoveToLocal(skeleton, ws, d.joint, 0.25 * size * ws.chain_length * move);
         moved = true;
         break;
       }

@@ -42,6 +42,15 @@ inline Eigen::Vector3d EffectorPoint(const IkWorkspace& ws, const IkWorkspace::E
   return ws.world_position[e.joint] + ws.world_linear[e.joint] * e.offset;
 }
 
+// A world-space move of `joint`'s origin as a change of its local translation
+// (the parent's rotation and scale taken out: a body root may hang below a
+// scaled, turned node).
+inline Eigen::Vector3d WorldMoveToLocal(const Skeleton& skeleton, const IkWorkspace& ws, int joint,
+                                        const Eigen::Vector3d& move) {
+  const int parent = skeleton.parents[joint];
+  return parent < 0 ? move : Eigen::Vector3d(ws.world_linear[parent].inverse() * move);
+}
+
 inline Eigen::Quaterniond ParentWorldRotation(const Skeleton& skeleton, const IkWorkspace& ws, int joint) {
   const int p = skeleton.parents[joint];
   return p < 0 ? Eigen::Quaterniond::Identity() : ws.world_rotation[p];

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "armature/base/closest_name.h"
+#include "armature/engine/kinematics/ik_body_root.h"
 #include "armature/engine/kinematics/joint_limits.h"
 #include "ik_internal.h"
 
@@ -177,8 +178,9 @@ Status MarkFreeJoints(const Skeleton& skeleton, const IkRequest& request, IkWork
                                      Indexed("effectors", i) + ".joint '" + skeleton.names[e.joint] + "'");
     const bool own_rotation_matters = e.has_rotation || !e.offset.isZero();
     int depth = 0;
-    // The skeleton root (no parent) is never on a path: free_root_rotation adds it below.
-    for (int j = e.joint; j >= 0 && j != root && skeleton.parents[j] >= 0; j = skeleton.parents[j]) {
+    const int stop = root >= 0 ? root : e.body_root;
+    // The body root is never on a path: free_root_rotation adds it below.
+    for (int j = e.joint; j >= 0 && j != stop && skeleton.parents[j] >= 0; j = skeleton.parents[j]) {
       if (j == e.joint && !own_rotation_matters) continue;
       if (request.max_chain_depth > 0 && depth == request.max_chain_depth) break;
       ws.mark[j] |= 1;
@@ -188,15 +190,12 @@ Status MarkFreeJoints(const Skeleton& skeleton, const IkRequest& request, IkWork
   return Status::Ok();
 }
 
-// free_root_rotation: the skeleton root above each effector turns too, in
+// free_root_rotation: the body root above each effector turns too, in
 // addition to the paths or the explicit list.
-void MarkFreeRoots(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws) {
+void MarkFreeRoots(const IkRequest& request, IkWorkspace& ws) {
   if (!request.free_root_rotation) return;
-  for (const IkWorkspace::Effector& e : ws.effectors) {
-    int top = e.joint;
-    while (skeleton.parents[top] >= 0) top = skeleton.parents[top];
-    if (top != e.joint || e.has_rotation || !e.offset.isZero()) ws.mark[top] |= 1;
-  }
+  for (const IkWorkspace::Effector& e : ws.effectors)
+    if (e.body_root != e.joint || e.has_rotation || !e.offset.isZero()) ws.mark[e.body_root] |= 1;
 }
 
 // Paths, translated roots, the update list and chain lengths, from the marks.
@@ -208,9 +207,8 @@ Status BuildChains(const Skeleton& skeleton, const IkRequest& request, IkWorkspa
   ws.update.clear();
   // Bit 2: leads to an effector. Bit 4: translated root. Bit 8: moves with a free joint.
   for (const IkWorkspace::Effector& e : ws.effectors) {
-    int top = e.joint;
-    for (int j = e.joint; j >= 0; j = skeleton.parents[j]) ws.mark[j] |= 2, top = j;
-    if (request.free_root_translation) ws.mark[top] |= 4;
+    for (int j = e.joint; j >= 0; j = skeleton.parents[j]) ws.mark[j] |= 2;
+    if (request.free_root_translation) ws.mark[e.body_root] |= 4;
   }
   for (int j = 0; j < n; ++j) {
     if (ws.mark[j] & 1) ws.free_joints.push_back(j);
@@ -304,8 +302,10 @@ Status PrepareIkWorkspace(const Skeleton& skeleton, const IkRequest& request, Ik
     return Status::InvalidArgument(std::string("free_root_rotation: the ") + SolverName(request.solver) +
                                    " solver turns fixed joints; use dls, ccd or fabrik");
   ws.effectors.resize(request.effectors.size());
-  for (size_t i = 0; i < request.effectors.size(); ++i)
+  for (size_t i = 0; i < request.effectors.size(); ++i) {
     ARMATURE_RETURN_IF_ERROR(ResolveEffector(skeleton, request, i, ws));
+    ws.effectors[i].body_root = BodyRootAbove(skeleton, ws.effectors[i].joint, request.body_root_candidates);
+  }
 
   if (request.start_pose.empty()) {
     ws.local.assign(skeleton.rest.begin(), skeleton.rest.end());
@@ -337,7 +337,7 @@ Status PrepareIkWorkspace(const Skeleton& skeleton, const IkRequest& request, Ik
                                                                    : CheckAim(skeleton, ws));
   } else {
     ARMATURE_RETURN_IF_ERROR(MarkFreeJoints(skeleton, request, ws));
-    MarkFreeRoots(skeleton, request, ws);
+    MarkFreeRoots(request, ws);
     ARMATURE_RETURN_IF_ERROR(BuildChains(skeleton, request, ws));
   }
   ws.position_tolerance =

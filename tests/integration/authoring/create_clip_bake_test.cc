@@ -44,7 +44,7 @@ TEST_F(CreateClipBake, BakedKeysAreTheMotionsPosesAtTheFps) {
   *motion.mutable_motion() = Blend();
   motion.set_space(v1::LOCAL);
   v1::EvaluateClipRequest clip;
-  clip.set_clip("baked.baked");
+  clip.set_clip("baked");
   clip.set_space(v1::LOCAL);
   for (double t : times) {
     motion.add_times(t);
@@ -69,7 +69,7 @@ TEST_F(CreateClipBake, BakedKeysAreTheMotionsPosesAtTheFps) {
   std::printf("[ measured ] baked keys vs the motion: worst %.3g rad\n", worst);
 
   // Between keys: the slerp of the two neighbouring keys (LINEAR), so not the motion's pose.
-  const auto mid = SampleLocal(client, "baked.baked", "LeftKnee", {0.5 / 24, 0, 1 / 24.0});
+  const auto mid = SampleLocal(client, "baked", "LeftKnee", {0.5 / 24, 0, 1 / 24.0});
   const Eigen::Quaterniond half = mid[1].rotation.slerp(0.5, mid[2].rotation);
   EXPECT_LT(half.angularDistance(mid[0].rotation), 1e-5);
 }
@@ -85,11 +85,11 @@ TEST_F(CreateClipBake, TracksReplaceBakedJointsAndBadBakesAreNamed) {
   request.add_tracks()->set_joint("LeftKnee");  // no times: the baked track is deleted
   const auto made = CreateClip(client, request);
   EXPECT_EQ(made.clip().frames(), 16);  // 30 fps by default: 0 … 15/30
-  EXPECT_LT(q.angularDistance(SampleLocal(client, "baked_head.baked_head", "Head", {0.25})[0].rotation), 1e-6);
-  const v1::Skeleton skeleton = client.GetSkeleton("baked_head");
+  EXPECT_LT(q.angularDistance(SampleLocal(client, "baked_head", "Head", {0.25})[0].rotation), 1e-6);
+  const v1::Skeleton skeleton = client.GetSkeleton(made.clip().skeleton());
   const auto& knee = skeleton.joints(2);
   ASSERT_EQ(knee.name(), "LeftKnee");
-  EXPECT_LT(SampleLocal(client, "baked_head.baked_head", "LeftKnee", {0.25})[0].rotation.angularDistance(
+  EXPECT_LT(SampleLocal(client, "baked_head", "LeftKnee", {0.25})[0].rotation.angularDistance(
                 Eigen::Quaterniond(knee.rest_rotation(0), knee.rest_rotation(1), knee.rest_rotation(2),
                                    knee.rest_rotation(3))),
             1e-6);

@@ -64,7 +64,7 @@ TEST(CreateClipMergeRace, EveryConcurrentMergeKeepsItsTrack) {
   ASSERT_EQ(failed.load(), 0);
 
   for (int i = 0; i < kMerges; ++i) {
-    const Local at = SampleLocal(client, "race.race", joints[i], {times[0]})[0];
+    const Local at = SampleLocal(client, "race", joints[i], {times[0]})[0];
     EXPECT_LT(keyed[i].angularDistance(at.rotation), 1e-6) << joints[i] << "'s merged track was lost";
   }
 }

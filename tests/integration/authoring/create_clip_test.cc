@@ -69,7 +69,7 @@ TEST_F(CreateClipTest, ReturnsItsKeysAtKeyTimesForEveryInterpolation) {
     *request.add_tracks() = Keys(joint, keys.back().times, keys.back().rotations, keys.back().translations, mode);
   }
   const auto response = Create(request);
-  EXPECT_EQ(response.clip().name(), "keys.keys");
+  EXPECT_EQ(response.clip().name(), "keys");
   EXPECT_EQ(response.asset().name(), "keys");
   double last = 0;
   for (const auto& k : keys) last = std::max(last, k.times.back());
@@ -78,7 +78,7 @@ TEST_F(CreateClipTest, ReturnsItsKeysAtKeyTimesForEveryInterpolation) {
 
   double worst = 0;
   for (const JointKeysValues& k : keys) {
-    const auto got = SampleLocal(client_, "keys.keys", k.joint, k.times);
+    const auto got = SampleLocal(client_, "keys", k.joint, k.times);
     ASSERT_EQ(got.size(), k.times.size());
     for (size_t i = 0; i < k.times.size(); ++i) {
       const Eigen::Vector4d q = Aligned(got[i].rotation, k.rotations[i]);
@@ -108,7 +108,7 @@ TEST_F(CreateClipTest, StepKeysHoldFromTheirOwnTimes) {
   request.set_name("step");
   *request.add_tracks() = Keys("Head", times, {}, values, v1::STEP);
   Create(request);
-  const auto got = SampleLocal(client_, "step.step", "Head", {0.1, 0.2999999, 0.3, 0.6999999, 0.7, 5});
+  const auto got = SampleLocal(client_, "step", "Head", {0.1, 0.2999999, 0.3, 0.6999999, 0.7, 5});
   const std::vector<double> want = {1, 1, 2, 2, 3, 3};
   for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(got[i].translation.x(), want[i]) << i;
 }
@@ -130,7 +130,7 @@ TEST_F(CreateClipTest, LinearKeysSlerpAndLerpBetweenKeys) {
       times.push_back(k.times[s] + u * (k.times[s + 1] - k.times[s]));
       where.push_back({s, u});
     }
-  const auto got = SampleLocal(client_, "linear.linear", "Head", times);
+  const auto got = SampleLocal(client_, "linear", "Head", times);
   double worst = 0;
   for (size_t i = 0; i < times.size(); ++i) {
     const auto [s, u] = where[i];
@@ -180,11 +180,11 @@ TEST_F(CreateClipTest, CubicTracksAreC1ThroughTheirKeys) {
   }
   double worst_cubic = 0, least_linear = 1e9;
   for (size_t k = 1; k + 1 < times.size(); ++k) {
-    const Slopes cubic = SlopesAround(client_, "cubic.cubic", "Head", times[k], rotations[k]);
+    const Slopes cubic = SlopesAround(client_, "cubic", "Head", times[k], rotations[k]);
     const double jump = (cubic.left - cubic.right).norm() / std::max(1.0, cubic.left.norm());
     worst_cubic = std::max(worst_cubic, jump);
     EXPECT_LT(jump, 5e-3) << "key " << k << ": left " << cubic.left.transpose() << " right " << cubic.right.transpose();
-    const Slopes linear = SlopesAround(client_, "kinked.kinked", "Head", times[k], rotations[k]);
+    const Slopes linear = SlopesAround(client_, "kinked", "Head", times[k], rotations[k]);
     least_linear = std::min(least_linear, (linear.left - linear.right).norm() / std::max(1.0, linear.left.norm()));
   }
   // The same keys LINEAR do kink there: the check above can fail.
@@ -199,7 +199,7 @@ TEST_F(CreateClipTest, CubicTracksAreC1ThroughTheirKeys) {
   const double u = 0.5, h = 0.4;
   const double want = (2 * u * u * u - 3 * u * u + 1) * p0 + (u * u * u - 2 * u * u + u) * m0 * h +
                       (-2 * u * u * u + 3 * u * u) * p1 + (u * u * u - u * u) * m1 * h;
-  EXPECT_NEAR(SampleLocal(client_, "cubic.cubic", "Head", {0.2})[0].translation.y(), want, 1e-6);
+  EXPECT_NEAR(SampleLocal(client_, "cubic", "Head", {0.2})[0].translation.y(), want, 1e-6);
 }
 
 TEST_F(CreateClipTest, GivenTangentsAreTheCubicSplinesTangents) {
@@ -216,7 +216,7 @@ TEST_F(CreateClipTest, GivenTangentsAreTheCubicSplinesTangents) {
   for (double v : {0.0, 3.0, 0.0, 0.0, 0.0, 0.0}) k->mutable_translation_tangents()->add_out_tangents(v);
   Create(request);
   // Hermite at u = 0.5: h00·0 + h10·(3·2) + h01·1 + h11·0 = 0.125·6 + 0.5.
-  EXPECT_NEAR(SampleLocal(client_, "tangents.tangents", "Head", {1.0})[0].translation.y(), 1.25, 1e-6);
+  EXPECT_NEAR(SampleLocal(client_, "tangents", "Head", {1.0})[0].translation.y(), 1.25, 1e-6);
 }
 
 TEST_F(CreateClipTest, EulerKeysComposeInTheNamedOrder) {
@@ -234,7 +234,7 @@ TEST_F(CreateClipTest, EulerKeysComposeInTheNamedOrder) {
   const Eigen::Quaterniond want = Eigen::AngleAxisd(30 * r, Eigen::Vector3d::UnitZ()) *
                                   Eigen::AngleAxisd(-45 * r, Eigen::Vector3d::UnitX()) *
                                   Eigen::AngleAxisd(60 * r, Eigen::Vector3d::UnitY());
-  EXPECT_LT(want.angularDistance(SampleLocal(client_, "euler.euler", "Chest", {0})[0].rotation), 1e-6);
+  EXPECT_LT(want.angularDistance(SampleLocal(client_, "euler", "Chest", {0})[0].rotation), 1e-6);
 }
 
 TEST_F(CreateClipTest, SurvivesARestartWithTheSameAnswers) {
@@ -248,7 +248,7 @@ TEST_F(CreateClipTest, SurvivesARestartWithTheSameAnswers) {
   std::vector<double> times;
   for (double t = 0; t < 2.5; t += 0.037) times.push_back(t);
   v1::EvaluateClipRequest r;
-  r.set_clip("kept.kept");
+  r.set_clip("kept");
   for (double t : times) r.add_times(t);
   const auto before = client_.EvaluateClip(r);
 
@@ -259,7 +259,7 @@ TEST_F(CreateClipTest, SurvivesARestartWithTheSameAnswers) {
   ASSERT_EQ(after.poses_size(), before.poses_size());
   for (int i = 0; i < after.poses_size(); ++i)
     EXPECT_EQ(after.poses(i).SerializeAsString(), before.poses(i).SerializeAsString()) << "time " << times[i];
-  EXPECT_EQ(again.GetClip("kept.kept").frames(), 5);
+  EXPECT_EQ(again.GetClip("kept").frames(), 5);
 }
 
 TEST_F(CreateClipTest, ReplaceMergeAndDeleteTracks) {
@@ -283,15 +283,15 @@ TEST_F(CreateClipTest, ReplaceMergeAndDeleteTracks) {
   *merge.add_tracks() = Keys("Neck", neck.times, neck.rotations, {}, v1::LINEAR);
   const auto merged = Create(merge);
   EXPECT_EQ(merged.clip().frames(), 2);
-  EXPECT_LT(head2.rotations[1].angularDistance(SampleLocal(client_, "edit.edit", "Head", {head2.times[1]})[0].rotation),
+  EXPECT_LT(head2.rotations[1].angularDistance(SampleLocal(client_, "edit", "Head", {head2.times[1]})[0].rotation),
             1e-6);
-  EXPECT_LT(neck.rotations[0].angularDistance(SampleLocal(client_, "edit.edit", "Neck", {neck.times[0]})[0].rotation),
+  EXPECT_LT(neck.rotations[0].angularDistance(SampleLocal(client_, "edit", "Neck", {neck.times[0]})[0].rotation),
             1e-6);
   // Hips back at rest: the skeleton's rest values at every time.
-  const v1::Skeleton skeleton = client_.GetSkeleton("edit");
+  const v1::Skeleton skeleton = client_.GetSkeleton("demo_walk");
   const auto& rest = skeleton.joints(0);
   ASSERT_EQ(rest.name(), "Hips");
-  for (const Local& l : SampleLocal(client_, "edit.edit", "Hips", {0, hips.times[1], hips.times[2]})) {
+  for (const Local& l : SampleLocal(client_, "edit", "Hips", {0, hips.times[1], hips.times[2]})) {
     EXPECT_LT((l.translation - Eigen::Vector3d(rest.offset(0), rest.offset(1), rest.offset(2))).norm(), 1e-6);
     EXPECT_LT(l.rotation.angularDistance(Eigen::Quaterniond(rest.rest_rotation(0), rest.rest_rotation(1),
                                                             rest.rest_rotation(2), rest.rest_rotation(3))),
@@ -303,9 +303,9 @@ TEST_F(CreateClipTest, ReplaceMergeAndDeleteTracks) {
   only_neck.set_merge(true);
   *only_neck.add_tracks() = Keys("Neck", neck.times, {neck.rotations[1], neck.rotations[0]}, {}, v1::STEP);
   Create(only_neck);
-  EXPECT_LT(head2.rotations[0].angularDistance(SampleLocal(client_, "edit.edit", "Head", {head2.times[0]})[0].rotation),
+  EXPECT_LT(head2.rotations[0].angularDistance(SampleLocal(client_, "edit", "Head", {head2.times[0]})[0].rotation),
             1e-6);
-  EXPECT_LT(neck.rotations[1].angularDistance(SampleLocal(client_, "edit.edit", "Neck", {neck.times[0]})[0].rotation),
+  EXPECT_LT(neck.rotations[1].angularDistance(SampleLocal(client_, "edit", "Neck", {neck.times[0]})[0].rotation),
             1e-6);
 
   // Replace: a new clip, the old tracks gone (Head back at rest).
@@ -315,10 +315,10 @@ TEST_F(CreateClipTest, ReplaceMergeAndDeleteTracks) {
   replace.set_replace(true);
   *replace.add_tracks() = Keys("Neck", neck.times, neck.rotations, {}, v1::LINEAR);
   Create(replace);
-  const v1::Skeleton replaced = client_.GetSkeleton("edit");
+  const v1::Skeleton replaced = client_.GetSkeleton("demo_walk");
   const auto& head_rest = replaced.joints(12);
   ASSERT_EQ(head_rest.name(), "Head");
-  EXPECT_LT(SampleLocal(client_, "edit.edit", "Head", {head2.times[0]})[0].rotation.angularDistance(
+  EXPECT_LT(SampleLocal(client_, "edit", "Head", {head2.times[0]})[0].rotation.angularDistance(
                 Eigen::Quaterniond(head_rest.rest_rotation(0), head_rest.rest_rotation(1), head_rest.rest_rotation(2),
                                    head_rest.rest_rotation(3))),
             1e-6);
@@ -328,7 +328,7 @@ TEST_F(CreateClipTest, ReplaceMergeAndDeleteTracks) {
   EXPECT_EQ(CodeOf([&] { Create(merge); }), grpc::StatusCode::NOT_FOUND);
   EXPECT_NE(MessageOf([&] { Create(merge); }).find("'nothing'"), std::string::npos);
   client_.DeleteAsset("edit");
-  EXPECT_EQ(CodeOf([&] { client_.GetClip("edit.edit"); }), grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(CodeOf([&] { client_.GetClip("edit"); }), grpc::StatusCode::NOT_FOUND);
 }
 
 }  // namespace

@@ -231,7 +231,8 @@ TEST_F(Retarget, CmuOntoRobotExpressiveAndTheDemoCharacterKeepsBonesHipsAndPlant
                         {"demo_character", "cmu_on_demo", DemoBones(), kDemoLegs}};
   for (const Case& c : cases) {
     const auto r = Run(c.skeleton, c.name);
-    EXPECT_EQ(r.clip().name(), c.name + ".retarget");
+    EXPECT_EQ(r.clip().name(), c.name);  // the name given is the name to call
+    EXPECT_EQ(r.clip().skeleton(), c.skeleton);
     EXPECT_EQ(r.asset().name(), c.name);
     double yaw = 0;
     const double angle = MaxBoneAngle(client, r.clip().name(), c.bones, &yaw);
@@ -288,7 +289,7 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
 
     EXPECT_EQ(made.asset().name(), "cmu_copy_on_robot");  // the default name
   }
-  const std::string clip = "cmu_copy_on_robot.retarget";
+  const std::string clip = "cmu_copy_on_robot";
   auto sample = [&](Client& client) {
     v1::EvaluateClipRequest e;
 
@@ -352,6 +353,65 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
   EXPECT_EQ(contents->clips.size(), 1u);
 }
 
+// The retargeted clip is the target's own: listed with the robot's clips
+// (joint for joint its skeleton), first layer of a motion skinned on a robot
+// mesh (it was "animates skeleton 'rt0', not the mesh's skeleton 'robot'")
+// and blended with the robot's Idle, exactly as the robot's own clips are.
+TEST_F(Retarget, TheClipBelongsToTheTargetAndBlendsAndSkinsWithItsOwnClips) {
+  Client client(OptionsFor(*server_));
+  const auto made = Run("robot", "rt0");
+  EXPECT_EQ(made.clip().name(), "rt0");
+  EXPECT_EQ(made.clip().skeleton(), "robot");
+  EXPECT_EQ(made.asset().skeletons_size(), 0);  // no copy of the robot's skeleton beside it
+  const v1::Skeleton robot = client.GetSkeleton("robot");
+  const v1::ClipInfo info = client.GetClip("rt0");
+  ASSERT_EQ(info.joints_size(), robot.joints_size());
+  for (int j = 0; j < robot.joints_size(); ++j) EXPECT_EQ(info.joints(j), robot.joints(j).name());
+  int robot_clips = 0;
+  bool listed = false;
+  const auto clips = client.ListClips();
+  for (const auto& c : clips.clips())
+    if (c.skeleton() == "robot") ++robot_clips, listed |= c.name() == "rt0";
+  EXPECT_TRUE(listed);
+  EXPECT_GE(robot_clips, 15);  // the robot's 14, rt0 and the suite's other clips made for it
+
+  std::string mesh;
+  uint32_t most = 0;
+  const auto meshes = client.ListMeshes();
+  for (const auto& m : meshes.meshes())
+    if (m.skeleton() == "robot" && static_cast<uint32_t>(m.vertex_count()) > most) mesh = m.name(), most = m.vertex_count();
+  ASSERT_FALSE(mesh.empty());
+  auto skin = [&](double idle_weight) {
+    v1::SkinMeshRequest s;
+    s.set_mesh(mesh);
+    s.set_time(1.25);
+    v1::MotionLayer* rt0 = s.mutable_motion()->add_layers();
+    rt0->set_clip("rt0");
+    rt0->set_weight(1.0);
+    v1::MotionLayer* idle = s.mutable_motion()->add_layers();
+    idle->set_clip("robot.Idle");
+    idle->set_weight(idle_weight);
+    return client.SkinMesh(s);
+  };
+  v1::SkinMeshRequest by_clip;
+  by_clip.set_mesh(mesh);
+  by_clip.set_clip("rt0");
+  by_clip.set_time(1.25);
+  const auto alone = client.SkinMesh(by_clip);
+  const auto layered = skin(0.0), blended = skin(0.5);
+  ASSERT_EQ(layered.positions_size(), alone.positions_size());
+  ASSERT_EQ(blended.positions_size(), alone.positions_size());
+  double same = 0, moved = 0;
+  for (int k = 0; k < alone.positions_size(); ++k) {
+    same = std::max<double>(same, std::abs(layered.positions(k) - alone.positions(k)));
+    moved = std::max<double>(moved, std::abs(blended.positions(k) - alone.positions(k)));
+  }
+  EXPECT_LT(same, 1e-5);  // at weight 0 the Idle layer changes nothing
+  EXPECT_GT(moved, 1e-3);  // at 0.5 it does
+  std::printf("rt0 on %s (%u vertices): weight-0 Idle layer off by %.2g, weight 0.5 moves vertices up to %.3g\n",
+              mesh.c_str(), most, same, moved);
+}
+
 TEST_F(Retarget, BadInputIsInvalidArgumentNamingIt) {
   Client client(OptionsFor(*server_));
   auto call = [&](const std::string& skeleton, const std::vector<std::pair<std::string, std::string>>& map,
@@ -407,7 +467,7 @@ TEST_F(Retarget, RestPostsToClipRetarget) {
   ASSERT_TRUE(ok);
   ASSERT_EQ(ok->status, 200) << ok->body;
   const auto body = nlohmann::json::parse(ok->body);
-  EXPECT_EQ(body["clip"]["name"], "rest_retarget.retarget");
+  EXPECT_EQ(body["clip"]["name"], "rest_retarget");
   EXPECT_EQ(body["asset"]["name"], "rest_retarget");
   EXPECT_EQ(body["mapping"].size(), 19u);
   const auto bad = http.Post("/v1/clips/cmu:retarget", R"({"skeleton":"robot","map":[{"source":"Nope","target":"Head"}]})",
@@ -422,8 +482,8 @@ TEST_F(Retarget, TheCliPrintsTheClipTheMappingAndTheUnmappedJoints) {
                                                      "cli_retarget", "--map", "Neck1=Neck", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["clip"]["name"], "cli_retarget.retarget");
-  EXPECT_EQ(j["clip"]["skeleton"], "cli_retarget");
+  EXPECT_EQ(j["clip"]["name"], "cli_retarget");
+  EXPECT_EQ(j["clip"]["skeleton"], "demo_character");
   ASSERT_TRUE(j["mapping"].is_array());
   bool neck = false;
   for (const auto& p : j["mapping"]) neck |= p["source"] == "Neck1" && p["target"] == "Neck";

@@ -30,6 +30,14 @@ inline Eigen::Vector3d At3(const google::protobuf::RepeatedField<float>& v, int 
   return {v[3 * joint], v[3 * joint + 1], v[3 * joint + 2]};
 }
 
+// The index of joint `name` of `skeleton` (a test failure and 0 when it has none).
+inline int JointIndex(const v1::Skeleton& skeleton, const std::string& name) {
+  for (int j = 0; j < skeleton.joints_size(); ++j)
+    if (skeleton.joints(j).name() == name) return j;
+  ADD_FAILURE() << "no joint " << name;
+  return 0;
+}
+
 // The skeleton and poses of one rig, read over the API.
 class Motion {
  public:

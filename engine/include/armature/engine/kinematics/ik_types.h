@@ -106,8 +106,8 @@ struct IkRequest {
   std::vector<IkEffector> effectors;
   std::vector<JointLimit> limits;
   // Which joints may move. By default the joints on each effector's path up
-  // to, but excluding, `root` (empty = up to the skeleton root, excluded:
-  // it carries the whole body), at most max_chain_depth of them per
+  // to, but excluding, `root` (empty = up to the body root, excluded: it
+  // carries the whole body; see body_root_candidates), at most max_chain_depth of them per
   // effector (0 = no cap). The path begins at the effector joint when its
   // rotation matters (a rotation target or a local_offset), else at its
   // parent.
@@ -116,7 +116,11 @@ struct IkRequest {
   // Explicit free joints instead of the paths (not combined with root or
   // max_chain_depth).
   std::vector<std::string> free_joints;
-  // The skeleton root the effectors hang from (the hips) stays where it
+  // Per joint, nonzero where it may carry the body (BodyRootCandidates, in
+  // ik_body_root.h): each effector's body root is the first candidate on
+  // its ancestors from the top (BodyRootAbove); empty = the topmost ancestor.
+  std::span<const uint8_t> body_root_candidates;
+  // The body root the effectors hang from (the hips) stays where it
   // stands unless freed, so reaching with a hand never swings the legs.
   // free_root_rotation adds it to the free joints (DLS, CCD, FABRIK);
   // free_root_translation lets it translate (DLS).
@@ -133,6 +137,7 @@ struct IkEffectorResidual {
   double position_error = 0.0;  // world units; aim: distance of the target from the aim ray
   double rotation_error = 0.0;  // radians; aim: angle between aim axis and target direction
   bool reached = false;         // within the tolerances
+  int body_root = -1;           // the joint carrying the body above the effector (BodyRootAbove)
 };
 
 enum class IkStop : unsigned char {

@@ -32,6 +32,7 @@ struct IkWorkspace {
     int path_begin = 0;
     int path_end = 0;
     int translated_root = -1;  // the root whose translation moves it, or -1
+    int body_root = -1;        // the joint carrying the body above it (BodyRootAbove)
   };
   std::vector<Effector> effectors;
   std::vector<int> name_hints;  // joint indices found by the previous request's name lookups
