@@ -25,6 +25,8 @@ struct Limits {
   int max_sessions = 256;                  // --max-sessions: open IK/deformation sessions in all
   int max_ik_sessions = 64;                // --max-ik-sessions: IK sessions open at once, all clients
   int64_t deform_cache_bytes = 256ll << 20;  // --deform-cache-mb: unary Deform factorizations kept (0: none)
+  int64_t max_assets_bytes = 1024ll << 20;   // --max-assets-mb: estimated memory of all loaded assets
+  int max_concurrent_uploads = 4;            // --max-concurrent-uploads: ImportAsset calls (gRPC and REST) at once
 };
 
 }  // namespace armature::server
