@@ -17,6 +17,14 @@ Status CheckAssetLimits(const AssetContents& contents, const Limits& limits);
 // oversized files are refused while parsing, before they allocate.
 ImportLimits ImportLimitsOf(const Limits& limits);
 
+// ImportLimitsOf with the decoded-size cap lowered to the room left under
+// --max-assets-mb when the server holds `held_bytes` of assets.
+ImportLimits ImportLimitsWithRoom(const Limits& limits, size_t held_bytes);
+
+// RESOURCE_EXHAUSTED naming --max-assets-mb, the sizes and the limit when
+// `adding_bytes` more would take the assets' memory past it.
+Status CheckAssetsTotal(size_t adding_bytes, size_t held_bytes, const Limits& limits);
+
 // The caps for reading back what is already stored: never below the engine's
 // defaults, so lowering a flag does not drop assets imported before, and
 // raised with the flags, so what a raised flag let in loads again.

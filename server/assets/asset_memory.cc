@@ -70,17 +70,22 @@ size_t EstimateAssetBytes(const AssetContents& contents) {
   return bytes;
 }
 
+size_t HeldAssetBytes(const Catalog& catalog, const StoredAsset* except) {
+  size_t bytes = 0;
+  for (const auto& [name, asset] : catalog.assets)
+    if (asset.get() != except) bytes += EstimateAssetBytes(asset->contents);
+  return bytes;
+}
+
 void CollectAssetMetrics(const Catalog& catalog, PrometheusText& out) {
   out.Family("armature_assets_loaded", "gauge", "Loaded assets (imported files) and the parts they provide.");
   out.Sample("armature_assets_loaded", {{"kind", "asset"}}, static_cast<double>(catalog.assets.size()));
   out.Sample("armature_assets_loaded", {{"kind", "skeleton"}}, static_cast<double>(catalog.skeletons.size()));
   out.Sample("armature_assets_loaded", {{"kind", "clip"}}, static_cast<double>(catalog.clips.size()));
   out.Sample("armature_assets_loaded", {{"kind", "mesh"}}, static_cast<double>(catalog.meshes.size()));
-  double memory = 0, source = 0;
-  for (const auto& [name, asset] : catalog.assets) {
-    memory += static_cast<double>(EstimateAssetBytes(asset->contents));
-    source += static_cast<double>(asset->record.size_bytes);
-  }
+  const auto memory = static_cast<double>(HeldAssetBytes(catalog));
+  double source = 0;
+  for (const auto& [name, asset] : catalog.assets) source += static_cast<double>(asset->record.size_bytes);
   out.Family("armature_assets_memory_bytes", "gauge",
              "Estimated memory of the parsed assets: skeletons, clip tracks and meshes.");
   out.Sample("armature_assets_memory_bytes", {}, memory);

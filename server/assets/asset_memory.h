@@ -18,6 +18,10 @@ namespace armature::server {
 // nor are deformation sessions' factorizations (they belong to sessions).
 size_t EstimateAssetBytes(const AssetContents& contents);
 
+// EstimateAssetBytes summed over the catalog's assets, but `except` (the one
+// an import replaces).
+size_t HeldAssetBytes(const Catalog& catalog, const StoredAsset* except = nullptr);
+
 // armature_assets_loaded{kind}, armature_assets_memory_bytes and
 // armature_assets_source_bytes of a catalog.
 void CollectAssetMetrics(const Catalog& catalog, PrometheusText& out);

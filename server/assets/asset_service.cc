@@ -81,7 +81,7 @@ Status ExportGltfClip(const Catalog& catalog, const PartRef<NamedClip>& ref, boo
 grpc::ServerReadReactor<v1::ImportAssetRequest>* AssetServiceImpl::ImportAsset(grpc::CallbackServerContext* context,
                                                                                v1::ImportAssetResponse* response) {
   return MakeReactor<grpc::ServerReadReactor<v1::ImportAssetRequest>>(
-      context, "ImportAsset", [&] { return new ImportReactor(context, store_, limits_, response); });
+      context, "ImportAsset", [&] { return new ImportReactor(context, store_, limits_, uploads_.Admit(), response); });
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::ListAssets(grpc::CallbackServerContext* context,

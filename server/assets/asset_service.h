@@ -3,13 +3,15 @@
 
 #include "armature/v1/assets.grpc.pb.h"
 #include "server/assets/asset_store.h"
+#include "server/assets/upload_admission.h"
 #include "server/rpc/limits.h"
 
 namespace armature::server {
 
 class AssetServiceImpl final : public v1::AssetService::CallbackService {
  public:
-  AssetServiceImpl(AssetStore& store, const Limits& limits) : store_(store), limits_(limits) {}
+  AssetServiceImpl(AssetStore& store, const Limits& limits)
+      : store_(store), limits_(limits), uploads_(limits.max_concurrent_uploads) {}
 
   grpc::ServerReadReactor<v1::ImportAssetRequest>* ImportAsset(grpc::CallbackServerContext* context,
                                                                v1::ImportAssetResponse* response) override;
@@ -34,6 +36,7 @@ class AssetServiceImpl final : public v1::AssetService::CallbackService {
  private:
   AssetStore& store_;
   const Limits& limits_;
+  UploadAdmission uploads_;
 };
 
 }  // namespace armature::server

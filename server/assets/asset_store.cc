@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "server/assets/asset_limits.h"
+#include "server/assets/asset_memory.h"
 #include "server/assets/compiled_clips.h"
 #include "server/assets/data_dir_lock.h"
 #include "server/assets/file_io.h"
@@ -330,8 +331,13 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   auto format = DetectFormat(request.format, request.filename, request.bytes);
   if (!format.ok()) return format.status();
   const std::string label = request.filename.empty() ? request.name : request.filename;
-  auto contents = WithLimitFlags(
-      ParseAsset(*format, request.bytes, request.name, request.resources, ImportLimitsOf(options_.limits)));
+  // Decoding stops at the room left under --max-assets-mb (what a replace
+  // frees counted as room); checked exactly under the write lock below.
+  const auto before = Snapshot();
+  const auto replacing = request.replace ? before->assets.find(request.name) : before->assets.end();
+  const size_t held = HeldAssetBytes(*before, replacing == before->assets.end() ? nullptr : replacing->second.get());
+  auto contents = WithLimitFlags(ParseAsset(*format, request.bytes, request.name, request.resources,
+                                            ImportLimitsWithRoom(options_.limits, held)));
   if (!contents.ok()) return contents.status().WithContext(label + ": ");
   ARMATURE_RETURN_IF_ERROR(CheckAssetLimits(*contents, options_.limits).WithContext(label + ": "));
   AssetRecord record;
@@ -356,6 +362,9 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   }
   if (request.replace_only && replaced != request.replace_only)
     return Status::Aborted("asset '" + request.name + "' changed while this edit was made from it");
+  ARMATURE_RETURN_IF_ERROR(CheckAssetsTotal(EstimateAssetBytes(*contents), HeldAssetBytes(*current, replaced.get()),
+                                            options_.limits)
+                               .WithContext(label + ": "));
 
   record.format = *format;
   record.filename = request.filename;

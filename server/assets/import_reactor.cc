@@ -9,8 +9,16 @@
 namespace armature::server {
 
 ImportReactor::ImportReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                             v1::ImportAssetResponse* response)
-    : context_(context), store_(store), response_(response), upload_(limits.max_upload_bytes) {
+                             StatusOr<AdmissionTicket> admitted, v1::ImportAssetResponse* response)
+    : context_(context),
+      store_(store),
+      response_(response),
+      upload_(limits.max_upload_bytes),
+      admitted_(std::move(admitted)) {
+  if (!admitted_.ok()) {
+    Finish(ToGrpcStatus(admitted_.status()));
+    return;
+  }
   StartRead(&chunk_);
 }
 

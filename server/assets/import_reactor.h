@@ -7,14 +7,17 @@
 #include "armature/v1/assets.grpc.pb.h"
 #include "server/assets/asset_store.h"
 #include "server/assets/import_upload.h"
+#include "server/rpc/admission_ticket.h"
 #include "server/rpc/limits.h"
 
 namespace armature::server {
 
 class ImportReactor final : public grpc::ServerReadReactor<v1::ImportAssetRequest> {
  public:
+  // `admitted`: the upload's place (UploadAdmission), or why there is none
+  // (then the call is answered with it before anything is read).
   ImportReactor(grpc::CallbackServerContext* context, AssetStore& store, const Limits& limits,
-                v1::ImportAssetResponse* response);
+                StatusOr<AdmissionTicket> admitted, v1::ImportAssetResponse* response);
 
   void OnReadDone(bool ok) override;
   void OnDone() override { delete this; }
@@ -28,6 +31,7 @@ class ImportReactor final : public grpc::ServerReadReactor<v1::ImportAssetReques
   v1::ImportAssetResponse* response_;
   v1::ImportAssetRequest chunk_;
   ImportUpload upload_;
+  StatusOr<AdmissionTicket> admitted_;
 };
 
 }  // namespace armature::server

@@ -25,16 +25,17 @@ StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake,
   auto plan = BindMotionProto(catalog, bake.motion(), limits, "bake.motion");
   if (!plan.ok()) return plan.status();
 
-  // The stored file holds per joint and key two times, a rotation and a
-  // translation (float32: 4 + 4 + 16 + 12 bytes): refuse one over
-  // --max-upload-mb before sampling, so memory stays bounded too.
-  const double file_bytes = (frames + 2) * static_cast<double>(plan->skeleton->size()) * 36;
-  if (file_bytes > static_cast<double>(limits.max_upload_bytes))
+  // A bake holds no more memory than an upload may: refuse one whose clip
+  // (as baked, as a file, as stored) would pass --max-upload-mb before sampling.
+  const double memory_bytes = (frames + 2) * static_cast<double>(plan->skeleton->size()) * kBakeBytesPerJointKey;
+  if (memory_bytes > static_cast<double>(limits.max_upload_bytes))
     return Status::ResourceExhausted("bake: " + std::to_string(static_cast<int64_t>(frames) + 1) + " keys × " +
-                                     std::to_string(plan->skeleton->size()) + " joints would be a file of about " +
-                                     std::to_string(static_cast<int64_t>(file_bytes) >> 20) +
-                                     " MB, over --max-upload-mb (" + std::to_string(limits.max_upload_bytes >> 20) +
-                                     " MB); lower fps or duration");
+                                     std::to_string(plan->skeleton->size()) + " joints would take about " +
+                                     std::to_string(static_cast<int64_t>(memory_bytes) >> 20) +
+                                     " MiB in memory (" + std::to_string(kBakeBytesPerJointKey) +
+                                     " bytes per joint and key: the clip as baked, as a file and as stored), over "
+                                     "--max-upload-mb (" + std::to_string(limits.max_upload_bytes >> 20) +
+                                     " MiB); lower fps or duration");
   std::vector<double> times;
   for (int64_t k = 0; k <= static_cast<int64_t>(frames); ++k) times.push_back(StoredKeyTime(static_cast<double>(k) / fps));
   if (StoredKeyTime(bake.duration()) > times.back()) times.push_back(StoredKeyTime(bake.duration()));
@@ -45,8 +46,12 @@ StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake,
   clip.skeleton = plan->skeleton;
   const size_t joints = plan->skeleton->size();
   clip.joints.resize(joints);
-  for (JointTrack& t : clip.joints)
+  for (JointTrack& t : clip.joints) {
     for (auto* track_times : {&t.rotation.times, &t.translation.times, &t.scale.times}) *track_times = times;
+    t.rotation.values.reserve(times.size());  // exactly: doubling growth would hold up to twice the estimate
+    t.translation.values.reserve(times.size());
+    t.scale.values.reserve(times.size());
+  }
   MotionWorkspace workspace;
   workspace.Resize(*plan);
   std::vector<Trs> pose(joints);

@@ -11,6 +11,12 @@
 
 namespace armature::server {
 
+// Memory per joint and key of a bake: the clip as sampled (three key times,
+// a rotation, a translation and a scale in doubles: 104), its .glb (two
+// float times, a rotation and a translation: 36) and the clip as the store
+// holds it (parsed, 72, and compiled, 36), held together while it is stored.
+inline constexpr int kBakeBytesPerJointKey = 104 + 36 + 72 + 36;
+
 struct BakedClip {
   Clip clip;             // on the motion's skeleton, every joint keyed
   std::string skeleton;  // that skeleton's name
@@ -19,7 +25,8 @@ struct BakedClip {
 // The motion bound as EvaluateMotion binds it (errors name "bake.motion…"),
 // sampled at k / fps for k = 0, 1, … up to `duration`, plus `duration`.
 // INVALID_ARGUMENT for a bad fps or duration, RESOURCE_EXHAUSTED naming
-// --max-clip-frames when the keys would be more.
+// --max-clip-frames when the keys would be more, or --max-upload-mb when the
+// clip in memory would be (kBakeBytesPerJointKey).
 StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake, const Limits& limits);
 
 }  // namespace armature::server

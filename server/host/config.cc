@@ -1,6 +1,7 @@
 #include "server/host/config.h"
 
 #include <filesystem>
+#include <memory>
 
 #include <CLI/CLI.hpp>
 
@@ -49,6 +50,24 @@ void AddHttpConnectionFlags(CLI::App& app, ServerConfig& c) {
         auto cidr = gateway::ParseCidr(value);
         return cidr.ok() ? std::string() : std::string(cidr.status().message());
       });
+}
+
+}  // namespace
+
+namespace {
+
+// The bounds on what imports may hold: assets in memory, uploads at once.
+// Returns the --max-assets-mb value to convert after parsing.
+std::shared_ptr<double> AddMemoryFlags(CLI::App& app, Limits& limits) {
+  auto assets_mb = std::make_shared<double>(static_cast<double>(limits.max_assets_bytes) / (1 << 20));
+  app.add_option("--max-assets-mb", *assets_mb,
+                 "Memory the loaded assets may take in all (estimated, as in armature_assets_memory_bytes), in "
+                 "MiB; an import or new clip that would pass it is refused")
+      ->envname("ARMATURE_MAX_ASSETS_MB")->check(CLI::PositiveNumber);
+  app.add_option("--max-concurrent-uploads", limits.max_concurrent_uploads,
+                 "Most imports (ImportAsset over gRPC, REST or gRPC-Web) received at once; more are refused")
+      ->envname("ARMATURE_MAX_CONCURRENT_UPLOADS")->check(CLI::PositiveNumber);
+  return assets_mb;
 }
 
 }  // namespace
@@ -134,6 +153,7 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
                  "handle indices, in MiB (0: none)")
       ->envname("ARMATURE_DEFORM_CACHE_MB")->check(CLI::NonNegativeNumber);
   AddWorkBudgetFlags(app, c.limits);
+  const auto assets_mb = AddMemoryFlags(app, c.limits);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -144,6 +164,7 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   c.limits.max_message_bytes = static_cast<int64_t>(message_mb * (1 << 20));
   c.limits.max_request_bytes = static_cast<int64_t>(request_kb * 1024);
   c.limits.deform_cache_bytes = static_cast<int64_t>(deform_cache_mb * (1 << 20));
+  c.limits.max_assets_bytes = static_cast<int64_t>(*assets_mb * (1 << 20));
   return -1;
 }
 

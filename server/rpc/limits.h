@@ -34,6 +34,8 @@ struct Limits {
   // Heavy unary calls run on their own pool so that gRPC's threads stay free for cheap calls and health.
   int heavy_threads = 0;                   // --heavy-threads: heavy calls run at once (0: the cores, at least 2)
   int heavy_queue = 0;                     // --heavy-queue: heavy calls waiting beyond those (0: 4 per thread)
+  int64_t max_assets_bytes = 1024ll << 20;   // --max-assets-mb: estimated memory of all loaded assets
+  int max_concurrent_uploads = 4;            // --max-concurrent-uploads: ImportAsset calls (gRPC and REST) at once
 };
 
 }  // namespace armature::server

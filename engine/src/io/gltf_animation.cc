@@ -93,6 +93,15 @@ Status Importer::ImportChannel(const tinygltf::Animation& anim, const tinygltf::
   if (clip_keys_ > limits_.max_clip_keys)
     return Status::ResourceExhausted(swhere + ".input: " + OverImportLimit("keys of the clip's tracks", clip_keys_,
                                                                            "max_clip_keys", limits_.max_clip_keys));
+  // Memory before decoding: a key's time (decoded float, kept double) and its
+  // output elements (decoded floats, kept as up to four doubles).
+  auto outputs = reader_.Count(sampler.output, swhere + ".output");
+  if (!outputs.ok()) return outputs.status();
+  uint64_t decoded = 0;
+  if (__builtin_mul_overflow(*outputs, uint64_t{16 + 32}, &decoded) ||
+      __builtin_add_overflow(decoded, *declared * 12, &decoded))
+    decoded = UINT64_MAX;
+  ARMATURE_RETURN_IF_ERROR(ChargeDecoded(decoded, swhere));
   std::vector<float> input;
   auto in = reader_.ReadFloats(sampler.input, swhere + ".input", AccessorType::kScalar, {}, &input);
   if (!in.ok()) return in.status();

@@ -65,6 +65,11 @@ class Importer {
   // glTF mesh `m` as imported: ImportMesh appends one entry per mesh, in
   // order, or fails the import, and all meshes are imported before animations.
   const Mesh& ImportedMesh(int m) const { return *contents_.meshes[static_cast<size_t>(m)].mesh; }
+  // Adds `bytes` to the import's estimated decoded size: RESOURCE_EXHAUSTED
+  // naming `where` and max_decoded_bytes once the sum passes it.
+  Status ChargeDecoded(uint64_t bytes, const std::string& where);
+  // Charges what a primitive of `vertices` vertices will build, before it is decoded.
+  Status ChargePrimitive(const tinygltf::Primitive& prim, const std::string& where, uint64_t vertices, int skin);
   Status ImportAnimation(size_t a);
   Status ImportChannel(const tinygltf::Animation& anim, const tinygltf::AnimationChannel& channel,
                        const std::string& swhere, Clip& clip);
@@ -80,6 +85,7 @@ class Importer {
   std::vector<int> instance_;            // mesh → first node using it, or -1
   std::set<std::string> used_mesh_names_, used_clip_names_;
   uint64_t clip_keys_ = 0;  // keys of the clip being imported, all tracks
+  uint64_t decoded_bytes_ = 0;  // estimated memory of everything decoded so far (ChargeDecoded)
 };
 
 }  // namespace armature::gltf_internal

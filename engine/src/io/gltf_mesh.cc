@@ -47,7 +47,7 @@ Status Importer::ImportMesh(size_t m) {
                                              p == 0, skin, *mesh, targets, any_normals, missing_normals,
                                              zero_weight_vertices));
   }
-  if (!any_normals) mesh->normals.clear();
+  if (!any_normals) std::vector<Eigen::Vector3f>().swap(mesh->normals);  // the zeros' memory too
   if (any_normals && !missing_normals.empty()) {
     // A primitive's triangles only reference its own vertices, so the whole
     // mesh's vertex normals are each primitive's own.
@@ -103,6 +103,63 @@ Status Importer::ImportMesh(size_t m) {
   return Status::Ok();
 }
 
+namespace {
+
+// Estimated bytes per element, as the mesh keeps it plus the decoding's copies:
+// a vertex's position and normal (decoded floats, Vector3f, the layout's SoA
+// copy) and its layout order; an index (decoded, then a triangle corner); a
+// JOINTS_n/WEIGHTS_n set's four influences (decoded, kept, and the layout's
+// joints, weights and pair offsets); a morph target's delta (decoded, and kept
+// sparse as position and normal deltas and their vertex, when not zero).
+constexpr uint64_t kVertexBytes = 3 * 24 + 4;
+constexpr uint64_t kIndexBytes = 4 + 4;
+constexpr uint64_t kInfluenceSetBytes = 4 * (4 + 4 + 4 + 4 + 2 + 4 + 4) + 4;
+constexpr uint64_t kTargetVertexBytes = 2 * 12 + 4 + 2 * 12;
+
+uint64_t SaturatingMul(uint64_t a, uint64_t b) {
+  uint64_t r;
+  return __builtin_mul_overflow(a, b, &r) ? UINT64_MAX : r;
+}
+
+uint64_t SaturatingSum(std::initializer_list<uint64_t> terms) {
+  uint64_t sum = 0;
+  for (uint64_t t : terms)
+    if (__builtin_add_overflow(sum, t, &sum)) return UINT64_MAX;
+  return sum;
+}
+
+}  // namespace
+
+Status Importer::ChargeDecoded(uint64_t bytes, const std::string& where) {
+  decoded_bytes_ = SaturatingSum({decoded_bytes_, bytes});
+  if (decoded_bytes_ > limits_.max_decoded_bytes)
+    return Status::ResourceExhausted(where + ": " + OverImportLimit("the estimated memory of the parts decoded so far,",
+                                                                    decoded_bytes_, "max_decoded_bytes",
+                                                                    limits_.max_decoded_bytes) +
+                                     " bytes");
+  return Status::Ok();
+}
+
+Status Importer::ChargePrimitive(const tinygltf::Primitive& prim, const std::string& where, uint64_t vertices,
+                                 int skin) {
+  uint64_t indices = vertices;
+  if (prim.indices >= 0) {
+    auto declared = reader_.Count(prim.indices, where + ".indices");
+    if (!declared.ok()) return declared.status();
+    indices = *declared;
+  }
+  uint64_t influence_sets = 0;
+  if (skin >= 0)
+    while (prim.attributes.contains("JOINTS_" + std::to_string(influence_sets))) ++influence_sets;
+  uint64_t target_vertices = 0;
+  for (const auto& target : prim.targets)
+    target_vertices = SaturatingSum({target_vertices, SaturatingMul(vertices, target.size())});
+  return ChargeDecoded(SaturatingSum({SaturatingMul(vertices, kVertexBytes), SaturatingMul(indices, kIndexBytes),
+                                      SaturatingMul(SaturatingMul(vertices, influence_sets), kInfluenceSetBytes),
+                                      SaturatingMul(target_vertices, kTargetVertexBytes)}),
+                       where);
+}
+
 Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin, Mesh& mesh,
                                  std::vector<SparseTarget>& targets, bool& any_normals,
                                  std::vector<std::pair<size_t, size_t>>& missing_normals,
@@ -130,6 +187,7 @@ Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::str
                                                          std::to_string(vertices) + " vertices =",
                                                      morph, "max_morph_target_vertices",
                                                      limits_.max_morph_target_vertices));
+  ARMATURE_RETURN_IF_ERROR(ChargePrimitive(prim, where, *declared, skin));
   std::vector<float> positions;
   auto pos = reader_.ReadFloats(position_accessor, attrs + "POSITION", AccessorType::kVec3, {}, &positions);
   if (!pos.ok()) return pos.status();
@@ -140,8 +198,10 @@ Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::str
                                      std::to_string(d.count) + " elements, POSITION has " + std::to_string(count));
     return Status::Ok();
   };
+  mesh.positions.reserve(base + count);  // exactly: doubling growth would hold up to twice the charge
   for (size_t v = 0; v < count; ++v)
     mesh.positions.emplace_back(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+  std::vector<float>().swap(positions);
 
   // Triangles.
   std::vector<uint32_t> indices;
@@ -183,6 +243,7 @@ Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::str
     if (!nrm.ok()) return nrm.status();
     ARMATURE_RETURN_IF_ERROR(check_count(*nrm, attrs + "NORMAL", normal_accessor));
     mesh.normals.resize(base);
+    mesh.normals.reserve(base + count);
     for (size_t v = 0; v < count; ++v) mesh.normals.emplace_back(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
     any_normals = true;
   } else {

@@ -78,8 +78,7 @@ bool IsPrintableAscii(const std::string& s) {
   return std::all_of(s.begin(), s.end(), [](unsigned char c) { return c >= 0x20 && c < 0x7f; });
 }
 
-// How much of a refused body is still read (and dropped) past the limit.
-constexpr size_t kDrainBytes = 64u << 20;
+}  // namespace
 
 grpc::Status ShuttingDown() { return grpc::Status(grpc::StatusCode::UNAVAILABLE, "the server is shutting down"); }
 
@@ -87,8 +86,6 @@ std::string TooLarge(size_t size, size_t limit, bool raw) {
   return "request body: " + std::to_string(size) + " bytes exceed the limit of " + std::to_string(limit) +
          " bytes (" + (raw ? "--max-upload-mb" : "--max-request-kb") + ")";
 }
-
-}  // namespace
 
 Gateway::Gateway(GatewayOptions options, pb::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel)
     : options_(std::move(options)), factory_(factory), channel_(std::move(channel)),
@@ -311,6 +308,8 @@ void Gateway::Handle(const httplib::Request& req, httplib::Response& res, const 
     if (ReadMultipartUpload(binding, reader, declared, parts, res, &requests)) Dispatch(req, binding, std::move(requests), res);
     return;
   }
+  // A file upload goes on to the RPC as it arrives, never held whole here.
+  if (reader && raw && binding.client_streaming()) return StreamRawUpload(req, binding, parts, *reader, declared, res);
   std::string body;
   if (reader) {
     size_t dropped = 0;
@@ -396,6 +395,11 @@ void Gateway::CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::Client
   std::vector<std::string> responses;
   const grpc::Status status = call->Drain(&responses);
   calls_.Remove(call.get());
+  WriteUnaryAnswer(binding, status, std::move(responses), proto_response, res);
+}
+
+void Gateway::WriteUnaryAnswer(const HttpBinding& binding, const grpc::Status& status,
+                               std::vector<std::string> responses, bool proto_response, httplib::Response& res) {
   if (!status.ok()) return WriteError(res, status);
   if (responses.size() != 1)
     return WriteError(res, grpc::Status(grpc::StatusCode::INTERNAL, binding.method->full_name() + " returned " +

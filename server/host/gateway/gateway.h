@@ -43,6 +43,15 @@ bool IsWebSocketUpgrade(const httplib::Request& req);
 
 class BidiCall;
 
+// How much of a refused body is still read (and dropped) past the limit, so
+// the connection stays in step for the next request.
+inline constexpr size_t kDrainBytes = 64u << 20;
+// UNAVAILABLE: the server is shutting down.
+grpc::Status ShuttingDown();
+// "request body: <size> bytes exceed the limit of <limit> bytes (--max-upload-mb)"
+// (or --max-request-kb when not `raw`).
+std::string TooLarge(size_t size, size_t limit, bool raw);
+
 struct GatewayOptions {
   std::vector<std::string> cors_origins;  // --cors-origin
   size_t max_request_bytes = 4u << 20;    // JSON, protobuf and gRPC-Web bodies (--max-request-kb)
@@ -114,6 +123,14 @@ class Gateway {
                 httplib::Response& res);
   void CallUnary(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
                  std::vector<std::string> requests, bool proto_response, httplib::Response& res);
+  // Writes a unary or client-streaming call's answer: its one response as
+  // JSON (or protobuf), or its error.
+  void WriteUnaryAnswer(const HttpBinding& binding, const grpc::Status& status, std::vector<std::string> responses,
+                        bool proto_response, httplib::Response& res);
+  // A raw body to a client-streaming method (an import), read chunk by chunk
+  // and each chunk sent on as a request as it arrives (streamed_upload.cc).
+  void StreamRawUpload(const httplib::Request& req, const HttpBinding& binding, const HttpRequestParts& http,
+                       const httplib::ContentReader& reader, uint64_t declared, httplib::Response& res);
   void CallStreaming(const HttpBinding& binding, std::unique_ptr<grpc::ClientContext> context,
                      std::vector<std::string> requests, httplib::Response& res);
 

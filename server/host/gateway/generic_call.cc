@@ -29,20 +29,58 @@ struct GenericCall::State {
   bool hold = false;
   bool done = false;
   grpc::Status status;
+
+  // The write side: requests wait in `outgoing` (at most `write_capacity`
+  // for a producer) until gRPC takes them, one write at a time.
+  std::deque<std::string> outgoing;
+  size_t write_capacity = 2;
+  bool writing = false;        // a write is outstanding
+  bool writes_closed = false;  // no more requests will come
+  bool cancelled = false;      // no more writes will be started
+  bool reads_ended = false;    // the server has answered: writes are of no use
+  // The reactor's second hold, for writes started from outside the
+  // reactions: dropped by whoever finds no write outstanding and the writes
+  // over (closed and sent, failed or cancelled).
+  bool write_hold = false;
 };
+
+namespace {
+
+std::string TakeFront(std::deque<std::string>& queue) {
+  std::string front = std::move(queue.front());
+  queue.pop_front();
+  return front;
+}
+
+// A slice owning `message`'s bytes, without copying them.
+grpc::Slice SliceOf(std::string message) {
+  auto* owned = new std::string(std::move(message));
+  return grpc::Slice(owned->data(), owned->size(), [](void* p) { delete static_cast<std::string*>(p); }, owned);
+}
+
+}  // namespace
 
 class GenericCall::Reactor final : public grpc::ClientBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer> {
  public:
-  Reactor(std::shared_ptr<State> state, std::vector<std::string> requests)
-      : state_(std::move(state)), requests_(std::move(requests)) {}
+  enum class WriteStep { kNone, kWrite, kWritesDone, kRelease };
+
+  explicit Reactor(std::shared_ptr<State> state) : state_(std::move(state)) {}
 
   void Begin(grpc::GenericStub& stub, const std::string& method) {
     stub.PrepareBidiStreamingCall(state_->context.get(), method, grpc::StubOptions(), this);
     AddHold();
-    state_->hold = true;
-    state_->reading = true;
+    AddHold();
+    std::string message;
+    WriteStep step;
+    {
+      std::lock_guard lock(state_->mu);
+      state_->hold = true;
+      state_->write_hold = true;
+      state_->reading = true;
+      step = ClaimWriteStep(*state_, &message);
+    }
     StartRead(&read_buf_);
-    WriteNext();
+    TakeWriteStep(step, std::move(message));
     StartCall();
   }
 
@@ -50,8 +88,50 @@ class GenericCall::Reactor final : public grpc::ClientBidiReactor<grpc::ByteBuff
   void ReadAgain() { StartRead(&read_buf_); }
   void Release() { RemoveHold(); }
 
+  // The next write step, claimed under state.mu: a claimed write or the hold's
+  // release is then this caller's alone to take (TakeWriteStep, outside the
+  // lock), so the reactor outlives it.
+  static WriteStep ClaimWriteStep(State& s, std::string* message) {
+    if (s.writing || !s.write_hold) return WriteStep::kNone;
+    if (s.cancelled) {
+      s.write_hold = false;
+      return WriteStep::kRelease;
+    }
+    if (!s.outgoing.empty()) {
+      s.writing = true;
+      *message = TakeFront(s.outgoing);
+      s.cv.notify_all();  // room for the producer
+      return WriteStep::kWrite;
+    }
+    if (!s.writes_closed) return WriteStep::kNone;
+    s.write_hold = false;
+    return WriteStep::kWritesDone;
+  }
+
+  void TakeWriteStep(WriteStep step, std::string message) {
+    switch (step) {
+      case WriteStep::kNone: return;
+      case WriteStep::kWrite: {
+        grpc::Slice slice = SliceOf(std::move(message));  // gRPC owns the bytes now
+        write_buf_ = grpc::ByteBuffer(&slice, 1);
+        return StartWrite(&write_buf_);
+      }
+      case WriteStep::kWritesDone: StartWritesDone(); return RemoveHold();
+      case WriteStep::kRelease: return RemoveHold();
+    }
+  }
+
   void OnWriteDone(bool ok) override {
-    if (ok) WriteNext();
+    std::string message;
+    WriteStep step;
+    {
+      std::lock_guard lock(state_->mu);
+      state_->writing = false;
+      if (!ok) state_->cancelled = true;  // the call is over: no more writes
+      step = ClaimWriteStep(*state_, &message);
+      state_->cv.notify_all();
+    }
+    TakeWriteStep(step, std::move(message));
   }
 
   void OnReadDone(bool ok) override {
@@ -62,9 +142,12 @@ class GenericCall::Reactor final : public grpc::ClientBidiReactor<grpc::ByteBuff
       if (ok) {
         state_->queue.push_back(TakeMessage(&read_buf_));
         if (state_->queue.size() < state_->capacity) again = state_->reading = true;
-      } else if (state_->hold) {  // no more responses: let the call finish
-        state_->hold = false;
-        release = true;
+      } else {
+        state_->reads_ended = true;
+        if (state_->hold) {  // no more responses: let the call finish
+          state_->hold = false;
+          release = true;
+        }
       }
       state_->cv.notify_all();
     }
@@ -84,21 +167,7 @@ class GenericCall::Reactor final : public grpc::ClientBidiReactor<grpc::ByteBuff
   }
 
  private:
-  void WriteNext() {
-    if (requests_.empty()) return StartWritesDone();
-    if (next_ == requests_.size()) return;
-    grpc::Slice slice(requests_[next_]);
-    std::string().swap(requests_[next_]);  // gRPC has its own copy now
-    write_buf_ = grpc::ByteBuffer(&slice, 1);
-    if (++next_ == requests_.size())
-      StartWriteLast(&write_buf_, grpc::WriteOptions());
-    else
-      StartWrite(&write_buf_);
-  }
-
   std::shared_ptr<State> state_;
-  std::vector<std::string> requests_;
-  size_t next_ = 0;
   grpc::ByteBuffer write_buf_;
   grpc::ByteBuffer read_buf_;
 };
@@ -109,11 +178,57 @@ std::unique_ptr<GenericCall> GenericCall::Start(grpc::GenericStub& stub, const s
   auto state = std::make_shared<State>();
   state->context = std::move(context);
   state->capacity = std::max<size_t>(1, queue_capacity);
-  auto* reactor = new Reactor(state, std::move(requests));
+  for (std::string& r : requests) state->outgoing.push_back(std::move(r));
+  state->writes_closed = true;
+  auto* reactor = new Reactor(state);
   state->reactor = reactor;
   std::unique_ptr<GenericCall> call(new GenericCall(state));
   reactor->Begin(stub, method);
   return call;
+}
+
+std::unique_ptr<GenericCall> GenericCall::StartWriting(grpc::GenericStub& stub, const std::string& method,
+                                                       std::unique_ptr<grpc::ClientContext> context,
+                                                       size_t write_capacity) {
+  auto state = std::make_shared<State>();
+  state->context = std::move(context);
+  state->capacity = 1;  // one response: a client-streaming call
+  state->write_capacity = std::max<size_t>(1, write_capacity);
+  auto* reactor = new Reactor(state);
+  state->reactor = reactor;
+  std::unique_ptr<GenericCall> call(new GenericCall(state));
+  reactor->Begin(stub, method);
+  return call;
+}
+
+bool GenericCall::Write(std::string request) {
+  std::string message;
+  Reactor::WriteStep step;
+  Reactor* reactor = nullptr;
+  {
+    std::unique_lock lock(state_->mu);
+    const auto over = [&] { return state_->cancelled || state_->done || state_->reads_ended || !state_->write_hold; };
+    state_->cv.wait(lock, [&] { return over() || state_->outgoing.size() < state_->write_capacity; });
+    if (over() || state_->writes_closed) return false;
+    state_->outgoing.push_back(std::move(request));
+    step = Reactor::ClaimWriteStep(*state_, &message);
+    reactor = state_->reactor;
+  }
+  reactor->TakeWriteStep(step, std::move(message));
+  return true;
+}
+
+void GenericCall::CloseWrites() {
+  std::string message;
+  Reactor::WriteStep step;
+  Reactor* reactor = nullptr;
+  {
+    std::lock_guard lock(state_->mu);
+    state_->writes_closed = true;
+    step = Reactor::ClaimWriteStep(*state_, &message);
+    reactor = state_->reactor;
+  }
+  if (step != Reactor::WriteStep::kNone) reactor->TakeWriteStep(step, std::move(message));
 }
 
 GenericCall::~GenericCall() { Cancel(); }
@@ -159,6 +274,9 @@ void GenericCall::ResumeReading() {
 
 void GenericCall::Cancel() {
   Reactor* release = nullptr;
+  Reactor* reactor = nullptr;
+  std::string unused;
+  Reactor::WriteStep write_step;
   {
     std::lock_guard lock(state_->mu);
     if (state_->done) return;
@@ -167,8 +285,14 @@ void GenericCall::Cancel() {
       state_->hold = false;
       release = state_->reactor;
     }
+    // Likewise the write hold with no write outstanding.
+    state_->cancelled = true;
+    write_step = Reactor::ClaimWriteStep(*state_, &unused);
+    reactor = state_->reactor;
+    state_->cv.notify_all();  // a producer waiting for room
   }
   state_->context->TryCancel();
+  if (write_step != Reactor::WriteStep::kNone) reactor->TakeWriteStep(write_step, {});
   if (release) release->Release();
 }
 

@@ -2,8 +2,9 @@
 // a channel with grpc::GenericStub: serialized messages in and out, so the
 // gateway calls any method by name without generated stubs.
 //
-// On the wire every kind is a bidi stream: the call writes its requests,
-// half-closes, and reads until the status. Responses wait in a small bounded
+// On the wire every kind is a bidi stream: the call writes its requests
+// (given at the start, or one by one with StartWriting), half-closes, and
+// reads until the status. Responses wait in a small bounded
 // queue for the one consumer thread (an HTTP handler), so a slow HTTP client
 // slows the RPC down through gRPC flow control instead of piling up frames.
 #pragma once
@@ -30,8 +31,22 @@ class GenericCall {
   static std::unique_ptr<GenericCall> Start(grpc::GenericStub& stub, const std::string& method,
                                             std::unique_ptr<grpc::ClientContext> context,
                                             std::vector<std::string> requests, size_t queue_capacity = 8);
+  // Starts a call whose requests come one by one (Write, then CloseWrites):
+  // a client-streaming upload read from its HTTP body as it arrives, at most
+  // `write_capacity` requests waiting for gRPC.
+  static std::unique_ptr<GenericCall> StartWriting(grpc::GenericStub& stub, const std::string& method,
+                                                   std::unique_ptr<grpc::ClientContext> context,
+                                                   size_t write_capacity = 2);
   // Cancels the call if it is still running.
   ~GenericCall();
+
+  // Queues the next request, waiting while write_capacity are queued; false
+  // once the call is over (the server answered early, or it was cancelled):
+  // then stop sending, CloseWrites and Drain for the status. The producer's
+  // thread only.
+  bool Write(std::string request);
+  // No more requests: the call half-closes once the queued ones are sent.
+  void CloseWrites();
 
   // Waits up to `timeout` for the next response (kMessage, into `out`) or the
   // end of the call (kEnd; then status()). One consumer thread only.

@@ -134,6 +134,29 @@ TEST(GltfHardening, DecodedValuesHaveABudgetPerImport) {
               "limit max_accessor_values = 8");
 }
 
+// `meshes` meshes on one accessor of `count` VEC3 zeros without a bufferView.
+std::string SharedAccessorMeshes(int meshes, int count) {
+  std::string list;
+  for (int m = 0; m < meshes; ++m) list += std::string(m ? "," : "") + R"({"primitives":[{"attributes":{"POSITION":0}}]})";
+  return R"({"asset":{"version":"2.0"},"accessors":[{"componentType":5126,"count":)" + std::to_string(count) +
+         R"(,"type":"VEC3"}],"meshes":[)" + list + "]}";
+}
+
+TEST(GltfHardening, MeshesSharingAnAccessorCountOncePerUseBeforeDecoding) {
+  // Each mesh's estimate (vertices × 84 bytes: 76 per vertex, 8 per implicit
+  // index) is charged before it is decoded, so the third is refused undecoded.
+  ImportLimits limits;
+  limits.max_decoded_bytes = 2 * 1000 * 84;  // room for two of the eight
+  ExpectError(ParseAsset(AssetFormat::kGltf, SharedAccessorMeshes(8, 1000), "bomb", {}, limits),
+              StatusCode::kResourceExhausted,
+              "meshes[2].primitives[0]: the estimated memory of the parts decoded so far, 252000 is over the "
+              "import limit max_decoded_bytes = 168000 bytes");
+  // The bomb: 8 meshes of 4,999,998 vertices, under every per-accessor cap
+  // (2.77 GB when decoded), refused at the default 1 GiB before its third mesh.
+  ExpectError(ParseAsset(AssetFormat::kGltf, SharedAccessorMeshes(8, 4999998), "bomb", {}, {}),
+              StatusCode::kResourceExhausted, "meshes[2].primitives[0]: the estimated memory");
+}
+
 TEST(GltfHardening, MorphTargetsTimesVerticesIsCappedBeforeDecoding) {
   // 200 empty targets on 1M (unbacked, zero) vertices: 2·10^8 > 2^27.
   std::string targets = "[";

@@ -3,7 +3,8 @@
 // answered within 2 s with a client error (or, for a mutation that still
 // parses, imported and deleted again), the server stays under 1 GB resident
 // and keeps serving, what was stored is unchanged, and SIGTERM ends it
-// cleanly. Failures are gathered by kind and shape, so one run names every
+// cleanly; repeated by the thousand on one process, its resident memory
+// levels off. Failures are gathered by kind and shape, so one run names every
 // input the server mishandles.
 #include <sys/resource.h>
 
@@ -11,11 +12,12 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <fstream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -23,6 +25,7 @@
 #include "armature/client.h"
 #include "support/client_helpers.h"
 #include "support/hostile_uploads.h"
+#include "support/process_memory.h"
 #include "support/server_process.h"
 
 namespace armature::testing {
@@ -32,14 +35,6 @@ constexpr int kUploads = 1000;
 constexpr uint32_t kSeed = 0xA11CE;
 constexpr double kAnswerSeconds = 2.0;
 constexpr int64_t kMaxResidentKb = 1 << 20;  // 1 GiB
-
-// A field of /proc/<pid>/status in kB ("VmRSS", "VmHWM"), -1 if absent.
-int64_t StatusKb(pid_t pid, const std::string& field) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind(field + ":", 0) == 0) return std::stoll(line.substr(field.size() + 1));
-  return -1;
-}
 
 // What the store serves, in a form that changes if anything stored does.
 std::string StoredState(Client& client) {
@@ -79,17 +74,79 @@ Outcome ViaRest(httplib::Client& http, const HostileUpload& u, const std::string
           "HTTP " + std::to_string(r->status) + ": " + r->body.substr(0, 200)};
 }
 
-TEST(HostileUploads, AThousandInARowAreAnsweredAndChangeNothing) {
-  // Should a bomb go off, it must not take the machine with it: the server
-  // (forked from here) inherits a 4 GB address-space cap, well above the 1 GB asserted.
+// What a run of uploads found: failures by "<kind> via <transport>: <problem>".
+struct RunReport {
+  std::map<std::string, int> failures;
+  std::map<std::string, std::string> first_example;
+  std::map<std::string, int> imported;  // kind → mutations that still parsed
+  double slowest = 0;
+  int done = 0;
+
+  std::string Failures() const {
+    std::ostringstream report;
+    for (const auto& [key, n] : failures)
+      report << "\n  " << n << "× " << key << "\n      first: " << first_example.at(key);
+    return report.str();
+  }
+};
+
+// Sends `uploads` (alternately gRPC and REST, named from `first`), checking
+// each answer, until done or `give_up`.
+void RunUploads(const ServerProcess& server, Client& client, httplib::Client& http,
+                const std::vector<HostileUpload>& uploads, int first,
+                std::chrono::steady_clock::time_point give_up, RunReport& run) {
+  for (int i = 0; i < static_cast<int>(uploads.size()); ++i, ++run.done) {
+    if (std::chrono::steady_clock::now() > give_up) {
+      ADD_FAILURE() << "gave up after " << run.done << " uploads";
+      break;
+    }
+    const HostileUpload& u = uploads[i];
+    const bool rest = i % 2 == 1;
+    const std::string name = "hostile" + std::to_string(first + i);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Outcome outcome = rest ? ViaRest(http, u, name) : ViaGrpc(client, u, name);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run.slowest = std::max(run.slowest, seconds);
+    auto fail = [&](const std::string& problem) {
+      const std::string key = u.kind + " via " + (rest ? "REST" : "gRPC") + ": " + problem;
+      if (run.failures[key]++ == 0) {
+        run.first_example[key] = "#" + std::to_string(first + i) + " " + u.filename + " (" +
+                                 std::to_string(u.bytes.size()) + " B) → " + outcome.what;
+        std::printf("  new failure: %s: %s\n", key.c_str(), run.first_example[key].c_str());  // seen even if cut short
+        std::fflush(stdout);
+      }
+    };
+    if (seconds > kAnswerSeconds) fail("answered after more than 2 s");
+    if (!outcome.acceptable) fail("not a client error");
+    if (outcome.ok) {
+      ++run.imported[u.kind];
+      if (CodeOf([&] { client.DeleteAsset(name); }) != grpc::StatusCode::OK) fail("imported but not deletable");
+    }
+    if (StatusKb(server.pid(), "VmRSS") > kMaxResidentKb) fail("server over 1 GB resident");
+    if (StatusKb(server.pid(), "VmRSS") < 0) {
+      fail("server died");
+      break;
+    }
+  }
+}
+
+// The server for a run: should a bomb go off, it must not take the machine
+// with it, so it inherits a 4 GB address-space cap, well above the 1 GB asserted.
+std::unique_ptr<ServerProcess> CappedServer(const TempDir& data) {
   rlimit old_limit{};
   ::getrlimit(RLIMIT_AS, &old_limit);
   rlimit cap = old_limit;
   cap.rlim_cur = std::min<rlim_t>(old_limit.rlim_max, rlim_t{4} << 30);
   ::setrlimit(RLIMIT_AS, &cap);
-  TempDir data;
-  ServerProcess server(data.path(), {"--shutdown-grace", "2"});
+  auto server = std::make_unique<ServerProcess>(data.path(), std::vector<std::string>{"--shutdown-grace", "2"});
   ::setrlimit(RLIMIT_AS, &old_limit);
+  return server;
+}
+
+TEST(HostileUploads, AThousandInARowAreAnsweredAndChangeNothing) {
+  TempDir data;
+  const auto server_process = CappedServer(data);
+  ServerProcess& server = *server_process;
 
   ClientOptions o = OptionsFor(server);
   o.timeout = std::chrono::seconds(5);  // beyond the 2 s asserted: a slow answer is measured, a hang cut off
@@ -99,56 +156,18 @@ TEST(HostileUploads, AThousandInARowAreAnsweredAndChangeNothing) {
   httplib::Client http("127.0.0.1", server.http_port());
   http.set_read_timeout(5);
 
-  const std::vector<HostileUpload> uploads = HostileUploads(kUploads, kSeed);
-  std::map<std::string, int> failures;  // "<kind> via <transport>: <problem>" → count
-  std::map<std::string, std::string> first_example;
-  std::map<std::string, int> imported;  // kind → mutations that still parsed
-  double slowest = 0;
   // The whole run is bounded too: a server that answers each upload just
   // within its deadline must not keep the suite waiting for an hour.
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(100);
-  int done = 0;
-  for (int i = 0; i < static_cast<int>(uploads.size()); ++i, ++done) {
-    if (std::chrono::steady_clock::now() > give_up) {
-      ADD_FAILURE() << "gave up after " << done << " of " << kUploads << " uploads and 100 s";
-      break;
-    }
-    const HostileUpload& u = uploads[i];
-    const bool rest = i % 2 == 1;
-    const std::string name = "hostile" + std::to_string(i);
-    const auto t0 = std::chrono::steady_clock::now();
-    const Outcome outcome = rest ? ViaRest(http, u, name) : ViaGrpc(client, u, name);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    slowest = std::max(slowest, seconds);
-    auto fail = [&](const std::string& problem) {
-      const std::string key = u.kind + " via " + (rest ? "REST" : "gRPC") + ": " + problem;
-      if (failures[key]++ == 0) {
-        first_example[key] = "#" + std::to_string(i) + " " + u.filename + " (" + std::to_string(u.bytes.size()) +
-                             " B) → " + outcome.what;
-        std::printf("  new failure: %s: %s\n", key.c_str(), first_example[key].c_str());  // seen even if cut short
-        std::fflush(stdout);
-      }
-    };
-    if (seconds > kAnswerSeconds) fail("answered after more than 2 s");
-    if (!outcome.acceptable) fail("not a client error");
-    if (outcome.ok) {
-      ++imported[u.kind];
-      if (CodeOf([&] { client.DeleteAsset(name); }) != grpc::StatusCode::OK) fail("imported but not deletable");
-    }
-    if (StatusKb(server.pid(), "VmRSS") > kMaxResidentKb) fail("server over 1 GB resident");
-    if (StatusKb(server.pid(), "VmRSS") < 0) {
-      fail("server died");
-      break;
-    }
-  }
+  RunReport run;
+  RunUploads(server, client, http, HostileUploads(kUploads, kSeed), 0,
+             std::chrono::steady_clock::now() + std::chrono::seconds(100), run);
 
   const int64_t peak_kb = StatusKb(server.pid(), "VmHWM");
-  std::printf("  %d of %d uploads, slowest answer %.3f s, server peak resident %.1f MB\n", done, kUploads, slowest,
-              static_cast<double>(peak_kb) / 1024);
-  for (const auto& [kind, n] : imported) std::printf("  %d %s uploads still parsed (imported, then deleted)\n", n, kind.c_str());
-  std::ostringstream report;
-  for (const auto& [key, n] : failures) report << "\n  " << n << "× " << key << "\n      first: " << first_example[key];
-  EXPECT_TRUE(failures.empty()) << failures.size() << " kinds of failure:" << report.str();
+  std::printf("  %d of %d uploads, slowest answer %.3f s, server peak resident %.1f MB\n", run.done, kUploads,
+              run.slowest, static_cast<double>(peak_kb) / 1024);
+  for (const auto& [kind, n] : run.imported)
+    std::printf("  %d %s uploads still parsed (imported, then deleted)\n", n, kind.c_str());
+  EXPECT_TRUE(run.failures.empty()) << run.failures.size() << " kinds of failure:" << run.Failures();
   EXPECT_GT(peak_kb, 0) << "the server is gone";
   EXPECT_LT(peak_kb, kMaxResidentKb) << "peak resident " << peak_kb << " kB";
 
@@ -158,6 +177,38 @@ TEST(HostileUploads, AThousandInARowAreAnsweredAndChangeNothing) {
   EXPECT_TRUE(health && health->status == 200);
   EXPECT_EQ(AssetNames(client), (std::set<std::string>{"arm", "demo_walk", "demo_character"}));
   EXPECT_TRUE(StoredState(client) == before) << "the stored assets changed";
+  EXPECT_EQ(server.Stop(SIGTERM, 20), 0) << "no clean exit on SIGTERM";
+}
+
+// Repeated on one process, the uploads leave the server's resident memory
+// where the first thousand left it (it crept by ~200 MB per thousand, to
+// 1.05-1.2 GB from 5,000 on). Each thousand is a new seed: new inputs, same shapes.
+TEST(HostileUploads, ResidentMemoryLevelsOffOverThousands) {
+  TempDir data;
+  const auto server_process = CappedServer(data);
+  ServerProcess& server = *server_process;
+  ClientOptions o = OptionsFor(server);
+  o.timeout = std::chrono::seconds(5);
+  Client client(o);
+  httplib::Client http("127.0.0.1", server.http_port());
+  http.set_read_timeout(5);
+  constexpr int kThousands = 3;
+  std::vector<int64_t> resident_kb;
+  RunReport run;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(100 * kThousands);
+  for (int k = 0; k < kThousands; ++k) {
+    RunUploads(server, client, http, HostileUploads(kUploads, kSeed + static_cast<uint32_t>(k)), k * kUploads,
+               give_up, run);
+    resident_kb.push_back(StatusKb(server.pid(), "VmRSS"));
+    std::printf("  after %d uploads: resident %.1f MB, peak %.1f MB\n", run.done,
+                static_cast<double>(resident_kb.back()) / 1024,
+                static_cast<double>(StatusKb(server.pid(), "VmHWM")) / 1024);
+  }
+  EXPECT_TRUE(run.failures.empty()) << run.failures.size() << " kinds of failure:" << run.Failures();
+  ASSERT_EQ(resident_kb.size(), static_cast<size_t>(kThousands));
+  // Level: the last thousand adds at most a tenth of what the first left, and 32 MB.
+  EXPECT_LT(resident_kb.back(), resident_kb.front() + resident_kb.front() / 10 + (32 << 10))
+      << "resident after each thousand (kB): " << resident_kb[0] << ", " << resident_kb[1] << ", " << resident_kb[2];
   EXPECT_EQ(server.Stop(SIGTERM, 20), 0) << "no clean exit on SIGTERM";
 }
 

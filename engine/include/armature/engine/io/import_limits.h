@@ -25,6 +25,11 @@ struct ImportLimits {
   // count × element bytes of one glTF accessor without a bufferView (zeros
   // that no bytes of the file pay for).
   uint64_t max_unbacked_accessor_bytes = uint64_t{64} << 20;
+  // Estimated bytes of what one import builds in memory (a mesh's vertices,
+  // triangles, skin influences, morph deltas and skinning layout; a clip's
+  // keys; the decoding's own copies), summed before each part is decoded. An
+  // accessor used by several meshes or targets counts once per use.
+  uint64_t max_decoded_bytes = uint64_t{1} << 30;
 };
 
 // "<what> <value> is over the import limit <field> = <limit>" as RESOURCE_EXHAUSTED text.
