@@ -25,6 +25,8 @@ struct ImportLimits {
   // count × element bytes of one glTF accessor without a bufferView (zeros
   // that no bytes of the file pay for).
   uint64_t max_unbacked_accessor_bytes = uint64_t{64} << 20;
+  // Bytes of one image as stored (encoded; images are never decoded).
+  uint64_t max_image_bytes = uint64_t{32} << 20;
 };
 
 // "<what> <value> is over the import limit <field> = <limit>" as RESOURCE_EXHAUSTED text.
