@@ -66,6 +66,7 @@ namespace {
 double MeshReplyBytes(const Mesh& mesh, bool triangles) {
   const double n = static_cast<double>(mesh.vertex_count());
   double bytes = n * 12 * (mesh.normals.empty() ? 1 : 2);
+  if (triangles) bytes += 8 * static_cast<double>(mesh.uvs.size());
   if (triangles)
     for (uint32_t index : mesh.triangles) bytes += google::protobuf::io::CodedOutputStream::VarintSize32(index);
   return bytes;

@@ -248,6 +248,11 @@ grpc::Status TranscodeResponse(const HttpBinding& binding, const pb::Message& pr
   if (field->type() == pb::FieldDescriptor::TYPE_BYTES && !field->is_repeated()) {
     out->content = r->GetString(*m, field);
     out->content_type = "application/octet-stream";
+    // A message that says its bytes' type (MaterialImage) is served as that type.
+    const pb::FieldDescriptor* mime = m->GetDescriptor()->FindFieldByName("mime_type");
+    if (mime != nullptr && mime->type() == pb::FieldDescriptor::TYPE_STRING && !mime->is_repeated() &&
+        !r->GetString(*m, mime).empty())
+      out->content_type = r->GetString(*m, mime);
   } else if (field->type() == pb::FieldDescriptor::TYPE_MESSAGE && !field->is_repeated()) {
     out->content = MessageToJson(r->GetMessage(*m, field));
   } else {
