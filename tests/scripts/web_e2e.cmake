@@ -8,8 +8,9 @@
 # from ../shared/data; it skips without it), character_e2e (RobotExpressive's
 # 19 meshes skinned together while Running plays; skips without it), drop_e2e
 # (files dropped on the page are imported), retarget_e2e (CMU 01_01 retargeted
-# onto RobotExpressive from the Retarget panel and played; skips without them).
-set(ARMATURE_VIEWER_TESTS viewer_e2e mesh_e2e deform_e2e blend_e2e character_e2e drop_e2e retarget_e2e)
+# onto RobotExpressive from the Retarget panel and played; skips without them),
+# material_e2e (CesiumMan drawn with its JPEG texture, checked by pixel colour; skips without it).
+set(ARMATURE_VIEWER_TESTS viewer_e2e mesh_e2e deform_e2e blend_e2e character_e2e drop_e2e retarget_e2e material_e2e)
 if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   foreach(test ${ARMATURE_VIEWER_TESTS})
     string(REGEX REPLACE "_e2e$" "" shot ${test})
