@@ -296,6 +296,19 @@ v1::MeshGeometry Client::GetMeshGeometry(const std::string& mesh) {
   r.set_mesh(mesh);
   return Call(&v1::MeshService::Stub::GetMeshGeometry, *meshes_, r);
 }
+v1::Material Client::GetMaterial(const std::string& mesh, int material) {
+  v1::GetMaterialRequest r;
+  r.set_mesh(mesh);
+  r.set_material(material);
+  return Call(&v1::MeshService::Stub::GetMaterial, *meshes_, r);
+}
+v1::MaterialImage Client::GetMaterialImage(const std::string& mesh, int material, int image) {
+  v1::GetMaterialImageRequest r;
+  r.set_mesh(mesh);
+  r.set_material(material);
+  r.set_image(image);
+  return Call(&v1::MeshService::Stub::GetMaterialImage, *meshes_, r);
+}
 v1::SkinMeshResponse Client::SkinMesh(const v1::SkinMeshRequest& r) {
   return Call(&v1::MeshService::Stub::SkinMesh, *meshes_, r);
 }

@@ -38,7 +38,7 @@ size_t ClipBytes(const Clip& c) {
 
 size_t MeshBytes(const Mesh& m) {
   size_t bytes = sizeof(Mesh) + m.name.size();  // sizeof(Mesh) covers the layout's own struct
-  bytes += ElementBytes(m.positions, m.normals, m.triangles);
+  bytes += ElementBytes(m.positions, m.normals, m.triangles, m.uvs, m.materials, m.material_groups);
   bytes += ElementBytes(m.joints, m.inverse_bind, m.influence_offsets, m.influence_joints, m.influence_weights);
   for (const MorphTarget& t : m.targets)
     bytes += sizeof(MorphTarget) + t.name.size() + ElementBytes(t.vertices, t.position_deltas, t.normal_deltas);
@@ -47,6 +47,24 @@ size_t MeshBytes(const Mesh& m) {
   bytes += ElementBytes(l.order, l.x, l.y, l.z, l.nx, l.ny, l.nz, l.groups, l.joints, l.weights, l.pair_offsets, l.pairs);
   for (const SkinningLayout::Target& t : l.targets)
     bytes += sizeof(SkinningLayout::Target) + ElementBytes(t.vertices, t.dx, t.dy, t.dz, t.nx, t.ny, t.nz);
+  return bytes;
+}
+
+// Materials and their images (stored bytes), each counted once however
+// many meshes share it.
+size_t MaterialBytes(const std::set<const Mesh*>& meshes) {
+  std::set<const Material*> materials;
+  std::set<const MaterialImage*> images;
+  size_t bytes = 0;
+  for (const Mesh* m : meshes)
+    if (m != nullptr)
+      for (const auto& material : m->materials)
+        if (material && materials.insert(material.get()).second) {
+          bytes += sizeof(Material) + material->name.size() + ElementBytes(material->images);
+          for (const auto& image : material->images)
+            if (image && images.insert(image.get()).second)
+              bytes += sizeof(MaterialImage) + image->name.size() + image->mime_type.size() + image->bytes.size();
+        }
   return bytes;
 }
 
@@ -67,7 +85,7 @@ size_t EstimateAssetBytes(const AssetContents& contents) {
   for (const NamedMesh& m : contents.meshes) meshes.insert(m.mesh.get());
   for (const Mesh* m : meshes)
     if (m != nullptr) bytes += MeshBytes(*m);
-  return bytes;
+  return bytes + MaterialBytes(meshes);
 }
 
 size_t HeldAssetBytes(const Catalog& catalog, const StoredAsset* except) {

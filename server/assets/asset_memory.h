@@ -12,8 +12,8 @@ namespace armature::server {
 // Estimated bytes of an asset's parsed data: skeletons (names, parents,
 // rest transforms, BVH channels, end sites), clip tracks (key times,
 // values, tangents), morph-weight tracks and meshes (positions, normals,
-// triangles, skin and influences, morph targets, the skinning layout), each
-// skeleton and mesh counted once, element storage only (no allocator
+// triangles, UVs, skin and influences, morph targets, the skinning layout;
+// materials and their images' stored bytes), each skeleton, mesh, material and image counted once, element storage only (no allocator
 // overhead). The uploaded source is not held in memory and is not counted,
 // nor are deformation sessions' factorizations (they belong to sessions).
 size_t EstimateAssetBytes(const AssetContents& contents);

@@ -62,10 +62,11 @@ StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, co
 
 namespace {
 
-// What an answer carrying `mesh` holds: positions and normals (and triangle indices).
+// What an answer carrying `mesh` holds: positions and normals (and triangle indices and UVs).
 ReplyContent MeshReply(const Mesh& mesh, bool triangles) {
   ReplyContent reply;
   reply.floats = static_cast<double>(mesh.vertex_count()) * 3 * (mesh.normals.empty() ? 1 : 2);
+  if (triangles) reply.floats += 2 * static_cast<double>(mesh.uvs.size());  // the geometry's UVs (u, v)
   reply.proto_overhead = 64;
   reply.json_overhead = 64;  // {"mesh":…,"vertexCount":…,"positions":[],"normals":[]}
   if (triangles)

@@ -33,6 +33,15 @@ Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest&
   copy(mesh.positions, response->mutable_positions());
   copy(mesh.normals, response->mutable_normals());
   response->mutable_triangles()->Add(mesh.triangles.begin(), mesh.triangles.end());
+  response->mutable_uvs()->Reserve(static_cast<int>(2 * mesh.uvs.size()));
+  for (const Eigen::Vector2f& uv : mesh.uvs) response->mutable_uvs()->Add(uv.data(), uv.data() + 2);
+  for (const auto& material : mesh.materials) response->add_materials(material->name);
+  for (const MaterialGroup& g : mesh.material_groups) {
+    v1::MaterialGroup* group = response->add_material_groups();
+    group->set_first_triangle(g.first_triangle);
+    group->set_triangle_count(g.triangle_count);
+    group->set_material(g.material);
+  }
   response->set_mesh(ref->part->name);
   response->set_vertex_count(static_cast<int>(mesh.vertex_count()));
   return Status::Ok();

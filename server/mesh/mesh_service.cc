@@ -1,6 +1,7 @@
 #include "server/mesh/mesh_service.h"
 
 #include "server/assets/asset_convert.h"
+#include "server/mesh/material_handlers.h"
 #include "server/mesh/mesh_convert.h"
 #include "server/mesh/skinned_mesh_stream_reactor.h"
 #include "server/mesh/skinned_motion_stream_reactor.h"
@@ -75,6 +76,21 @@ grpc::ServerUnaryReactor* MeshServiceImpl::GetMeshGeometry(grpc::CallbackServerC
     ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), true, limits_, "GetMeshGeometry",
                                                ReplyEncodingOf(*context)));
     return server::GetMeshGeometry(*catalog, *request, response);
+  });
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::GetMaterial(grpc::CallbackServerContext* context,
+                                                       const v1::GetMaterialRequest* request,
+                                                       v1::Material* response) {
+  return RunUnary(context, "GetMaterial",
+                  [&]() -> Status { return server::GetMaterial(*store_.Snapshot(), *request, response); });
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::GetMaterialImage(grpc::CallbackServerContext* context,
+                                                            const v1::GetMaterialImageRequest* request,
+                                                            v1::MaterialImage* response) {
+  return RunUnary(context, "GetMaterialImage", [&]() -> Status {
+    return server::GetMaterialImage(*store_.Snapshot(), *request, response, limits_);
   });
 }
 

@@ -25,6 +25,11 @@ class MeshServiceImpl final : public v1::MeshService::CallbackService {
   grpc::ServerUnaryReactor* GetMeshGeometry(grpc::CallbackServerContext* context,
                                             const v1::GetMeshGeometryRequest* request,
                                             v1::MeshGeometry* response) override;
+  grpc::ServerUnaryReactor* GetMaterial(grpc::CallbackServerContext* context, const v1::GetMaterialRequest* request,
+                                        v1::Material* response) override;
+  grpc::ServerUnaryReactor* GetMaterialImage(grpc::CallbackServerContext* context,
+                                             const v1::GetMaterialImageRequest* request,
+                                             v1::MaterialImage* response) override;
   grpc::ServerUnaryReactor* SkinMesh(grpc::CallbackServerContext* context, const v1::SkinMeshRequest* request,
                                      v1::SkinMeshResponse* response) override;
   grpc::ServerUnaryReactor* SkinCharacter(grpc::CallbackServerContext* context,

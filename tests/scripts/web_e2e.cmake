@@ -15,9 +15,10 @@
 # (the joint list, the joint under the pointer highlighted), blend_body_e2e (the blend
 # drawn on the demo character's mesh), mixamo_e2e (RobotExpressive under a 0.01-scaled
 # Armature in centimetres, web/test/mixamo_rig.mjs: the views sized from posed positions;
-# skips without it).
+# skips without it), material_e2e (CesiumMan drawn with its JPEG texture, checked by pixel
+# colour; skips without it).
 set(ARMATURE_VIEWER_TESTS viewer_e2e mesh_e2e deform_e2e blend_e2e character_e2e drop_e2e retarget_e2e first_look_e2e
-    docs_e2e joint_tree_e2e blend_body_e2e mixamo_e2e)
+    docs_e2e joint_tree_e2e blend_body_e2e mixamo_e2e material_e2e)
 if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   foreach(test ${ARMATURE_VIEWER_TESTS})
     string(REGEX REPLACE "_e2e$" "" shot ${test})

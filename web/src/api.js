@@ -94,9 +94,25 @@ export async function listMeshes() {
   return (await mesh('listMeshes', {})).meshes ?? [];
 }
 
-// The rest mesh: { mesh, vertexCount, positions, normals, triangles }.
+// The rest mesh: { mesh, vertexCount, positions, normals, triangles, uvs, materials, materialGroups }.
 export function getMeshGeometry(name) {
   return mesh('getMeshGeometry', { mesh: name });
+}
+
+// Material `index` of mesh `name` (GetMaterial: factors, textures, images' types and sizes).
+export function getMaterial(name, index) {
+  return mesh('getMaterial', { mesh: name, material: index });
+}
+
+// One image of a material as the server stores it: { mimeType, data: Uint8Array }
+// (binary protobuf: the bytes are not base64'd into JSON).
+export async function getMaterialImage(name, material, image) {
+  try {
+    const answer = await client.mesh.getMaterialImage({ mesh: name, material, image });
+    return { mimeType: answer.mimeType, data: answer.data };
+  } catch (e) {
+    throw viewerError(e);
+  }
 }
 
 // World-space positions (and normals) of `mesh` (a SkinMeshRequest as JSON, less the mesh).

@@ -1,9 +1,12 @@
 // A mesh drawn in the SkeletonView's scene: the rest geometry from
-// GetMeshGeometry (triangles, bind-space positions and normals), then any
+// GetMeshGeometry (triangles, bind-space positions and normals, UVs), drawn
+// with the file's materials once they load (flat until then, or without), then any
 // positions the server sends (skinned frames, deformed shapes) written into
 // the same buffers. Normals follow the server's when it sends them, else they
 // are recomputed from the triangles.
 import * as THREE from 'three';
+
+import { disposeMaterial, loadMeshMaterials } from './gltf_material.js';
 
 export const MESH_COLOR = 0x8fb3d9;
 
@@ -48,12 +51,39 @@ export class MeshView {
       buffer.setAttribute('normal', new THREE.BufferAttribute(new Float32Array(geometry.normals), 3));
     if (geometry.triangles?.length) buffer.setIndex(geometry.triangles);
     if (!buffer.getAttribute('normal')) buffer.computeVertexNormals();
+    if (geometry.uvs?.length === 2 * geometry.vertexCount)
+      buffer.setAttribute('uv', new THREE.BufferAttribute(new Float32Array(geometry.uvs), 2));
     buffer.computeBoundingSphere();
     const material = new THREE.MeshStandardMaterial({
       color: this.color, roughness: 0.55, metalness: 0.05, side: THREE.DoubleSide,
     });
     this.object = new THREE.Mesh(buffer, material);
     this.view.scene.add(this.object);
+    // Flat until the file's own materials (and their images) arrive.
+    this.materialsReady = this.useFileMaterials(geometry);
+  }
+
+  // Draws the mesh with its file's materials, one per material group (a
+  // group without one keeps the flat colour). Resolves true once they show.
+  async useFileMaterials(geometry) {
+    if (!geometry.materials?.length || !geometry.materialGroups?.length) return false;
+    let built;
+    try {
+      built = await loadMeshMaterials(geometry);
+    } catch (e) {
+      console.warn(`mesh ${geometry.mesh}: its materials could not be loaded (${e.message}); drawn flat`);
+      return false;
+    }
+    if (this.geometry !== geometry) {  // another mesh was shown meanwhile
+      built.forEach(disposeMaterial);
+      return false;
+    }
+    const buffer = this.object.geometry;
+    const flat = this.object.material;
+    for (const g of geometry.materialGroups)
+      buffer.addGroup(3 * g.firstTriangle, 3 * g.triangleCount, g.material >= 0 ? g.material : built.length);
+    this.object.material = [...built, flat];
+    return true;
   }
 
   // Writes new positions (x, y, z per vertex) and, if given, normals.
@@ -117,7 +147,7 @@ export class MeshView {
     if (!this.object) return;
     this.view.scene.remove(this.object);
     this.object.geometry.dispose();
-    this.object.material.dispose();
+    [this.object.material].flat().forEach(disposeMaterial);
     this.object = null;
     this.geometry = null;
     this.lastCenter = null;

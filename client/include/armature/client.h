@@ -156,6 +156,10 @@ class Client {
   v1::ListMeshesResponse ListMeshes();
   v1::MeshInfo GetMesh(const std::string& mesh);
   v1::MeshGeometry GetMeshGeometry(const std::string& mesh);
+  // Material `material` of the mesh (MeshGeometry.materials), and one of its
+  // images' stored bytes with their MIME type.
+  v1::Material GetMaterial(const std::string& mesh, int material);
+  v1::MaterialImage GetMaterialImage(const std::string& mesh, int material, int image);
   v1::SkinMeshResponse SkinMesh(const v1::SkinMeshRequest& request);
   // As StreamClip: `on_frame` per skinned frame until the end or it returns false.
   void StreamSkinnedMesh(const v1::StreamSkinnedMeshRequest& request,

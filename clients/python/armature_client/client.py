@@ -259,6 +259,22 @@ class Client:
         normals = packed(r.normals, 3, r.vertex_count) if len(r.normals) else None
         return positions, normals, np.asarray(r.triangles, np.uint32).reshape((-1, 3))
 
+    def get_mesh_uvs(self, mesh, timeout=None):
+        """The rest mesh's texture coordinates (vertices, 2), or None when it has none."""
+        r = self._unary(self._meshes.GetMeshGeometry, meshes_pb2.GetMeshGeometryRequest(mesh=mesh), timeout)
+        return packed(r.uvs, 2, r.vertex_count) if len(r.uvs) else None
+
+    def get_material(self, mesh, material=0, timeout=None):
+        """Material `material` of the mesh (a Material message: factors, textures, images' types and sizes)."""
+        return self._unary(self._meshes.GetMaterial,
+                           meshes_pb2.GetMaterialRequest(mesh=mesh, material=material), timeout)
+
+    def get_material_image(self, mesh, material, image, timeout=None):
+        """One image of a material as stored in the imported file: (mime_type, bytes)."""
+        r = self._unary(self._meshes.GetMaterialImage,
+                        meshes_pb2.GetMaterialImageRequest(mesh=mesh, material=material, image=image), timeout)
+        return r.mime_type, r.data
+
     def skin_mesh(self, mesh, clip="", time=0.0, *, method="lbs", interpolation=None, wrap=None,
                   morph_weights=None, timeout=None):
         """The mesh skinned by the clip's pose at `time`: .positions (vertices, 3) in world space,

@@ -9,6 +9,7 @@
 #include <map>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <tiny_gltf.h>
@@ -68,6 +69,18 @@ class ModelBuilder {
   int AddFloats(std::span<const float> values, int type, size_t count, int target = 0) {
     return Add(values, TINYGLTF_COMPONENT_TYPE_FLOAT, type, count, target);
   }
+  // Appends raw bytes (an image) as a bufferView with no target; returns it.
+  int AddBytes(std::string_view bytes) {
+    std::vector<unsigned char>& bin = model_.buffers[0].data;
+    while (bin.size() % 4) bin.push_back(0);
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = bin.size();
+    view.byteLength = bytes.size();
+    bin.insert(bin.end(), bytes.begin(), bytes.end());
+    model_.bufferViews.push_back(view);
+    return static_cast<int>(model_.bufferViews.size()) - 1;
+  }
   // Key times as a float accessor with min and max (glTF requires them on
   // sampler inputs), shared by the tracks that have the same times.
   StatusOr<int> AddTimes(const std::vector<double>& times, const std::string& where);
@@ -88,6 +101,24 @@ void AddSkeletonNodes(const Skeleton& skeleton, tinygltf::Model& model);
 StatusOr<std::vector<int>> AddMeshes(std::span<const Mesh* const> meshes, const Skeleton& skeleton,
                                      ModelBuilder& builder);
 uint64_t MeshByteEstimate(const Mesh& mesh);
+
+// Materials with their textures, samplers and images, each written once.
+class MaterialWriter {
+ public:
+  explicit MaterialWriter(ModelBuilder& builder) : builder_(builder) {}
+  int Add(const Material& material);  // the glTF material index
+
+ private:
+  int AddTexture(const TextureRef& ref, const Material& material);  // -1 when absent
+  int AddImage(const MaterialImage& image);
+  int AddSampler(const TextureSampler& sampler);
+
+  ModelBuilder& builder_;
+  std::map<const Material*, int> materials_;
+  std::map<const MaterialImage*, int> images_;
+};
+// Buffer bytes of the meshes' UVs and distinct images; adds their JSON to `json`.
+uint64_t MaterialByteEstimate(std::span<const Mesh* const> meshes, uint64_t* json);
 
 // The clip as one animation. `mesh_nodes` maps a mesh's name to its node;
 // weights tracks of meshes not written are dropped.

@@ -1,5 +1,6 @@
-// glTF export of meshes: one glTF mesh of one primitive per Mesh (vertex
-// attributes, indices, morph targets) and its skin, on a node of the skeleton.
+// glTF export of meshes: one glTF mesh per Mesh, of one primitive per
+// material group (sharing the vertex attributes and morph targets), and its
+// skin, on a node of the skeleton.
 #include <algorithm>
 #include <cstdint>
 #include <string>
@@ -85,6 +86,28 @@ void AddTargets(const Mesh& mesh, tinygltf::Primitive& primitive, tinygltf::Mesh
   out.extras = tinygltf::Value(std::move(extras));
 }
 
+// The mesh's triangles as one primitive, or one per material group: the
+// groups share `shared`'s vertex attributes and morph targets.
+void AddPrimitives(const Mesh& mesh, const tinygltf::Primitive& shared, tinygltf::Mesh& out, MaterialWriter& materials,
+                   ModelBuilder& builder) {
+  auto indices = [&](size_t first, size_t count) {
+    return builder.Add(std::span<const uint32_t>(mesh.triangles).subspan(3 * first, 3 * count),
+                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 3 * count,
+                       TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  };
+  if (mesh.material_groups.empty()) {
+    out.primitives.push_back(shared);
+    if (!mesh.triangles.empty()) out.primitives.back().indices = indices(0, mesh.triangle_count());
+    return;
+  }
+  for (const MaterialGroup& group : mesh.material_groups) {
+    tinygltf::Primitive primitive = shared;
+    primitive.indices = indices(group.first_triangle, group.triangle_count);
+    if (group.material >= 0) primitive.material = materials.Add(*mesh.materials[static_cast<size_t>(group.material)]);
+    out.primitives.push_back(std::move(primitive));
+  }
+}
+
 int AddSkin(const Mesh& mesh, ModelBuilder& builder) {
   std::vector<float> matrices;
   matrices.reserve(16 * mesh.inverse_bind.size());
@@ -130,6 +153,7 @@ uint64_t MeshByteEstimate(const Mesh& mesh) {
 StatusOr<std::vector<int>> AddMeshes(std::span<const Mesh* const> meshes, const Skeleton& skeleton,
                                      ModelBuilder& builder) {
   std::vector<int> nodes;
+  MaterialWriter materials(builder);
   for (const Mesh* mesh : meshes) {
     if (mesh->influence_offsets.size() != (mesh->skinned() ? mesh->vertex_count() + 1 : 0) ||
         mesh->inverse_bind.size() != mesh->joints.size())
@@ -141,15 +165,17 @@ StatusOr<std::vector<int>> AddMeshes(std::span<const Mesh* const> meshes, const 
     primitive.mode = mesh->triangles.empty() ? TINYGLTF_MODE_POINTS : TINYGLTF_MODE_TRIANGLES;
     primitive.attributes["POSITION"] = AddPositions(mesh->positions, builder);
     if (!mesh->normals.empty()) primitive.attributes["NORMAL"] = AddVectors(mesh->normals, builder);
+    if (!mesh->uvs.empty()) {
+      std::vector<float> uv;
+      uv.reserve(2 * mesh->uvs.size());
+      for (const Eigen::Vector2f& t : mesh->uvs) uv.insert(uv.end(), {t.x(), t.y()});
+      primitive.attributes["TEXCOORD_0"] = builder.AddFloats(uv, TINYGLTF_TYPE_VEC2, mesh->uvs.size(), kArrayBuffer);
+    }
     AddInfluences(*mesh, primitive, builder);
-    if (!mesh->triangles.empty())
-      primitive.indices = builder.Add(std::span<const uint32_t>(mesh->triangles),
-                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
-                                      mesh->triangles.size(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     tinygltf::Mesh out;
     out.name = mesh->name;
     AddTargets(*mesh, primitive, out, builder);
-    out.primitives.push_back(std::move(primitive));
+    AddPrimitives(*mesh, primitive, out, materials, builder);
     tinygltf::Model& model = builder.model();
     model.meshes.push_back(std::move(out));
     const int node = MeshNode(*mesh, skeleton, model);

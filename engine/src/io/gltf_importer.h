@@ -14,6 +14,7 @@
 
 #include "armature/engine/io/asset.h"
 #include "armature/engine/io/import_limits.h"
+#include "armature/engine/mesh/material.h"
 #include "armature/engine/mesh/mesh.h"
 #include "gltf_accessor.h"
 
@@ -70,6 +71,19 @@ class Importer {
   Status ChargeDecoded(uint64_t bytes, const std::string& where);
   // Charges what a primitive of `vertices` vertices will build, before it is decoded.
   Status ChargePrimitive(const tinygltf::Primitive& prim, const std::string& where, uint64_t vertices, int skin);
+  // Materials and images, each built once per file and shared by the meshes
+  // using it (gltf_material.cc); null when the file's image is unusable (a
+  // warning says why).
+  StatusOr<std::shared_ptr<const Material>> MaterialOf(int index);
+  StatusOr<std::shared_ptr<const MaterialImage>> ImageOf(int index);
+  StatusOr<TextureRef> ReadTexture(int texture, int texcoord, double scale, const std::string& where,
+                                   std::vector<std::shared_ptr<const MaterialImage>>& images);
+  // TEXCOORD_0 of a primitive's `count` vertices from `base` (zeros without it).
+  Status AppendTexcoords(const tinygltf::Primitive& prim, const std::string& attrs, size_t base, size_t count,
+                         Mesh& mesh);
+  void FinishUvsAndMaterials(const tinygltf::Mesh& gm, const std::string& where, Mesh& mesh);
+  Status AddMaterialGroup(const tinygltf::Primitive& prim, const std::string& where, size_t first_triangle,
+                          Mesh& mesh);
   Status ImportAnimation(size_t a);
   Status ImportChannel(const tinygltf::Animation& anim, const tinygltf::AnimationChannel& channel,
                        const std::string& swhere, Clip& clip);
@@ -84,6 +98,8 @@ class Importer {
   std::vector<int> joint_of_;            // node → skeleton joint
   std::vector<int> instance_;            // mesh → first node using it, or -1
   std::set<std::string> used_mesh_names_, used_clip_names_;
+  std::vector<std::shared_ptr<const Material>> materials_;  // by glTF index, built on first use
+  std::vector<std::shared_ptr<const MaterialImage>> images_;
   uint64_t clip_keys_ = 0;  // keys of the clip being imported, all tracks
   uint64_t decoded_bytes_ = 0;  // estimated memory of everything decoded so far (ChargeDecoded)
 };

@@ -67,8 +67,12 @@ bool ReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std:
 
 bool WriteWholeFile(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
 
-// Images are not needed for animation and skinning: keep them undecoded.
-bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+// Images are kept as stored, never decoded. A uri's bytes (data: or a
+// resource) are copied here; a bufferView's are read by the importer, which
+// checks the view against its buffer (tinygltf passes them unchecked).
+bool KeepImageBytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                    const unsigned char* bytes, int size, void*) {
+  if (image->bufferView < 0 && size > 0) image->image.assign(bytes, bytes + size);
   return true;
 }
 
@@ -138,7 +142,7 @@ StatusOr<tinygltf::Model> Load(std::string_view bytes, bool binary, const Resour
   ResourceFiles files{&resources, {}};
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&FileExists, &ExpandFilePath, &ReadWholeFile, &WriteWholeFile, &files});
-  loader.SetImageLoader(&SkipImage, nullptr);
+  loader.SetImageLoader(&KeepImageBytes, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const auto size = static_cast<unsigned int>(bytes.size());

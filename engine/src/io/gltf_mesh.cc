@@ -43,9 +43,12 @@ Status Importer::ImportMesh(size_t m) {
   std::vector<std::pair<size_t, size_t>> missing_normals;  // vertex ranges of primitives without NORMAL
   size_t zero_weight_vertices = 0;
   for (size_t p = 0; p < gm.primitives.size(); ++p) {
+    const size_t triangles_before = mesh->triangle_count();
     ARMATURE_RETURN_IF_ERROR(AppendPrimitive(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
                                              p == 0, skin, *mesh, targets, any_normals, missing_normals,
                                              zero_weight_vertices));
+    ARMATURE_RETURN_IF_ERROR(AddMaterialGroup(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
+                                              triangles_before, *mesh));
   }
   if (!any_normals) std::vector<Eigen::Vector3f>().swap(mesh->normals);  // the zeros' memory too
   if (any_normals && !missing_normals.empty()) {
@@ -57,6 +60,7 @@ Status Importer::ImportMesh(size_t m) {
                 mesh->normals.begin() + static_cast<ptrdiff_t>(begin));
     warnings_.push_back(where + ": some primitives have no NORMAL; computed from their triangles");
   }
+  FinishUvsAndMaterials(gm, where, *mesh);
   if (zero_weight_vertices > 0)
     warnings_.push_back(where + ": " + std::to_string(zero_weight_vertices) +
                         " vertices have all-zero weights; bound to their first listed joint");
@@ -253,6 +257,8 @@ Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::str
     mesh.normals.resize(base + count, Eigen::Vector3f::Zero());
   }
 
+  ARMATURE_RETURN_IF_ERROR(AppendTexcoords(prim, attrs, base, count, mesh));
+
   // Skin influences: every JOINTS_n/WEIGHTS_n pair.
   if (skin >= 0) {
     const size_t joint_count = model_.skins[static_cast<size_t>(skin)].joints.size();
@@ -351,6 +357,59 @@ Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::str
       sparse.normals.push_back(n);
     }
   }
+  return Status::Ok();
+}
+
+Status Importer::AppendTexcoords(const tinygltf::Primitive& prim, const std::string& attrs, size_t base,
+                                 size_t count, Mesh& mesh) {
+  const auto it = prim.attributes.find("TEXCOORD_0");
+  mesh.uvs.resize(base, Eigen::Vector2f::Zero());
+  if (it == prim.attributes.end()) {
+    mesh.uvs.resize(base + count, Eigen::Vector2f::Zero());
+    return Status::Ok();
+  }
+  std::vector<float> uv;
+  auto data = reader_.ReadFloats(it->second, attrs + "TEXCOORD_0", AccessorType::kVec2,
+                                 {kUnsignedByte, kUnsignedShort}, &uv);
+  if (!data.ok()) return data.status();
+  if (data->count != count)
+    return Status::InvalidArgument(attrs + "TEXCOORD_0: accessor " + std::to_string(it->second) + " has " +
+                                   std::to_string(data->count) + " elements, POSITION has " + std::to_string(count));
+  for (size_t v = 0; v < count; ++v) mesh.uvs.emplace_back(uv[2 * v], uv[2 * v + 1]);
+  return Status::Ok();
+}
+
+// UVs kept when a primitive has them (zeros for the others' vertices);
+// material groups when any primitive has a material.
+void Importer::FinishUvsAndMaterials(const tinygltf::Mesh& gm, const std::string& where, Mesh& mesh) {
+  size_t with_uvs = 0;
+  for (const tinygltf::Primitive& p : gm.primitives) with_uvs += p.attributes.count("TEXCOORD_0");
+  if (with_uvs == 0) mesh.uvs.clear();
+  else if (with_uvs < gm.primitives.size())
+    warnings_.push_back(where + ": some primitives have no TEXCOORD_0; their vertices get UV (0, 0)");
+  bool any_material = false;
+  for (const MaterialGroup& g : mesh.material_groups) any_material |= g.material >= 0;
+  if (!any_material) mesh.material_groups.clear();
+}
+
+// The primitive's triangles (from `first_triangle` on) as a material group,
+// merged into the previous group when it has the same material.
+Status Importer::AddMaterialGroup(const tinygltf::Primitive& prim, const std::string& where, size_t first_triangle,
+                                  Mesh& mesh) {
+  auto material = MaterialOf(prim.material);
+  if (!material.ok()) return material.status().WithContext(where + ".material: ");
+  const size_t count = mesh.triangle_count() - first_triangle;
+  if (count == 0) return Status::Ok();
+  int index = -1;
+  if (*material) {
+    const auto it = std::find(mesh.materials.begin(), mesh.materials.end(), *material);
+    index = static_cast<int>(it - mesh.materials.begin());
+    if (it == mesh.materials.end()) mesh.materials.push_back(*material);
+  }
+  if (!mesh.material_groups.empty() && mesh.material_groups.back().material == index)
+    mesh.material_groups.back().triangle_count += static_cast<uint32_t>(count);
+  else
+    mesh.material_groups.push_back({static_cast<uint32_t>(first_triangle), static_cast<uint32_t>(count), index});
   return Status::Ok();
 }
 

@@ -108,6 +108,7 @@ uint64_t GltfExportByteEstimate(const Clip& clip, std::span<const Mesh* const> m
     json = Add(json, Add(Mul(kJsonBytesPerObject, 16 + 4 * mesh->targets.size()), Mul(12, mesh->name.size())));
     for (const MorphTarget& target : mesh->targets) json = Add(json, Mul(6, target.name.size() + 3));
   }
+  bin = Add(bin, MaterialByteEstimate(meshes, &json));
   // A GLB holds the buffer as is; a .gltf as base64 (4 characters per 3 bytes).
   return Add(json, binary ? Add(bin, 32) : Add(Mul(bin / 3 + 1, 4), 64));
 }

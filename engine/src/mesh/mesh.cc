@@ -23,6 +23,26 @@ Status CheckVectors(const std::vector<Eigen::Vector3f>& v, const char* field) {
   return Status::Ok();
 }
 
+Status CheckMaterialGroups(const Mesh& mesh) {
+  if (mesh.material_groups.empty()) return Status::Ok();
+  uint64_t next = 0;
+  for (size_t g = 0; g < mesh.material_groups.size(); ++g) {
+    const MaterialGroup& group = mesh.material_groups[g];
+    const std::string where = "material_groups[" + std::to_string(g) + "]";
+    if (group.first_triangle != next)
+      return Status::InvalidArgument(where + " starts at triangle " + std::to_string(group.first_triangle) +
+                                     ", expected " + std::to_string(next));
+    if (group.material < -1 || group.material >= static_cast<int>(mesh.materials.size()) ||
+        (group.material >= 0 && !mesh.materials[static_cast<size_t>(group.material)]))
+      return Status::InvalidArgument(where + ": material " + std::to_string(group.material) + " does not exist");
+    next += group.triangle_count;
+  }
+  if (next != mesh.triangles.size() / 3)
+    return Status::InvalidArgument("material_groups cover " + std::to_string(next) + " of " +
+                                   std::to_string(mesh.triangles.size() / 3) + " triangles");
+  return Status::Ok();
+}
+
 Status CheckMesh(const Mesh& mesh) {
   const size_t n = mesh.positions.size();
   if (n == 0) return Status::InvalidArgument("mesh '" + mesh.name + "' has no vertices");
@@ -32,7 +52,12 @@ Status CheckMesh(const Mesh& mesh) {
     return Status::InvalidArgument("normals: " + std::to_string(mesh.normals.size()) + " for " + std::to_string(n) +
                                    " vertices");
   ARMATURE_RETURN_IF_ERROR(CheckVectors(mesh.normals, "normals"));
+  if (!mesh.uvs.empty() && mesh.uvs.size() != n)
+    return Status::InvalidArgument("uvs: " + std::to_string(mesh.uvs.size()) + " for " + std::to_string(n) + " vertices");
+  for (size_t i = 0; i < mesh.uvs.size(); ++i)
+    if (!mesh.uvs[i].allFinite()) return Status::InvalidArgument("uvs[" + std::to_string(i) + "] is not finite");
   if (mesh.triangles.size() % 3 != 0) return Status::InvalidArgument("triangles: index count is not a multiple of 3");
+  ARMATURE_RETURN_IF_ERROR(CheckMaterialGroups(mesh));
   for (size_t i = 0; i < mesh.triangles.size(); ++i)
     if (mesh.triangles[i] >= n)
       return Status::InvalidArgument("triangles[" + std::to_string(i) + "] = " + std::to_string(mesh.triangles[i]) +

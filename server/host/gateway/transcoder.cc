@@ -259,9 +259,15 @@ grpc::Status TranscodeResponse(const HttpBinding& binding, const pb::Message& pr
     fits = MessageToJson(*m, max_json_bytes, &out->content);
   } else {
     const pb::FieldDescriptor* field = binding.response_field.front();
+    const pb::Reflection* r = m->GetReflection();
     if (field->type() == pb::FieldDescriptor::TYPE_BYTES && !field->is_repeated()) {
-      out->content = m->GetReflection()->GetString(*m, field);  // no larger than the message
+      out->content = r->GetString(*m, field);  // no larger than the message
       out->content_type = "application/octet-stream";
+      // A message that says its bytes' type (MaterialImage) is served as that type.
+      const pb::FieldDescriptor* mime = m->GetDescriptor()->FindFieldByName("mime_type");
+      if (mime != nullptr && mime->type() == pb::FieldDescriptor::TYPE_STRING && !mime->is_repeated() &&
+          !r->GetString(*m, mime).empty())
+        out->content_type = r->GetString(*m, mime);
       return grpc::Status::OK;
     }
     fits = AppendFieldJson(*m, *field, max_json_bytes, &out->content);

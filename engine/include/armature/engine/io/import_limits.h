@@ -30,6 +30,8 @@ struct ImportLimits {
   // keys; the decoding's own copies), summed before each part is decoded. An
   // accessor used by several meshes or targets counts once per use.
   uint64_t max_decoded_bytes = uint64_t{1} << 30;
+  // Bytes of one image as stored (encoded; images are never decoded).
+  uint64_t max_image_bytes = uint64_t{32} << 20;
 };
 
 // "<what> <value> is over the import limit <field> = <limit>" as RESOURCE_EXHAUSTED text.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "armature/base/status.h"
+#include "armature/engine/mesh/material.h"
 
 namespace armature {
 
@@ -61,6 +63,11 @@ struct Mesh {
   std::vector<Eigen::Vector3f> positions;
   std::vector<Eigen::Vector3f> normals;  // empty, or one per vertex
   std::vector<uint32_t> triangles;       // three vertex indices per triangle
+  std::vector<Eigen::Vector2f> uvs;      // texture coordinates (glTF TEXCOORD_0): empty, or one per vertex
+  // How it is drawn: groups cover the triangles in order, each with one of
+  // `materials` (shared with the file's other meshes). Both empty: none given.
+  std::vector<std::shared_ptr<const Material>> materials;
+  std::vector<MaterialGroup> material_groups;
 
   // Skin. `joints[k]` is the skeleton joint of skin joint k and
   // `inverse_bind[k]` takes bind-space points into that joint's frame, so a
