@@ -35,7 +35,7 @@ CASES = [
     ("demo_character.walk", "demo.glb", ["--with-meshes"], [0.1, 1.45, 2.2]),
     # A clip made by CreateClip (CUBIC without tangents: stored as CUBICSPLINE with the tangents the
     # server computed), between and at its keys.
-    ("made.made", "made.glb", [], [0.0, 0.13, 0.4, 0.55, 0.9, 1.2]),
+    ("made", "made.glb", [], [0.0, 0.13, 0.4, 0.55, 0.9, 1.2]),
 ]
 
 # CreateClip keys on the demo walk's skeleton (centimetres): CUBIC swings, a LINEAR and a STEP track.
