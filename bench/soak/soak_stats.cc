@@ -10,7 +10,8 @@ namespace armature::soak {
 bool IsExpectedRefusal(const grpc::Status& st) {
   return st.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED &&
          (st.error_message().find("--max-sessions") != std::string::npos ||
-          st.error_message().find("--max-ik-sessions") != std::string::npos);
+          st.error_message().find("--max-ik-sessions") != std::string::npos ||
+          st.error_message().find("--max-concurrent-uploads") != std::string::npos);
 }
 
 void Stats::Record(const std::string& method, double ms, const grpc::Status& st) {

@@ -20,7 +20,8 @@ struct MethodStats {
 
 // A refusal by an admission limit the soak may run into by design (50
 // clients on one address hold more sessions than --max-sessions-per-client
-// allows): counted, but not an error.
+// allows, and import more at once than --max-concurrent-uploads): counted,
+// but not an error.
 bool IsExpectedRefusal(const grpc::Status& st);
 
 class Stats {

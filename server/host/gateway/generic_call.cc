@@ -42,6 +42,7 @@ struct GenericCall::State {
   // reactions: dropped by whoever finds no write outstanding and the writes
   // over (closed and sent, failed or cancelled).
   bool write_hold = false;
+  bool last_written = false;  // the last request went with StartWriteLast: no WritesDone after it
 };
 
 namespace {
@@ -62,7 +63,7 @@ grpc::Slice SliceOf(std::string message) {
 
 class GenericCall::Reactor final : public grpc::ClientBidiReactor<grpc::ByteBuffer, grpc::ByteBuffer> {
  public:
-  enum class WriteStep { kNone, kWrite, kWritesDone, kRelease };
+  enum class WriteStep { kNone, kWrite, kWriteLast, kWritesDone, kRelease };
 
   explicit Reactor(std::shared_ptr<State> state) : state_(std::move(state)) {}
 
@@ -101,19 +102,28 @@ class GenericCall::Reactor final : public grpc::ClientBidiReactor<grpc::ByteBuff
       s.writing = true;
       *message = TakeFront(s.outgoing);
       s.cv.notify_all();  // room for the producer
+      // The last request of a closed call goes as StartWriteLast, as unary
+      // calls always did: a separate WritesDone after the call's answer kept
+      // each call's arena until shutdown (about 10 KB per gateway call).
+      if (s.outgoing.empty() && s.writes_closed) {
+        s.last_written = true;
+        return WriteStep::kWriteLast;
+      }
       return WriteStep::kWrite;
     }
     if (!s.writes_closed) return WriteStep::kNone;
     s.write_hold = false;
-    return WriteStep::kWritesDone;
+    return s.last_written ? WriteStep::kRelease : WriteStep::kWritesDone;
   }
 
   void TakeWriteStep(WriteStep step, std::string message) {
     switch (step) {
       case WriteStep::kNone: return;
-      case WriteStep::kWrite: {
+      case WriteStep::kWrite:
+      case WriteStep::kWriteLast: {
         grpc::Slice slice = SliceOf(std::move(message));  // gRPC owns the bytes now
         write_buf_ = grpc::ByteBuffer(&slice, 1);
+        if (step == WriteStep::kWriteLast) return StartWriteLast(&write_buf_, grpc::WriteOptions());
         return StartWrite(&write_buf_);
       }
       case WriteStep::kWritesDone: StartWritesDone(); return RemoveHold();
