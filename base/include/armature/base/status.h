@@ -90,3 +90,15 @@ class [[nodiscard]] StatusOr {
     ::armature::Status _armature_st = (expr);     \
     if (!_armature_st.ok()) return _armature_st;  \
   } while (0)
+
+#define ARMATURE_STATUS_CONCAT_INNER(a, b) a##b
+#define ARMATURE_STATUS_CONCAT(a, b) ARMATURE_STATUS_CONCAT_INNER(a, b)
+
+// `ARMATURE_ASSIGN_OR_RETURN(auto x, MakeX());` declares x from a StatusOr's value, or returns
+// its Status from the enclosing function (which returns Status or any StatusOr).
+#define ARMATURE_ASSIGN_OR_RETURN(lhs, expr) \
+  ARMATURE_ASSIGN_OR_RETURN_IMPL(ARMATURE_STATUS_CONCAT(_armature_so_, __LINE__), lhs, expr)
+#define ARMATURE_ASSIGN_OR_RETURN_IMPL(tmp, lhs, expr) \
+  auto tmp = (expr);                                   \
+  if (!tmp.ok()) return tmp.status();                  \
+  lhs = std::move(tmp).value()
