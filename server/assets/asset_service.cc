@@ -69,10 +69,9 @@ Status ExportGltfClip(const Catalog& catalog, const PartRef<NamedClip>& ref, boo
   const std::string prefix = ref.asset->record.name + ".";
   options.animation_name = clip.name.rfind(prefix, 0) == 0 ? clip.name.substr(prefix.size()) : clip.name;
   options.max_bytes = static_cast<uint64_t>(limits.max_message_bytes);
-  auto bytes = ExportGltf(*clip.clip, meshes, options);
-  if (!bytes.ok()) return bytes.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto bytes, ExportGltf(*clip.clip, meshes, options));
   response->set_filename(clip.name + std::string(FormatExtension(binary ? AssetFormat::kGlb : AssetFormat::kGltf)));
-  response->set_data(std::move(*bytes));
+  response->set_data(std::move(bytes));
   return Status::Ok();
 }
 
@@ -169,18 +168,16 @@ grpc::ServerUnaryReactor* AssetServiceImpl::ExportClip(grpc::CallbackServerConte
     auto format = ExportFormat(request->format());
     if (!format.ok()) return format.status();
     const auto catalog = store_.Snapshot();
-    auto ref = catalog->FindClip(request->clip());
-    if (!ref.ok()) return ref.status();
+    ARMATURE_ASSIGN_OR_RETURN(auto ref, catalog->FindClip(request->clip()));
     if (*format != AssetFormat::kBvh)
-      return ExportGltfClip(*catalog, *ref, *format == AssetFormat::kGlb, request->with_meshes(), limits_,
+      return ExportGltfClip(*catalog, ref, *format == AssetFormat::kGlb, request->with_meshes(), limits_,
                             response);
     if (request->with_meshes())
       return Status::InvalidArgument("with_meshes: BVH holds no meshes; ask for format glb or gltf");
-    ARMATURE_RETURN_IF_ERROR(ValidateExportSize(*ref->part->clip, limits_));
-    response->set_filename(ref->part->name + ".bvh");
-    auto bvh = ExportBvh(*ref->part->clip);
-    if (!bvh.ok()) return bvh.status();
-    response->set_data(std::move(*bvh));
+    ARMATURE_RETURN_IF_ERROR(ValidateExportSize(*ref.part->clip, limits_));
+    response->set_filename(ref.part->name + ".bvh");
+    ARMATURE_ASSIGN_OR_RETURN(auto bvh, ExportBvh(*ref.part->clip));
+    response->set_data(std::move(bvh));
     return Status::Ok();
   });
 }

@@ -67,9 +67,8 @@ StatusOr<AssetRecord> RecordFromJson(const json& j) {
   AssetRecord r;
   try {
     r.name = j.at("name").get<std::string>();
-    auto format = DetectFormat(j.at("format").get<std::string>(), "", "");
-    if (!format.ok()) return format.status();
-    r.format = *format;
+    ARMATURE_ASSIGN_OR_RETURN(auto format, DetectFormat(j.at("format").get<std::string>(), "", ""));
+    r.format = format;
     r.filename = j.value("filename", "");
     r.file = j.at("file").get<std::string>();
     r.size_bytes = j.value("size_bytes", int64_t{0});
@@ -107,15 +106,13 @@ bool SameStoredFiles(const AssetRecord& a, const AssetRecord& b) {
 
 // Reads a stored asset's files back and parses them.
 StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r, const Limits& limits) {
-  auto bytes = ReadFile(dir / r.file);
-  if (!bytes.ok()) return bytes.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto bytes, ReadFile(dir / r.file));
   ResourceMap resources;
   for (const auto& [uri, file] : r.resources) {
-    auto data = ReadFile(dir / file);
-    if (!data.ok()) return data.status();
-    resources.emplace(uri, std::move(*data));
+    ARMATURE_ASSIGN_OR_RETURN(auto data, ReadFile(dir / file));
+    resources.emplace(uri, std::move(data));
   }
-  auto contents = WithLimitFlags(ParseAsset(r.format, *bytes, r.name, resources, LoadLimitsOf(limits)));
+  auto contents = WithLimitFlags(ParseAsset(r.format, bytes, r.name, resources, LoadLimitsOf(limits)));
   if (!contents.ok()) return contents;
   ARMATURE_RETURN_IF_ERROR(AdoptDerivedClip(r, *contents));
   CompileClips(*contents);
@@ -198,9 +195,8 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
     unloaded.emplace_back(name && name->is_string() ? name->get<std::string>() : "", entry.dump());
   };
   if (stamp.exists) {
-    auto text = ReadFile(dir_ / kManifest);
-    if (!text.ok()) return text.status();
-    json j = json::parse(*text, nullptr, false);
+    ARMATURE_ASSIGN_OR_RETURN(auto text, ReadFile(dir_ / kManifest));
+    json j = json::parse(text, nullptr, false);
     if (j.is_discarded() || !j.contains("assets") || !j["assets"].is_array())
       return Status::FailedPrecondition((dir_ / kManifest).string() + " is not a valid manifest");
     for (const json& entry : j["assets"]) {
@@ -236,9 +232,8 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
     for (const auto& [name, asset] : current->assets)
       if (!assets.contains(name)) spdlog::info("manifest changed: asset '{}' removed", name);
   }
-  auto catalog = BuildCatalog(std::move(assets));
-  if (!catalog.ok()) return catalog.status();
-  Publish(std::move(*catalog));
+  ARMATURE_ASSIGN_OR_RETURN(auto catalog, BuildCatalog(std::move(assets)));
+  Publish(std::move(catalog));
   unloaded_entries_ = std::move(unloaded);
   stamp_ = stamp;
   return Status::Ok();
@@ -328,15 +323,14 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   if (request.name.empty()) request.name = StemOf(request.filename);
   ARMATURE_RETURN_IF_ERROR(ValidateAssetName(request.name));
   if (request.bytes.empty()) return Status::InvalidArgument("data: the file is empty");
-  auto format = DetectFormat(request.format, request.filename, request.bytes);
-  if (!format.ok()) return format.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto format, DetectFormat(request.format, request.filename, request.bytes));
   const std::string label = request.filename.empty() ? request.name : request.filename;
   // Decoding stops at the room left under --max-assets-mb (what a replace
   // frees counted as room); checked exactly under the write lock below.
   const auto before = Snapshot();
   const auto replacing = request.replace ? before->assets.find(request.name) : before->assets.end();
   const size_t held = HeldAssetBytes(*before, replacing == before->assets.end() ? nullptr : replacing->second.get());
-  auto contents = WithLimitFlags(ParseAsset(*format, request.bytes, request.name, request.resources,
+  auto contents = WithLimitFlags(ParseAsset(format, request.bytes, request.name, request.resources,
                                             ImportLimitsWithRoom(options_.limits, held)));
   if (!contents.ok()) return contents.status().WithContext(label + ": ");
   ARMATURE_RETURN_IF_ERROR(CheckAssetLimits(*contents, options_.limits).WithContext(label + ": "));
@@ -366,12 +360,12 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
                                             options_.limits)
                                .WithContext(label + ": "));
 
-  record.format = *format;
+  record.format = format;
   record.filename = request.filename;
   record.size_bytes = static_cast<int64_t>(request.bytes.size());
   record.imported_at = NowRfc3339();
   const std::string unique = RandomSuffix();
-  record.file = "files/" + request.name + "." + unique + std::string(FormatExtension(*format));
+  record.file = "files/" + request.name + "." + unique + std::string(FormatExtension(format));
   // Each resource's file carries its index: two uris may end alike ("a/data.bin",
   // "b/data.bin"; "a b.bin", "a_b.bin") and must not share a file.
   int index = 0;
@@ -420,37 +414,35 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Delete(std::string_view
   if (!dir_lock.ok()) return dir_lock.status();
   ARMATURE_RETURN_IF_ERROR(SyncLocked());
   const auto current = Snapshot();
-  auto owner = current->FindOwner(name);
-  if (!owner.ok()) return owner.status();
-  ARMATURE_RETURN_IF_ERROR(CheckDeletionTakesOnly(**owner, name));
+  ARMATURE_ASSIGN_OR_RETURN(auto owner, current->FindOwner(name));
+  ARMATURE_RETURN_IF_ERROR(CheckDeletionTakesOnly(*owner, name));
   auto assets = current->assets;
-  assets.erase((*owner)->record.name);
-  auto catalog = BuildCatalog(std::move(assets));
-  if (!catalog.ok()) return catalog.status();
-  const AssetRecord& gone = (*owner)->record;
+  assets.erase((owner)->record.name);
+  ARMATURE_ASSIGN_OR_RETURN(auto catalog, BuildCatalog(std::move(assets)));
+  const AssetRecord& gone = (owner)->record;
   auto remove_files = [&] {
     std::error_code ec;
     fs::remove(dir_ / gone.file, ec);
     for (const auto& [uri, file] : gone.resources) fs::remove(dir_ / file, ec);
   };
-  Status st = WriteManifest(**catalog);
+  Status st = WriteManifest(*catalog);
   // A full disk must not keep anything from being deleted: the reserve
   // makes room for the new manifest, which is smaller than the old one.
-  if (st.code() == StatusCode::kResourceExhausted && ReleaseReserve()) st = WriteManifest(**catalog);
+  if (st.code() == StatusCode::kResourceExhausted && ReleaseReserve()) st = WriteManifest(*catalog);
   if (st.code() == StatusCode::kResourceExhausted) {
     // No reserve left (another server used it): free the asset's own files
     // first. Should the manifest still not fit, its entry stays, now naming
     // missing files, and is reported (and kept) as unloadable at the next start.
     spdlog::warn("data dir full: removing the files of '{}' before its manifest entry", gone.name);
     remove_files();
-    st = WriteManifest(**catalog);
+    st = WriteManifest(*catalog);
   }
   if (!st.ok()) return st;
-  Publish(std::move(*catalog));
+  Publish(std::move(catalog));
   remove_files();
   KeepReserve();
   spdlog::info("deleted asset '{}'", gone.name);
-  return *owner;
+  return owner;
 }
 
 }  // namespace armature::server

@@ -52,9 +52,8 @@ StatusOr<Motion> MotionFromProto(const Catalog& catalog, const v1::Motion& motio
 
 StatusOr<MotionPlan> BindMotionProto(const Catalog& catalog, const v1::Motion& motion, const Limits& limits,
                                      const std::string& field) {
-  auto m = MotionFromProto(catalog, motion, limits, field);
-  if (!m.ok()) return m.status();
-  auto plan = BindMotion(*m);
+  ARMATURE_ASSIGN_OR_RETURN(auto m, MotionFromProto(catalog, motion, limits, field));
+  auto plan = BindMotion(m);
   if (!plan.ok()) return plan.status().WithContext(field + ".");
   return plan;
 }

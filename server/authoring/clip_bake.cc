@@ -10,7 +10,7 @@
 
 namespace armature::server {
 
-StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake, const Limits& limits) {
+StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const Limits& limits, const v1::ClipBake& bake) {
   const double fps = bake.fps() == 0 ? 30 : bake.fps();
   if (!(fps > 0 && fps <= 1000)) return Status::InvalidArgument("bake.fps: " + std::to_string(fps) + " is not in (0, 1000]");
   if (!(std::isfinite(bake.duration()) && bake.duration() > 0))
@@ -22,15 +22,14 @@ StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake,
                                      "+ keys, over the limit of " + std::to_string(limits.max_clip_frames) +
                                      " (--max-clip-frames)");
   if (bake.motion().layers().empty()) return Status::InvalidArgument("bake.motion: required (give at least one layer)");
-  auto plan = BindMotionProto(catalog, bake.motion(), limits, "bake.motion");
-  if (!plan.ok()) return plan.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto plan, BindMotionProto(catalog, bake.motion(), limits, "bake.motion"));
 
   // A bake holds no more memory than an upload may: refuse one whose clip
   // (as baked, as a file, as stored) would pass --max-upload-mb before sampling.
-  const double memory_bytes = (frames + 2) * static_cast<double>(plan->skeleton->size()) * kBakeBytesPerJointKey;
+  const double memory_bytes = (frames + 2) * static_cast<double>(plan.skeleton->size()) * kBakeBytesPerJointKey;
   if (memory_bytes > static_cast<double>(limits.max_upload_bytes))
     return Status::ResourceExhausted("bake: " + std::to_string(static_cast<int64_t>(frames) + 1) + " keys × " +
-                                     std::to_string(plan->skeleton->size()) + " joints would take about " +
+                                     std::to_string(plan.skeleton->size()) + " joints would take about " +
                                      std::to_string(static_cast<int64_t>(memory_bytes) >> 20) +
                                      " MiB in memory (" + std::to_string(kBakeBytesPerJointKey) +
                                      " bytes per joint and key: the clip as baked, as a file and as stored), over "
@@ -43,8 +42,8 @@ StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake,
   BakedClip out;
   out.skeleton = catalog.FindClip(bake.motion().layers(0).clip())->part->skeleton;
   Clip& clip = out.clip;
-  clip.skeleton = plan->skeleton;
-  const size_t joints = plan->skeleton->size();
+  clip.skeleton = plan.skeleton;
+  const size_t joints = plan.skeleton->size();
   clip.joints.resize(joints);
   for (JointTrack& t : clip.joints) {
     for (auto* track_times : {&t.rotation.times, &t.translation.times, &t.scale.times}) *track_times = times;
@@ -53,11 +52,11 @@ StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake,
     t.scale.values.reserve(times.size());
   }
   MotionWorkspace workspace;
-  workspace.Resize(*plan);
+  workspace.Resize(plan);
   std::vector<Trs> pose(joints);
   bool scaled = false;
   for (double time : times) {
-    const BlendMotionJob job{&*plan, time, &workspace, pose, nullptr};
+    const BlendMotionJob job{&plan, time, &workspace, pose, nullptr};
     ARMATURE_RETURN_IF_ERROR(job.Run());
     for (size_t j = 0; j < joints; ++j) {
       JointTrack& t = clip.joints[j];

@@ -27,6 +27,6 @@ struct BakedClip {
 // INVALID_ARGUMENT for a bad fps or duration, RESOURCE_EXHAUSTED naming
 // --max-clip-frames when the keys would be more, or --max-upload-mb when the
 // clip in memory would be (kBakeBytesPerJointKey).
-StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const v1::ClipBake& bake, const Limits& limits);
+StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const Limits& limits, const v1::ClipBake& bake);
 
 }  // namespace armature::server

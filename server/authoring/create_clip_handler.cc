@@ -69,18 +69,16 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
 
   std::optional<PartRef<NamedClip>> stored;
   if (request.merge()) {
-    auto found = StoredClipToEdit(*catalog, request.name());
-    if (!found.ok()) return found.status();
-    stored = *found;
+    ARMATURE_ASSIGN_OR_RETURN(auto found, StoredClipToEdit(*catalog, request.name()));
+    stored = found;
   }
   std::optional<BakedClip> baked;
   if (request.has_bake()) {
-    auto made = BakeMotion(*catalog, request.bake(), limits);
-    if (!made.ok()) return made.status();
-    if (!request.skeleton().empty() && request.skeleton() != made->skeleton)
+    ARMATURE_ASSIGN_OR_RETURN(auto made, BakeMotion(*catalog, limits, request.bake()));
+    if (!request.skeleton().empty() && request.skeleton() != made.skeleton)
       return Status::InvalidArgument("skeleton: '" + request.skeleton() + "', but bake.motion animates skeleton '" +
-                                     made->skeleton + "' (leave skeleton out or name that one)");
-    baked = std::move(*made);
+                                     made.skeleton + "' (leave skeleton out or name that one)");
+    baked = std::move(made);
   }
   std::shared_ptr<const Skeleton> skeleton;
   std::string skeleton_name = request.skeleton();
@@ -88,9 +86,8 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
     skeleton = baked->clip.skeleton;
     skeleton_name = baked->skeleton;
   } else if (!skeleton_name.empty()) {
-    auto found = catalog->FindSkeleton(skeleton_name);
-    if (!found.ok()) return found.status();
-    skeleton = found->part->skeleton;
+    ARMATURE_ASSIGN_OR_RETURN(auto found, catalog->FindSkeleton(skeleton_name));
+    skeleton = found.part->skeleton;
   } else if (stored) {
     skeleton = stored->part->clip->skeleton;
     skeleton_name = stored->part->skeleton;
@@ -98,15 +95,14 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
     return Status::InvalidArgument("skeleton: required (the skeleton the clip animates)");
   }
 
-  auto keyed = KeyedJointsFromRequest(request, *skeleton, skeleton_name, limits);
-  if (!keyed.ok()) return keyed.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto keyed, KeyedJointsFromRequest(request, *skeleton, skeleton_name, limits));
 
   Clip clip;
   clip.skeleton = skeleton;
   clip.joints.resize(skeleton->size());
   if (baked) clip.joints = std::move(baked->clip.joints);
   if (stored) ARMATURE_RETURN_IF_ERROR(CarryOver(*stored->part->clip, *skeleton, skeleton_name, clip));
-  for (KeyedJoint& k : *keyed) {
+  for (KeyedJoint& k : keyed) {
     JointTrack& t = clip.joints[static_cast<size_t>(k.joint)];
     t = k.remove ? JointTrack{} : std::move(k.track);
   }
@@ -129,10 +125,9 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
   options.skeleton = own_copy ? "" : skeleton_name;
   options.replace = request.replace() || request.merge();
   if (stored) options.replace_only = stored->asset;
-  auto derived = StoreDerivedClip(store, clip, options, limits);
-  if (!derived.ok()) return derived.status();
-  *response->mutable_clip() = ClipInfoOf(*derived->asset, *derived->clip, true);
-  *response->mutable_asset() = AssetInfoOf(*derived->asset);
+  ARMATURE_ASSIGN_OR_RETURN(auto derived, StoreDerivedClip(store, clip, options, limits));
+  *response->mutable_clip() = ClipInfoOf(*derived.asset, *derived.clip, true);
+  *response->mutable_asset() = AssetInfoOf(*derived.asset);
   return Status::Ok();
 }
 

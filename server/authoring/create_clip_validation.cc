@@ -124,9 +124,8 @@ StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleto
     std::vector<std::string_view> names(skeleton.names.begin(), skeleton.names.end());
     return e.Bad("joint '" + in.joint() + "' is not on skeleton '" + skeleton_name + "'" + DidYouMean(in.joint(), names));
   }
-  auto mode = InterpolationOf(in.interpolation(), e);
-  if (!mode.ok()) return mode.status();
-  const bool cubic = *mode == Interpolation::kCubic;
+  ARMATURE_ASSIGN_OR_RETURN(auto mode, InterpolationOf(in.interpolation(), e));
+  const bool cubic = mode == Interpolation::kCubic;
   const size_t n = static_cast<size_t>(in.times_size());
   const bool has_rot = !in.rotations().empty(), has_euler = !in.euler().empty();
   const bool has_t = !in.translations().empty(), has_s = !in.scales().empty();
@@ -156,8 +155,7 @@ StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleto
       track.rotation.values[k].normalize();
     }
   } else if (has_euler) {
-    auto order = ParseEulerOrder(in.euler_order(), e.where() + ".euler_order");
-    if (!order.ok()) return order.status();
+    ARMATURE_ASSIGN_OR_RETURN(auto order, ParseEulerOrder(in.euler_order(), e.where() + ".euler_order"));
     ARMATURE_RETURN_IF_ERROR(CheckValues(in.euler(), n, 3, "euler", "degrees, in euler_order", e));
     if (!in.rotation_tangents().in_tangents().empty() || !in.rotation_tangents().out_tangents().empty())
       return e.Bad("rotation_tangents are quaternion tangents: give rotations, not euler, with them");
@@ -165,19 +163,19 @@ StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleto
     for (size_t k = 0; k < n; ++k) {
       const double deg[3] = {in.euler(3 * k), in.euler(3 * k + 1), in.euler(3 * k + 2)};
       const double rad[3] = {deg[0] * M_PI / 180, deg[1] * M_PI / 180, deg[2] * M_PI / 180};
-      track.rotation.values[k] = EulerToQuaternion(*order, rad).normalized();
+      track.rotation.values[k] = EulerToQuaternion(order, rad).normalized();
     }
   }
-  if (has_rot || has_euler) SetTimes(track.rotation, in.times(), *mode);
+  if (has_rot || has_euler) SetTimes(track.rotation, in.times(), mode);
   if (has_t) {
     ARMATURE_RETURN_IF_ERROR(CheckValues(in.translations(), n, 3, "translations", "x, y, z", e));
     track.translation.values = Vec3s(in.translations());
-    SetTimes(track.translation, in.times(), *mode);
+    SetTimes(track.translation, in.times(), mode);
   }
   if (has_s) {
     ARMATURE_RETURN_IF_ERROR(CheckValues(in.scales(), n, 3, "scales", "x, y, z", e));
     track.scale.values = Vec3s(in.scales());
-    SetTimes(track.scale, in.times(), *mode);
+    SetTimes(track.scale, in.times(), mode);
   }
   auto given = [](const v1::KeyTangents& t) { return !t.in_tangents().empty() || !t.out_tangents().empty(); };
   ARMATURE_RETURN_IF_ERROR(ReadTangents(given(in.rotation_tangents()), in.rotation_tangents(), has_rot, n, 4,

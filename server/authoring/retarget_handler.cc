@@ -43,18 +43,16 @@ Status RetargetClip(AssetStore& store, const Limits& limits, const v1::RetargetC
 
   RetargetOptions options;
   options.feet = request.feet();
-  auto result = armature::RetargetClip(source, target, *map, options);
-  if (!result.ok()) return result.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto result, armature::RetargetClip(source, target, *map, options));
 
   DerivedClipOptions store_options;
   store_options.asset_name = request.name().empty() ? DefaultName(request.clip(), request.skeleton()) : request.name();
   store_options.skeleton = request.skeleton();
   store_options.replace = request.replace();
-  auto stored = StoreDerivedClip(store, result->clip, store_options, limits);
-  if (!stored.ok()) return stored.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto stored, StoreDerivedClip(store, result.clip, store_options, limits));
 
-  *response->mutable_clip() = ClipInfoOf(*stored->asset, *stored->clip, true);
-  *response->mutable_asset() = AssetInfoOf(*stored->asset);
+  *response->mutable_clip() = ClipInfoOf(*stored.asset, *stored.clip, true);
+  *response->mutable_asset() = AssetInfoOf(*stored.asset);
   for (const JointPairIndex& p : map->pairs) {
     v1::JointPair* pair = response->add_mapping();
     pair->set_source(source.skeleton->names[static_cast<size_t>(p.source)]);
@@ -62,7 +60,7 @@ Status RetargetClip(AssetStore& store, const Limits& limits, const v1::RetargetC
   }
   for (int j : map->unmapped_source) response->mutable_unmapped()->add_source(source.skeleton->names[static_cast<size_t>(j)]);
   for (int j : map->unmapped_target) response->mutable_unmapped()->add_target(target.names[static_cast<size_t>(j)]);
-  for (std::string& w : result->warnings) response->add_warnings(std::move(w));
+  for (std::string& w : result.warnings) response->add_warnings(std::move(w));
   return Status::Ok();
 }
 

@@ -35,9 +35,8 @@ void TextureOf(const TextureRef& ref, v1::TextureRef* out) {
 
 Status GetMaterial(const Catalog& catalog, const v1::GetMaterialRequest& request, v1::Material* response) {
   std::string mesh;
-  auto found = MaterialOfMesh(catalog, request.mesh(), request.material(), &mesh);
-  if (!found.ok()) return found.status();
-  const Material& m = **found;
+  ARMATURE_ASSIGN_OR_RETURN(auto found, MaterialOfMesh(catalog, request.mesh(), request.material(), &mesh));
+  const Material& m = *found;
   response->set_mesh(mesh);
   response->set_index(request.material());
   response->set_name(m.name);
@@ -70,9 +69,8 @@ Status GetMaterial(const Catalog& catalog, const v1::GetMaterialRequest& request
 Status GetMaterialImage(const Catalog& catalog, const v1::GetMaterialImageRequest& request,
                         v1::MaterialImage* response, const Limits& limits) {
   std::string mesh;
-  auto found = MaterialOfMesh(catalog, request.mesh(), request.material(), &mesh);
-  if (!found.ok()) return found.status();
-  const Material& m = **found;
+  ARMATURE_ASSIGN_OR_RETURN(auto found, MaterialOfMesh(catalog, request.mesh(), request.material(), &mesh));
+  const Material& m = *found;
   const int index = request.image();
   if (index < 0 || static_cast<size_t>(index) >= m.images.size())
     return Status::InvalidArgument("image: " + std::to_string(index) + " is out of range (material " +

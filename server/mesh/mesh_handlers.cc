@@ -47,13 +47,8 @@ Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest&
   return Status::Ok();
 }
 
-Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response) {
-  static const Limits kDefaultLimits;
-  return SkinMesh(catalog, request, response, kDefaultLimits);
-}
-
-Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::SkinMeshResponse* response,
-                const Limits& limits) {
+Status SkinMesh(const Catalog& catalog, const Limits& limits, const v1::SkinMeshRequest& request,
+                v1::SkinMeshResponse* response) {
   auto ref = catalog.FindMesh(request.mesh());
   if (!ref.ok()) return ref.status().WithContext("mesh: ");
   const NamedMesh& named = *ref->part;
@@ -72,29 +67,26 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
   thread_local MeshWorkspace ws;
   if (request.has_motion()) {
     ARMATURE_RETURN_IF_ERROR(ValidateClipTime(request.time(), "time"));
-    auto plan = MotionFor(catalog, named, request.motion(), limits);
-    if (!plan.ok()) return plan.status();
-    const Skeleton& skeleton = *plan->skeleton;
+    ARMATURE_ASSIGN_OR_RETURN(auto plan, MotionFor(catalog, named, request.motion(), limits));
+    const Skeleton& skeleton = *plan.skeleton;
     ws.local.resize(skeleton.size());
-    ws.motion.Resize(*plan);
-    ARMATURE_RETURN_IF_ERROR((BlendMotionJob{&*plan, request.time(), &ws.motion, ws.local}.Run()));
+    ws.motion.Resize(plan);
+    ARMATURE_RETURN_IF_ERROR((BlendMotionJob{&plan, request.time(), &ws.motion, ws.local}.Run()));
     auto [positions, normals] = OutputsOf(mesh, response);
     ARMATURE_RETURN_IF_ERROR(SkinPose(mesh, skeleton, ws.local, options, positions, normals, ws.skin));
   } else if (!request.clip().empty()) {
-    auto clip = ClipFor(catalog, named, request.clip());
-    if (!clip.ok()) return clip.status();
+    ARMATURE_ASSIGN_OR_RETURN(auto clip, ClipFor(catalog, named, request.clip()));
     ARMATURE_RETURN_IF_ERROR(ValidateClipTime(request.time(), "time"));
     SampleOptions sample;
     sample.interpolation = server::FromProto(request.interpolation());
     sample.wrap = server::FromProto(request.wrap());
     auto [positions, normals] = OutputsOf(mesh, response);
-    ARMATURE_RETURN_IF_ERROR(SkinByClip(mesh, *clip, request.time(), sample, options, positions, normals, ws.skin));
+    ARMATURE_RETURN_IF_ERROR(SkinByClip(mesh, clip, request.time(), sample, options, positions, normals, ws.skin));
   } else {
     if (named.skeleton.empty())
       return Status::InvalidArgument("pose: mesh '" + named.name + "' has no skeleton to pose; give a clip");
-    auto skeleton_ref = catalog.FindSkeleton(named.skeleton);
-    if (!skeleton_ref.ok()) return skeleton_ref.status();
-    const Skeleton& skeleton = *skeleton_ref->part->skeleton;
+    ARMATURE_ASSIGN_OR_RETURN(auto skeleton_ref, catalog.FindSkeleton(named.skeleton));
+    const Skeleton& skeleton = *skeleton_ref.part->skeleton;
     ws.local.resize(skeleton.size());
     ARMATURE_RETURN_IF_ERROR(PoseFromArrays(skeleton, AsSpan(request.pose().rotations()),
                                             AsSpan(request.pose().translations()), ws.local)
@@ -107,8 +99,8 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
   return Status::Ok();
 }
 
-Status SkinCharacter(const Catalog& catalog, const v1::SkinCharacterRequest& request,
-                     v1::SkinCharacterResponse* response, const Limits& limits) {
+Status SkinCharacter(const Catalog& catalog, const Limits& limits, const v1::SkinCharacterRequest& request,
+                     v1::SkinCharacterResponse* response) {
   auto skeleton = catalog.FindSkeleton(request.skeleton());
   if (!skeleton.ok()) return skeleton.status().WithContext("skeleton: ");
   const std::string& name = skeleton->part->name;
@@ -128,7 +120,7 @@ Status SkinCharacter(const Catalog& catalog, const v1::SkinCharacterRequest& req
   for (const NamedMesh* mesh : meshes) {
     each.set_mesh(mesh->name);
     // The first mesh reports bad posing fields; naming the mesh tells which when only one fails.
-    ARMATURE_RETURN_IF_ERROR(SkinMesh(catalog, each, response->add_meshes(), limits)
+    ARMATURE_RETURN_IF_ERROR(SkinMesh(catalog, limits, each, response->add_meshes())
                                  .WithContext("mesh '" + mesh->name + "': "));
   }
   return Status::Ok();
@@ -168,16 +160,15 @@ Status BindMesh(const Catalog& catalog, const v1::BindMeshRequest& request, v1::
   }
   ARMATURE_RETURN_IF_ERROR(ValidateMaxInfluences(request.max_influences()));
   if (request.max_influences() != 0) options.max_influences = request.max_influences();
-  auto bound = armature::BindMesh(*ref->part->mesh, *skeleton_ref->part->skeleton, options);
-  if (!bound.ok()) return bound.status();
-  const Mesh& mesh = bound->mesh;
+  ARMATURE_ASSIGN_OR_RETURN(auto bound, armature::BindMesh(*ref->part->mesh, *skeleton_ref->part->skeleton, options));
+  const Mesh& mesh = bound.mesh;
   response->set_mesh(ref->part->name);
   response->set_skeleton(skeleton_ref->part->name);
   response->mutable_influence_offsets()->Add(mesh.influence_offsets.begin(), mesh.influence_offsets.end());
   response->mutable_influence_joints()->Reserve(static_cast<int>(mesh.influence_joints.size()));
   for (uint32_t k : mesh.influence_joints) response->add_influence_joints(mesh.joints[k]);  // skin → skeleton joint
   response->mutable_influence_weights()->Add(mesh.influence_weights.begin(), mesh.influence_weights.end());
-  for (const std::string& w : bound->warnings) response->add_warnings(w);
+  for (const std::string& w : bound.warnings) response->add_warnings(w);
   response->set_max_influences(static_cast<int>(mesh.max_influences()));
   return Status::Ok();
 }

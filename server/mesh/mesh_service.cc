@@ -101,7 +101,7 @@ grpc::ServerUnaryReactor* MeshServiceImpl::SkinMesh(grpc::CallbackServerContext*
     const auto catalog = store_.Snapshot();
     ARMATURE_RETURN_IF_ERROR(ValidateMeshReply(*catalog, request->mesh(), false, limits_, "SkinMesh",
                                                ReplyEncodingOf(*context)));
-    return server::SkinMesh(*catalog, *request, response, limits_);
+    return server::SkinMesh(*catalog, limits_, *request, response);
   });
 }
 
@@ -114,7 +114,7 @@ grpc::ServerUnaryReactor* MeshServiceImpl::SkinCharacter(grpc::CallbackServerCon
       ARMATURE_RETURN_IF_ERROR(
           ValidateCharacterReply(catalog->MeshesOf(skeleton->part->name), limits_, "SkinCharacter",
                                  ReplyEncodingOf(*context)));
-    return server::SkinCharacter(*catalog, *request, response, limits_);
+    return server::SkinCharacter(*catalog, limits_, *request, response);
   });
 }
 

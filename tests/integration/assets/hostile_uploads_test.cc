@@ -12,6 +12,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <set>
@@ -192,7 +193,9 @@ TEST(HostileUploads, ResidentMemoryLevelsOffOverThousands) {
   Client client(o);
   httplib::Client http("127.0.0.1", server.http_port());
   http.set_read_timeout(5);
-  constexpr int kThousands = 3;
+  // ARMATURE_HOSTILE_THOUSANDS runs more (the note's 9,000 were measured so).
+  const char* thousands_env = std::getenv("ARMATURE_HOSTILE_THOUSANDS");
+  const int kThousands = thousands_env ? std::max(3, std::atoi(thousands_env)) : 3;
   std::vector<int64_t> resident_kb;
   RunReport run;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(100 * kThousands);
@@ -207,8 +210,10 @@ TEST(HostileUploads, ResidentMemoryLevelsOffOverThousands) {
   EXPECT_TRUE(run.failures.empty()) << run.failures.size() << " kinds of failure:" << run.Failures();
   ASSERT_EQ(resident_kb.size(), static_cast<size_t>(kThousands));
   // Level: the last thousand adds at most a tenth of what the first left, and 32 MB.
+  std::string each;
+  for (int64_t kb : resident_kb) each += " " + std::to_string(kb);
   EXPECT_LT(resident_kb.back(), resident_kb.front() + resident_kb.front() / 10 + (32 << 10))
-      << "resident after each thousand (kB): " << resident_kb[0] << ", " << resident_kb[1] << ", " << resident_kb[2];
+      << "resident after each thousand (kB):" << each;
   EXPECT_EQ(server.Stop(SIGTERM, 20), 0) << "no clean exit on SIGTERM";
 }
 

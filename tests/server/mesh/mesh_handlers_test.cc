@@ -21,7 +21,7 @@ TEST(MeshHandlers, SkinningByClipEqualsSkinningByItsSampledPose) {
   by_clip.set_clip("demo_character.walk");
   by_clip.set_time(t);
   v1::SkinMeshResponse a;
-  Status st = SkinMesh(*catalog, by_clip, &a);
+  Status st = SkinMesh(*catalog, Limits{}, by_clip, &a);
   ASSERT_TRUE(st.ok()) << st.message();
 
   const Clip& clip = *catalog->FindClip("demo_character.walk")->part->clip;
@@ -35,7 +35,7 @@ TEST(MeshHandlers, SkinningByClipEqualsSkinningByItsSampledPose) {
     for (int k = 0; k < 3; ++k) by_pose.mutable_pose()->add_translations(static_cast<float>(x.translation[k]));
   }
   v1::SkinMeshResponse b;
-  st = SkinMesh(*catalog, by_pose, &b);
+  st = SkinMesh(*catalog, Limits{}, by_pose, &b);
   ASSERT_TRUE(st.ok()) << st.message();
 
   ASSERT_GT(a.vertex_count(), 100);
@@ -47,7 +47,7 @@ TEST(MeshHandlers, SkinningByClipEqualsSkinningByItsSampledPose) {
   v1::SkinMeshRequest at_start = by_clip;
   at_start.set_time(0);
   v1::SkinMeshResponse c;
-  ASSERT_TRUE(SkinMesh(*catalog, at_start, &c).ok());
+  ASSERT_TRUE(SkinMesh(*catalog, Limits{}, at_start, &c).ok());
   double moved = 0;
   for (int i = 0; i < a.positions_size(); ++i) moved = std::max(moved, std::abs(double(a.positions(i)) - c.positions(i)));
   EXPECT_GT(moved, 1.0);
