@@ -4,6 +4,7 @@
 #include <string>
 
 #include "armature/engine/mesh/mesh.h"
+#include "server/deform/deform_validation.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {

@@ -7,6 +7,7 @@
 #include "armature/engine/mesh/skinning.h"
 #include "server/mesh/mesh_convert.h"
 #include "server/rpc/pose_convert.h"
+#include "server/mesh/mesh_validation.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {
@@ -53,15 +54,13 @@ Status SkinMesh(const Catalog& catalog, const Limits& limits, const v1::SkinMesh
   if (!ref.ok()) return ref.status().WithContext("mesh: ");
   const NamedMesh& named = *ref->part;
   const Mesh& mesh = *named.mesh;
-  auto method = FromProto(request.method());
-  if (!method.ok()) return method.status();
+  ARMATURE_ASSIGN_OR_RETURN(const SkinningMethod method, FromProto(request.method()));
   ARMATURE_RETURN_IF_ERROR(ValidateWeights(AsSpan(request.morph_weights()), mesh.targets.size(), "morph_weights"));
   SkinningOptions options;
-  options.method = *method;
+  options.method = method;
   options.morph_weights = AsSpan(request.morph_weights());
 
   ARMATURE_RETURN_IF_ERROR(ValidateSkinSource(request));
-  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.method(), v1::SkinningMethod_descriptor(), "method"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
   thread_local MeshWorkspace ws;

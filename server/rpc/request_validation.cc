@@ -15,6 +15,12 @@ Status ValidateFinite(double value, const std::string& field) {
   return Status::Ok();
 }
 
+Status ValidateClipTime(double time, const std::string& field) {
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(time, field));
+  if (time < 0) return Status::InvalidArgument(field + ": must not be negative");
+  return Status::Ok();
+}
+
 Status ValidateTimes(std::span<const double> times, const Limits& limits, const std::string& field) {
   if (times.empty()) return Status::InvalidArgument(field + ": at least one time is required");
   if (times.size() > limits.max_times_per_request)
@@ -63,59 +69,6 @@ Status ValidatePacing(StreamPacing& p, const Limits& limits) {
   return Status::Ok();
 }
 
-Status ValidateClipTime(double time, const std::string& field) {
-  ARMATURE_RETURN_IF_ERROR(ValidateFinite(time, field));
-  if (time < 0) return Status::InvalidArgument(field + ": must not be negative");
-  return Status::Ok();
-}
-
-Status ValidateWeights(std::span<const float> weights, size_t targets, const std::string& field) {
-  if (weights.empty()) return Status::Ok();
-  if (weights.size() != targets)
-    return Status::InvalidArgument(field + ": " + std::to_string(weights.size()) + " values for " +
-                                   std::to_string(targets) + " morph targets (give one per target, or none)");
-  for (size_t i = 0; i < weights.size(); ++i)
-    if (!std::isfinite(weights[i]))
-      return Status::InvalidArgument(field + "[" + std::to_string(i) + "]: must be a finite number");
-  return Status::Ok();
-}
-
-Status ValidateDeformSetup(const v1::DeformSetup& setup) {
-  if (setup.soft() && setup.soft_weight() != 0 && !(std::isfinite(setup.soft_weight()) && setup.soft_weight() > 0))
-    return Status::InvalidArgument("soft_weight: must be finite and > 0");
-  if (setup.arap_iterations() < 0 || setup.arap_iterations() > 1000)
-    return Status::InvalidArgument("arap_iterations: must be in [0, 1000] (0 = default 10)");
-  return Status::Ok();
-}
-
-Status ValidateHandlePositions(std::span<const double> positions, size_t handles, const std::string& field) {
-  if (positions.size() != 3 * handles)
-    return Status::InvalidArgument(field + ": needs " + std::to_string(3 * handles) + " values (x, y, z per handle), got " +
-                                   std::to_string(positions.size()));
-  for (size_t i = 0; i < positions.size(); ++i)
-    if (!std::isfinite(positions[i]))
-      return Status::InvalidArgument(field + ": handle " + std::to_string(i / 3) + " has a non-finite coordinate");
-  return Status::Ok();
-}
-
-Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::DeformHandle>& handles) {
-  for (int k = 0; k < handles.size(); ++k)
-    if (handles[k].position_size() != 3)
-      return Status::InvalidArgument("handles[" + std::to_string(k) + "].position: needs 3 values (x, y, z), got " +
-                                     std::to_string(handles[k].position_size()));
-  return Status::Ok();
-}
-
-Status ValidateSkinSource(const v1::SkinMeshRequest& request) {
-  if (request.clip().empty() && !request.has_motion() && request.pose().rotations().empty())
-    return Status::InvalidArgument(
-        "clip, motion or pose.rotations: one is required (pose: 4 rotation values per joint)");
-  // A pose beside a clip is ignored (the clip poses the mesh), as it always was.
-  if (request.has_motion() && !request.pose().rotations().empty())
-    return Status::InvalidArgument("motion and pose.rotations: give exactly one (both given)");
-  return request.has_motion() ? ValidateClipOrMotion(request.clip(), true) : Status::Ok();
-}
-
 Status ValidateClipOrMotion(const std::string& clip, bool has_motion) {
   if (clip.empty() && !has_motion) return Status::InvalidArgument("clip or motion: one is required");
   if (!clip.empty() && has_motion)
@@ -156,11 +109,6 @@ Status ValidateMotion(const v1::Motion& motion, const Limits& limits, const std:
         return Status::InvalidArgument(where + ".maskWeights[" + std::to_string(k) + "]: " +
                                        std::to_string(l.mask_weights(k)) + " is outside [0, 1]");
   }
-  return Status::Ok();
-}
-
-Status ValidateMaxInfluences(int max_influences) {
-  if (max_influences < 0 || max_influences > 8) return Status::InvalidArgument("max_influences: must be between 1 and 8");
   return Status::Ok();
 }
 

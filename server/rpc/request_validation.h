@@ -38,22 +38,6 @@ Status ValidatePacing(StreamPacing& pacing, const Limits& limits);
 // A clip time: finite and >= 0.
 Status ValidateClipTime(double time, const std::string& field);
 
-// Morph weights: empty, or one finite value per target.
-Status ValidateWeights(std::span<const float> weights, size_t targets, const std::string& field);
-
-// A deformation setup's own numbers: soft_weight (soft only; 0 = default)
-// finite and > 0, arap_iterations in [0, 1000].
-Status ValidateDeformSetup(const v1::DeformSetup& setup);
-
-// x, y, z for each of `handles` handles, every value finite; errors name `field`.
-Status ValidateHandlePositions(std::span<const double> positions, size_t handles, const std::string& field);
-
-// A unary Deform's handles: each position has 3 values (x, y, z).
-Status ValidateDeformHandles(const google::protobuf::RepeatedPtrField<v1::DeformHandle>& handles);
-
-// A skin request's pose source: a clip or a motion (exactly one), or else pose rotations.
-Status ValidateSkinSource(const v1::SkinMeshRequest& request);
-
 // A stream's source: exactly one of `clip` and `motion`, naming both fields.
 Status ValidateClipOrMotion(const std::string& clip, bool has_motion);
 
@@ -63,9 +47,6 @@ Status ValidateClipOrMotion(const std::string& clip, bool has_motion);
 // weights one per mask joint (or none) in [0, 1], enums known. Errors are
 // INVALID_ARGUMENT naming `field` and the layer ("motion.layers[1] (clip 'Wave'): weight …").
 Status ValidateMotion(const v1::Motion& motion, const Limits& limits, const std::string& field);
-
-// BindMeshRequest.max_influences: 0 (the default) or 1 to 8.
-Status ValidateMaxInfluences(int max_influences);
 
 // An answer of about `bytes` (computed before any work: `how` says from
 // what, e.g. "100000 times × 31 joints × 28 bytes") fits in one message:
