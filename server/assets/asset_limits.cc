@@ -37,6 +37,7 @@ ImportLimits ImportLimitsOf(const Limits& limits) {
   caps.max_clip_frames = static_cast<uint64_t>(std::max<int64_t>(limits.max_clip_frames, 0));
   caps.max_mesh_vertices = static_cast<uint64_t>(std::max<int64_t>(limits.max_mesh_vertices, 0));
   caps.max_decoded_bytes = static_cast<uint64_t>(std::max<int64_t>(limits.max_assets_bytes, 0));
+  caps.max_image_bytes = static_cast<uint64_t>(std::max<int64_t>(limits.max_image_bytes, 0));
   return caps;
 }
 
@@ -62,6 +63,7 @@ ImportLimits LoadLimitsOf(const Limits& limits) {
   caps.max_clip_frames = std::max(caps.max_clip_frames, flags.max_clip_frames);
   caps.max_mesh_vertices = std::max(caps.max_mesh_vertices, flags.max_mesh_vertices);
   caps.max_decoded_bytes = std::max(caps.max_decoded_bytes, flags.max_decoded_bytes);
+  caps.max_image_bytes = std::max(caps.max_image_bytes, flags.max_image_bytes);
   return caps;
 }
 
@@ -69,6 +71,7 @@ StatusOr<AssetContents> WithLimitFlags(StatusOr<AssetContents> parsed) {
   if (parsed.ok() || parsed.status().code() != StatusCode::kResourceExhausted) return parsed;
   static constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
       {"max_clip_frames", "--max-clip-frames"}, {"max_mesh_vertices", "--max-mesh-vertices"},
+      {"max_image_bytes", "--max-image-mb"},
       {"max_decoded_bytes", "--max-assets-mb, less what the server holds"}};
   const std::string message = parsed.status().message();
   for (const auto& [field, flag] : kFlags)

@@ -1,6 +1,7 @@
 #include "server/host/config.h"
 
 #include <filesystem>
+#include <utility>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -57,9 +58,10 @@ void AddHttpConnectionFlags(CLI::App& app, ServerConfig& c) {
 namespace {
 
 // The bounds on what imports may hold: assets in memory, uploads at once.
-// Returns the --max-assets-mb value to convert after parsing.
-std::shared_ptr<double> AddMemoryFlags(CLI::App& app, Limits& limits) {
+// Returns the --max-assets-mb and --max-image-mb values to convert after parsing.
+std::pair<std::shared_ptr<double>, std::shared_ptr<double>> AddMemoryFlags(CLI::App& app, Limits& limits) {
   auto assets_mb = std::make_shared<double>(static_cast<double>(limits.max_assets_bytes) / (1 << 20));
+  auto image_mb = std::make_shared<double>(static_cast<double>(limits.max_image_bytes) / (1 << 20));
   app.add_option("--max-assets-mb", *assets_mb,
                  "Memory the loaded assets may take in all (estimated, as in armature_assets_memory_bytes), in "
                  "MiB; an import or new clip that would pass it is refused")
@@ -67,7 +69,11 @@ std::shared_ptr<double> AddMemoryFlags(CLI::App& app, Limits& limits) {
   app.add_option("--max-concurrent-uploads", limits.max_concurrent_uploads,
                  "Most imports (ImportAsset over gRPC, REST or gRPC-Web) received at once; more are refused")
       ->envname("ARMATURE_MAX_CONCURRENT_UPLOADS")->check(CLI::PositiveNumber);
-  return assets_mb;
+  app.add_option("--max-image-mb", *image_mb,
+                 "Largest material image (texture) an import keeps, in MiB, as stored (PNG or JPEG bytes); an import "
+                 "with a larger one is refused")
+      ->envname("ARMATURE_MAX_IMAGE_MB")->check(CLI::PositiveNumber);
+  return {assets_mb, image_mb};
 }
 
 }  // namespace
@@ -153,7 +159,7 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
                  "handle indices, in MiB (0: none)")
       ->envname("ARMATURE_DEFORM_CACHE_MB")->check(CLI::NonNegativeNumber);
   AddWorkBudgetFlags(app, c.limits);
-  const auto assets_mb = AddMemoryFlags(app, c.limits);
+  const auto [assets_mb, image_mb] = AddMemoryFlags(app, c.limits);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -165,6 +171,7 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   c.limits.max_request_bytes = static_cast<int64_t>(request_kb * 1024);
   c.limits.deform_cache_bytes = static_cast<int64_t>(deform_cache_mb * (1 << 20));
   c.limits.max_assets_bytes = static_cast<int64_t>(*assets_mb * (1 << 20));
+  c.limits.max_image_bytes = static_cast<int64_t>(*image_mb * (1 << 20));
   return -1;
 }
 

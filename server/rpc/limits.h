@@ -35,6 +35,7 @@ struct Limits {
   int heavy_threads = 0;                   // --heavy-threads: heavy calls run at once (0: the cores, at least 2)
   int heavy_queue = 0;                     // --heavy-queue: heavy calls waiting beyond those (0: 4 per thread)
   int64_t max_assets_bytes = 1024ll << 20;   // --max-assets-mb: estimated memory of all loaded assets
+  int64_t max_image_bytes = 32ll << 20;      // --max-image-mb: one material image's stored bytes
   int max_concurrent_uploads = 4;            // --max-concurrent-uploads: ImportAsset calls (gRPC and REST) at once
 };
 

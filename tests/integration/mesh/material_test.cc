@@ -112,5 +112,19 @@ TEST_F(Materials, BadIndicesAreRefusedNamingTheField) {
   EXPECT_NE(rest->body.find("image: 7 is out of range"), std::string::npos) << rest->body;
 }
 
+// --max-image-mb caps one image's stored bytes: CesiumMan's JPEG (over 100 KB)
+// under a 0.05 MiB cap is refused, the flag named, and nothing is stored.
+TEST(MaterialLimits, AnImageOverMaxImageMbIsRefusedNamingTheFlag) {
+  if (SharedData("gltf/cesium_man.gltf").empty()) GTEST_SKIP() << "shared glTF data not found (ARMATURE_SHARED_DATA)";
+  TempDir data;
+  ServerProcess server(data.path(), {"--no-demo", "--max-image-mb", "0.05"});
+  Client client(OptionsFor(server));
+  const grpc::Status st = StatusOf([&] { client.ImportFile(SharedData("gltf/cesium_man.gltf"), "cesium_man"); });
+  EXPECT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << st.error_message();
+  EXPECT_NE(st.error_message().find("max_image_bytes"), std::string::npos) << st.error_message();
+  EXPECT_NE(st.error_message().find("(--max-image-mb)"), std::string::npos) << st.error_message();
+  EXPECT_EQ(client.ListMeshes().meshes_size(), 0);
+}
+
 }  // namespace
 }  // namespace armature::testing
