@@ -2,8 +2,9 @@
 // module: node build.mjs <outdir>. Nothing is fetched: esbuild, three,
 // protobuf-es and connect-web come from node_modules (npm ci).
 //
-// The viewer talks gRPC-Web through clients/typescript (its source, bundled
-// as is). That client imports its protoc-gen-es stubs from ./gen/, which are
+// The viewer talks to the server through clients/typescript (its source,
+// bundled as is): gRPC-Web for the calls, its WebSocket sessions for IK and
+// deformation. That client imports its protoc-gen-es stubs from ./gen/, which are
 // not committed: the client's own generate.mjs makes them here from proto/
 // (protoc, web's protoc-gen-es) into node_modules/.armature-gen; the bundler resolves
 // the client's ./gen/ imports there.

@@ -1,18 +1,23 @@
-// The server, as the viewer uses it: every unary and streaming call goes
-// through the TypeScript client (clients/typescript) over gRPC-Web with binary
-// protobuf on the HTTP port (the sessions go over WebSockets in
-// session_socket.js, and dropped files are posted as a form by drop_import.js), so big answers (skinned meshes, pose batches) travel as protobuf, not
-// JSON text. Requests and answers keep the REST gateway's JSON shape (proto3
-// JSON names, enums by name, every field present), so the rest of the viewer
-// reads the same objects it always has. Every call rejects with an Error
-// carrying the server's message and its gRPC `code`.
-import { fromBinary, fromJson, toBinary, toJson } from '@bufbuild/protobuf';
+// The server, as the viewer uses it: every unary and streaming call and both
+// sessions go through the TypeScript client (clients/typescript): the calls
+// over gRPC-Web, the IK and deformation sessions over WebSockets (the client's
+// sessions, its socket in a worker), all in binary protobuf, so big answers
+// (skinned meshes, pose batches, deformed shapes) travel as protobuf, not JSON
+// text. Only dropped files go another way: posted as a form by drop_import.js.
+// Requests and answers keep the REST gateway's JSON shape (proto3 JSON names,
+// enums by name, every field present), so the rest of the viewer reads the
+// same objects it always has; only a deformation move's answer stays the
+// decoded message (every vertex's floats, never printed as JSON). Every call
+// rejects with an Error carrying the server's message and its gRPC `code`.
+import { fromJson, toJson } from '@bufbuild/protobuf';
 
 import {
-  AssetService, AuthoringService, DeformService, IkService, MeshService, PoseService, createArmatureClient,
+  AssetService, AuthoringService, DeformService, IkService, MeshService, PoseService, WorkerWebSocket,
+  createArmatureClient, openDeformSession as openClientDeformSession, openIkSession as openClientIkSession,
 } from '../../clients/typescript/src/index.ts';
 
-const client = createArmatureClient(globalThis.location?.origin ?? '');
+const origin = globalThis.location?.origin ?? '';
+const client = createArmatureClient(origin);
 
 // As the gateway prints them: default values too.
 const JSON_OUT = { alwaysEmitImplicit: true };
@@ -23,24 +28,20 @@ function viewerError(e) {
   return error;
 }
 
-// One unary call: `request` as proto3 JSON in, the answer as proto3 JSON out.
-async function unary(service, calls, name, request) {
-  const method = service.method[name];
+// `call()`'s answer; a failure rejects with the server's message and `code`.
+async function viewerCall(call) {
   try {
-    const answer = await calls[name](fromJson(method.input, request));
-    return toJson(method.output, answer, JSON_OUT);
+    return await call();
   } catch (e) {
     throw viewerError(e);
   }
 }
 
-// An IkSession's messages in the proto encoding, for the joint drag's binary
-// WebSocket frames: the server then neither parses nor prints JSON (about
-// 0.3 ms of a 0.6 ms step), and the answer is a third of the JSON's size.
-const ikSession = IkService.method.ikSession;
-export const encodeIkSessionRequest = (request) => toBinary(ikSession.input, fromJson(ikSession.input, request));
-export const decodeIkSessionAnswer = (buffer) =>
-  toJson(ikSession.output, fromBinary(ikSession.output, new Uint8Array(buffer)), JSON_OUT);
+// One unary call: `request` as proto3 JSON in, the answer as proto3 JSON out.
+function unary(service, calls, name, request) {
+  const method = service.method[name];
+  return viewerCall(async () => toJson(method.output, await calls[name](fromJson(method.input, request)), JSON_OUT));
+}
 
 const pose = (name, request) => unary(PoseService, client.pose, name, request);
 const asset = (name, request) => unary(AssetService, client.asset, name, request);
@@ -60,9 +61,7 @@ export function getSkeleton(skeleton) {
 
 // A skeleton's joint names, fetched once (forgetSkeletons drops them, as after an import).
 export function jointNames(skeleton) {
-  return client.jointNames(skeleton).catch((e) => {
-    throw viewerError(e);
-  });
+  return viewerCall(() => client.jointNames(skeleton));
 }
 
 export function forgetSkeletons() {
@@ -106,13 +105,11 @@ export function getMaterial(name, index) {
 
 // One image of a material as the server stores it: { mimeType, data: Uint8Array }
 // (binary protobuf: the bytes are not base64'd into JSON).
-export async function getMaterialImage(name, material, image) {
-  try {
+export function getMaterialImage(name, material, image) {
+  return viewerCall(async () => {
     const answer = await client.mesh.getMaterialImage({ mesh: name, material, image });
     return { mimeType: answer.mimeType, data: answer.data };
-  } catch (e) {
-    throw viewerError(e);
-  }
+  });
 }
 
 // World-space positions (and normals) of `mesh` (a SkinMeshRequest as JSON, less the mesh).
@@ -162,4 +159,44 @@ export function streamSkinnedMesh(name, clip, { startTime = 0, speed = 1, fps = 
   onFrame, onEnd) {
   const request = { mesh: name, clip, startTime, speed, fps, loop, method };
   return stream(MeshService, client.mesh, 'streamSkinnedMesh', request, onFrame, onEnd);
+}
+
+// Sessions: the socket in a worker (answers timed as they arrive, while the
+// page draws), and each session's latest requests and round trips kept in its
+// `log` (the drags' stats; web.session_e2e replays and times them).
+const SESSIONS = { WebSocket: WorkerWebSocket, keepLog: 512 };
+const ikSession = IkService.method.ikSession;
+const deformSession = DeformService.method.deformSession;
+
+// An IkSession on skeleton `skeleton`, opened with `start` (a SolveIkRequest as
+// JSON, less the skeleton): { session, first: the start's answer as JSON }.
+export function openIkSession(skeleton, start) {
+  return viewerCall(async () => {
+    const request = fromJson(IkService.method.solveIk.input, { ...start, skeleton });
+    const { session, first } = await openClientIkSession(origin, request, SESSIONS);
+    return { session, first: toJson(ikSession.output, first, JSON_OUT) };
+  });
+}
+
+// One IkSession step (an IkSessionRequest as JSON): its answer as JSON.
+export function ikStep(session, request) {
+  return viewerCall(async () => {
+    const answer = await session.send(fromJson(ikSession.input, request));
+    return toJson(ikSession.output, answer, JSON_OUT);
+  });
+}
+
+// A DeformSession for `setup` (a DeformSetup as JSON) and the handles
+// `handleIndices`, factored when it opens: the session.
+export function openDeformSession(setup, handleIndices) {
+  return viewerCall(async () => {
+    const start = fromJson(deformSession.input, { start: { setup, handleIndices } }).message.value;
+    return (await openClientDeformSession(origin, start, SESSIONS)).session;
+  });
+}
+
+// One DeformSession move, the handles' targets (x, y, z each): the
+// DeformResponse as decoded (every vertex's `positions`, `iterations`).
+export function deformMove(session, positions) {
+  return viewerCall(() => session.send({ message: { case: 'move', value: { positions } } }));
 }

@@ -4,19 +4,19 @@
 // clip on a character (every mesh of a skeleton); retarget a clip onto the
 // character and play it there; drop a file to import it.
 import * as api from './api.js';
-import { BlendCharacter } from './blend_character.js';
-import { BlendPanel } from './blend_panel.js';
-import { CharacterPlayer, charactersOf, clipsForCharacter } from './character_player.js';
-import { CharacterView } from './character_view.js';
+import { BlendCharacter } from './blend/blend_character.js';
+import { BlendPanel } from './blend/blend_panel.js';
+import { IkDrag } from './drags/ik_drag.js';
+import { VertexDrag } from './drags/vertex_drag.js';
 import { DropImport } from './drop_import.js';
-import { IkDrag } from './ik_drag.js';
-import { JointTree } from './joint_tree.js';
-import { MeshPlayer, SKINNING_METHODS, clipsFor } from './mesh_player.js';
-import { MeshView } from './mesh_view.js';
-import { Player } from './player.js';
-import { RetargetPanel } from './retarget_panel.js';
-import { SkeletonView } from './skeleton_view.js';
-import { VertexDrag } from './vertex_drag.js';
+import { CharacterPlayer, charactersOf, clipsForCharacter } from './playback/character_player.js';
+import { MeshPlayer, SKINNING_METHODS, clipsFor } from './playback/mesh_player.js';
+import { Player } from './playback/player.js';
+import { RetargetPanel } from './retarget/retarget_panel.js';
+import { CharacterView } from './views/character_view.js';
+import { JointTree } from './views/joint_tree.js';
+import { MeshView } from './views/mesh_view.js';
+import { SkeletonView } from './views/skeleton_view.js';
 
 const $ = (id) => document.getElementById(id);
 const ui = {

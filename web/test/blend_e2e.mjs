@@ -21,6 +21,7 @@ if (!existsSync(GLB)) {
 }
 const TOLERANCE = 1e-6;
 const FADE = 0.5;
+const T = 0.7;  // the time blends are compared at
 
 // What the page draws: the blend's time and motion, and every joint's sphere position.
 const drawn = (page) => page.evaluate(() => {
@@ -55,42 +56,13 @@ function maxDiff(a, b, only) {
   return most;
 }
 
-await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectConsoleError }) => {
-  const rest = server.call;
-  // World joint positions of `motion` at `time`, straight from the REST gateway.
-  const evaluate = async (motion, time) =>
-    (await rest('/v1/motions:evaluate', { motion, times: [time], space: 'WORLD' })).poses[0].translations;
-
-  const asset = await server.importAsset('RobotExpressive.glb', 'robot', readFileSync(GLB));
-  const clipNamed = (suffix) => asset.clips.find((c) => c.name.endsWith(`.${suffix}`))?.name;
-  const [walk, run, wave, yes, idle] = ['Walking', 'Running', 'Wave', 'Yes', 'Idle'].map(clipNamed);
-  check(walk && run && wave && yes && idle,
-        `RobotExpressive imports with ${asset.clips.length} clips (${walk}, ${run}, ${wave}, ${yes}, ${idle})`);
-  const skeleton = await rest(`/v1/skeletons/${encodeURIComponent(asset.clips[0].skeleton)}`);
-
-  await page.goto(`${server.url}/?clip=${encodeURIComponent(walk)}`);
-  await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
-  check(await page.isHidden('#blend-panel'), 'the blend panel is closed at first');
-  let shown = await drawnAfter(page, () => page.check('#blend'));
-  check(await page.isVisible('#blend-panel'), 'ticking Blend opens the panel');
-  const options = await page.$$eval('#blend-clip-1 option', (os) => os.map((o) => o.value));
-  check(options.length === asset.clips.length + 1 && options[0] === '',
-        `a layer offers none and the ${options.length - 1} clips of the skeleton`);
-  const firstTwo = [await page.$eval('#blend-clip-0', (s) => s.value), await page.$eval('#blend-clip-1', (s) => s.value)];
-  check(firstTwo[0] === walk && firstTwo[1] === run, `the layers start as the clip and a run (${firstTwo.join(', ')})`);
-  const walkOnly = await evaluate({ layers: [{ clip: walk }] }, 0);
-  check(maxDiff(shown.positions, walkOnly) < TOLERANCE, 'at first the panel draws the clip alone (weights 1 and 0)');
-
-  // Extent of the character, for "moved" thresholds.
-  const ys = walkOnly.filter((_, i) => i % 3 === 1);
-  const height = Math.max(...ys) - Math.min(...ys);
-
-  // Two clips and their weights through the controls, at t = 0.7 s.
-  const T = 0.7;
+// Two clips and their weights through the controls, at t = T; a slider moved.
+// Returns Walking's joints at T.
+async function weightsThroughControls({ page, evaluate, walk, run, height }) {
   await page.selectOption('#blend-clip-0', walk);
   await page.selectOption('#blend-clip-1', run);
   await setSlider(page, '#blend-weight-0', 0.6);
-  shown = await drawnAfter(page, async () => {
+  let shown = await drawnAfter(page, async () => {
     await setSlider(page, '#blend-weight-1', 0.4);
     await page.evaluate((t) => window.armatureViewer.blend.seek(t), T);
   });
@@ -113,8 +85,13 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectCo
   diff = maxDiff(shown.positions, reference);
   check(moved > 0.01 * height && diff < TOLERANCE,
         `moving Running's slider to 0.9 moves joints by up to ${moved.toFixed(4)}; drawn = EvaluateMotion (${diff.toExponential(2)})`);
+  return walkAtT;
+}
 
-  // Phase sync (Walking and Running last as long: Idle, 3.3 s, in their place).
+// Phase sync (Walking and Running last as long: Idle, 3.3 s, in their place),
+// and a rejected motion's message.
+async function phaseSync({ page, evaluate, expectConsoleError, walk, run, idle, height }) {
+  let shown, motion, diff;
   await page.selectOption('#blend-clip-1', idle);
   shown = await drawnAfter(page, () => page.check('#blend-sync'));
   motion = { layers: [{ clip: walk, weight: 0.6 }, { clip: idle, weight: 0.9 }], sync: 'PHASE' };
@@ -135,8 +112,11 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectCo
   check(cleared === '', `a rejected motion shows the server's message (${message}) until the next pose`);
   await page.uncheck('#blend-sync');
   await drawnAfter(page, () => page.selectOption('#blend-clip-1', run));
+}
 
-  // The upper-body mask: the subtree of the first spine-like joint (Abdomen on this rig).
+// The upper-body mask: the subtree of the first spine-like joint (Abdomen on this rig).
+async function upperBodyMask({ page, screenshot, evaluate, skeleton, walk, wave, yes, height }, walkAtT) {
+  let shown, reference, diff;
   const upperText = await page.textContent('#blend-upper-body');
   check(/\bAbdomen\b/.test(upperText), `the upper body is found by name (${upperText})`);
   const abdomen = skeleton.joints.findIndex((j) => j.name === 'Abdomen');
@@ -172,8 +152,11 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectCo
     if (c.mode === 'OVERRIDE') await page.screenshot({ path: besides(screenshot, 'mask') });
     await drawnAfter(page, () => page.selectOption('#blend-mask-1', 'full'));
   }
+}
 
-  // The crossfade: Walking → Running over 0.5 s of playback (at 0.25× speed: 2 s of the clock).
+// The crossfade: Walking → Running over 0.5 s of playback (at 0.25× speed: 2 s of the clock).
+async function crossfade({ page, screenshot, evaluate, walk, run }) {
+  let shown, reference, diff;
   await page.selectOption('#blend-clip-1', run);
   await page.selectOption('#blend-mode-1', 'OVERRIDE');
   await setSlider(page, '#blend-weight-0', 1);
@@ -231,8 +214,12 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectCo
   const png = await page.screenshot({ path: screenshot });
   const bones = await colourStats(page, png, 'bone');
   check(bones.count > 500 && bones.height > 100, `the blended skeleton is drawn (${bones.count} bone-coloured pixels, ${bones.width}×${bones.height} px)`);
+}
 
-  // Leaving blend mode shows the clip again.
+// Leaving blend mode shows the clip again; from a skinned mesh, Blend shows
+// the mesh's skeleton alone, with the layers set before (same skeleton).
+async function blendFromAMesh({ page, evaluate, asset, skeleton, walk, run }) {
+  let shown, reference, diff;
   await page.uncheck('#blend');
   check(await page.isHidden('#blend-panel'), 'unticking Blend closes the panel');
 
@@ -249,4 +236,42 @@ await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectCo
   diff = maxDiff(shown.positions, reference);
   check(state.mesh === '' && state.layers[0] === walk && state.layers[1] === run && diff < TOLERANCE,
         `from the mesh ${mesh.name}, Blend shows its skeleton with the layers kept (${diff.toExponential(2)})`);
+}
+
+await runViewerTest('blend_e2e.mjs', async ({ page, server, screenshot, expectConsoleError }) => {
+  const rest = server.call;
+  // World joint positions of `motion` at `time`, straight from the REST gateway.
+  const evaluate = async (motion, time) =>
+    (await rest('/v1/motions:evaluate', { motion, times: [time], space: 'WORLD' })).poses[0].translations;
+
+  const asset = await server.importAsset('RobotExpressive.glb', 'robot', readFileSync(GLB));
+  const clipNamed = (suffix) => asset.clips.find((c) => c.name.endsWith(`.${suffix}`))?.name;
+  const [walk, run, wave, yes, idle] = ['Walking', 'Running', 'Wave', 'Yes', 'Idle'].map(clipNamed);
+  check(walk && run && wave && yes && idle,
+        `RobotExpressive imports with ${asset.clips.length} clips (${walk}, ${run}, ${wave}, ${yes}, ${idle})`);
+  const skeleton = await rest(`/v1/skeletons/${encodeURIComponent(asset.clips[0].skeleton)}`);
+
+  await page.goto(`${server.url}/?clip=${encodeURIComponent(walk)}`);
+  await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
+  check(await page.isHidden('#blend-panel'), 'the blend panel is closed at first');
+  let shown = await drawnAfter(page, () => page.check('#blend'));
+  check(await page.isVisible('#blend-panel'), 'ticking Blend opens the panel');
+  const options = await page.$$eval('#blend-clip-1 option', (os) => os.map((o) => o.value));
+  check(options.length === asset.clips.length + 1 && options[0] === '',
+        `a layer offers none and the ${options.length - 1} clips of the skeleton`);
+  const firstTwo = [await page.$eval('#blend-clip-0', (s) => s.value), await page.$eval('#blend-clip-1', (s) => s.value)];
+  check(firstTwo[0] === walk && firstTwo[1] === run, `the layers start as the clip and a run (${firstTwo.join(', ')})`);
+  const walkOnly = await evaluate({ layers: [{ clip: walk }] }, 0);
+  check(maxDiff(shown.positions, walkOnly) < TOLERANCE, 'at first the panel draws the clip alone (weights 1 and 0)');
+
+  // Extent of the character, for "moved" thresholds.
+  const ys = walkOnly.filter((_, i) => i % 3 === 1);
+  const height = Math.max(...ys) - Math.min(...ys);
+
+  const t = { page, screenshot, expectConsoleError, evaluate, asset, skeleton, walk, run, wave, yes, idle, height };
+  const walkAtT = await weightsThroughControls(t);
+  await phaseSync(t);
+  await upperBodyMask(t, walkAtT);
+  await crossfade(t);
+  await blendFromAMesh(t);
 });

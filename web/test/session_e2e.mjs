@@ -55,7 +55,7 @@ async function dragInSteps(page, from, dx, dy, drag, event) {
         clientX: from.x + (dx * i) / steps, clientY: from.y + (dy * i) / steps,
         pointerId: 1, pointerType: 'mouse', buttons: 1, bubbles: true,
       }));
-      await Promise.race([answered, new Promise((_, reject) => setTimeout(() => reject(new Error(`step ${i}: no ${event} ${JSON.stringify(target.stats, (k, v) => (k === 'sessions' ? v.map((x) => [x.sent.length, x.roundTrips.length, x.waiting.length, x.isOpen]) : k === 'lastResponse' ? undefined : v))} busy ${target.busy}`)), 30000))]);
+      await Promise.race([answered, new Promise((_, reject) => setTimeout(() => reject(new Error(`step ${i}: no ${event} ${JSON.stringify(target.stats, (k, v) => (k === 'sessions' ? v.map((x) => [x.log.sent.length, x.log.roundTrips.length, x.pending, x.isOpen]) : k === 'lastResponse' ? undefined : v))} busy ${target.busy}`)), 30000))]);
     }
   }, { from, dx, dy, drag, event, steps: STEPS });
   await page.mouse.up();
@@ -68,18 +68,18 @@ async function dragInSteps(page, from, dx, dy, drag, event) {
 // The latest session of `drag` ('ik' or 'vertexDrag'): its URL, how each
 // request travelled, the requests as JSON, and the round trips.
 function lastSession(drag) {
-  const s = window.armatureViewer[drag].stats.sessions.at(-1);
+  const s = window.armatureViewer[drag].stats.sessions.at(-1).log;
   const frames = s.sent.map((m) => (typeof m === 'string' ? 'text' : 'binary'));
   return { url: s.url, frames, requests: s.requests, roundTrips: s.roundTrips, pageRoundTrips: s.pageRoundTrips };
 }
 
 // Sends the latest session of `drag`'s very frames again, back to back, over
-// a new WebSocket from a worker of the page (as SessionSocket does) to `url`,
+// a new WebSocket from a worker of the page (as the viewer's WorkerWebSocket does) to `url`,
 // or with `echo` to that peer asking for answers of the size the server
 // gave; resolves with each step's round trip (the first frame left out) and
 // that size.
 function replayInPage({ drag, url, echo, answerBytes }) {
-  const frames = window.armatureViewer[drag].stats.sessions.at(-1).sent;
+  const frames = window.armatureViewer[drag].stats.sessions.at(-1).log.sent;
   const target = echo ? `${echo}?answer=${answerBytes}` : url;
   const worker = new Worker(URL.createObjectURL(new Blob([`onmessage = async ({ data }) => {
     const socket = new WebSocket(data.target);

@@ -6,8 +6,9 @@
 //   node viewer_e2e.mjs <armature-server> <web dir> <screenshot.png>
 import { besides, check, colourStats, runViewerTest } from './browser.mjs';
 
-await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
-  // Every call the viewer makes is gRPC-Web (binary protobuf), none REST JSON.
+// Every call the viewer makes is gRPC-Web (binary protobuf), none REST JSON:
+// the paths it calls, and any REST or non-binary call.
+function watchCalls(page) {
   const calls = { grpcWeb: new Set(), rest: [] };
   page.on('request', (r) => {
     const url = new URL(r.url());
@@ -18,14 +19,11 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
       calls.rest.push(url.pathname);
     }
   });
-  // The seeded clips sort demo_character.walk first; this test plays the BVH demo.
-  await page.goto(server.url + '/?clip=demo_walk');
-  await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
-  const clip = await page.$eval('#clip', (s) => s.value);
-  check(clip === 'demo_walk', `the clip list offers the demo (selected: ${clip})`);
-  check((await page.textContent('#joints')) === '19 joints', 'the joint count is on screen');
-  check(/frame time 33\.3 ms/.test(await page.textContent('#frame-time')), 'the frame time is on screen');
+  return calls;
+}
 
+// Plays the clip: frames arrive over gRPC-Web and the skeleton is drawn, moving.
+async function playAndDraw(page, screenshot, calls) {
   await page.click('#play');
   await page.waitForFunction(() => window.armatureViewer.player.stats.framesReceived >= 45, null, { timeout: 30000 });
   const playing = await page.evaluate(() => ({ ...window.armatureViewer.player.stats, time: window.armatureViewer.player.time }));
@@ -44,8 +42,11 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
   check(a.count > 800 && b.count > 800, `the skeleton is drawn (${a.count} and ${b.count} bone-coloured pixels of ${b.pixels})`);
   check(b.height > 150 && b.width > 30, `it has a body's extent (${b.width}×${b.height} px)`);
   check(!first.equals(second), 'the picture changes as the clip plays');
+}
 
-  // Scrub while paused: one EvaluateClip at the slider's time.
+// Scrubs while paused, then plays at 2× from there.
+async function scrubAndSpeed(page) {
+  // One EvaluateClip at the slider's time.
   const before = await page.evaluate(() => window.armatureViewer.player.stats.evaluations);
   await page.$eval('#scrub', (s) => {
     s.value = '1.5';
@@ -68,9 +69,11 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
   const steps = times.slice(1).map((t, i) => t - times[i]);
   check(Math.abs(times[0] - 1.5) < 1e-6 && steps.every((d) => Math.abs(d - 2 / 30) < 1e-6),
         `playing at 2× from the scrubbed time steps ${steps.map((d) => d.toFixed(4)).join(', ')} s per frame`);
+}
 
-  // IK: drag the left wrist with the mouse; the skeleton follows through
-  // an IkSession over a WebSocket, the other end joints stay pinned.
+// IK: drags the left wrist with the mouse; the skeleton follows through
+// an IkSession over a WebSocket, the other end joints stay pinned.
+async function dragTheWrist(page, screenshot) {
   const beforeIk = await page.evaluate(() => window.armatureViewer.player.stats.evaluations);
   await page.$eval('#scrub', (s) => {
     s.value = '1.0';
@@ -120,5 +123,20 @@ await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
   check(miss < 2, `the wrist is drawn under the pointer (${miss.toFixed(2)} px away)`);
   check(pinShift < 0.05, `the other wrist stayed pinned (moved ${pinShift.toFixed(4)})`);
   await page.screenshot({ path: besides(screenshot, 'ik') });
+}
+
+await runViewerTest('viewer_e2e.mjs', async ({ page, server, screenshot }) => {
+  const calls = watchCalls(page);
+  // The seeded clips sort demo_character.walk first; this test plays the BVH demo.
+  await page.goto(server.url + '/?clip=demo_walk');
+  await page.waitForFunction(() => window.armatureViewer?.player.skeleton, null, { timeout: 30000 });
+  const clip = await page.$eval('#clip', (s) => s.value);
+  check(clip === 'demo_walk', `the clip list offers the demo (selected: ${clip})`);
+  check((await page.textContent('#joints')) === '19 joints', 'the joint count is on screen');
+  check(/frame time 33\.3 ms/.test(await page.textContent('#frame-time')), 'the frame time is on screen');
+
+  await playAndDraw(page, screenshot, calls);
+  await scrubAndSpeed(page);
+  await dragTheWrist(page, screenshot);
   check(calls.rest.length === 0, `no REST JSON call${calls.rest.length ? ': ' + calls.rest.join(', ') : ''} (the IK drag included)`);
 });

@@ -157,17 +157,9 @@ function typedClient<S extends DescService>(service: S, transport: Transport): C
   return typed as Client<S>;
 }
 
-export function createArmatureClient(baseUrl: string, options: ClientOptions = {}): ArmatureClient {
-  const transport = createGrpcWebTransport({
-    baseUrl: baseUrl.replace(/\/+$/, ''),
-    useBinaryFormat: true,
-    defaultTimeoutMs: options.timeoutMs,
-    fetch: options.fetch,
-    interceptors: [tokenInterceptor(options.token), ...(options.interceptors ?? [])],
-  });
-  const pose = typedClient(PoseService, transport);
-  const mesh = typedClient(MeshService, transport);
-  const asset = typedClient(AssetService, transport);
+// Each skeleton's joint names, fetched once; `namesOf` fetches anew when an
+// index is past the names known (the skeleton was imported again since).
+function jointNameCache(asset: Client<typeof AssetService>) {
   const skeletons = new Map<string, Promise<string[]>>();
 
   function jointNames(skeleton: string): Promise<string[]> {
@@ -182,12 +174,28 @@ export function createArmatureClient(baseUrl: string, options: ClientOptions = {
 
   async function namesOf(skeleton: string, indices: number[]): Promise<string[]> {
     let all = await jointNames(skeleton);
-    if (indices.some((i) => i >= all.length)) {  // imported again since: fetch anew
+    if (indices.some((i) => i >= all.length)) {
       skeletons.delete(skeleton);
       all = await jointNames(skeleton);
     }
     return indices.map((i) => all[i] ?? `#${i}`);
   }
+
+  return { jointNames, namesOf, forget: () => skeletons.clear() };
+}
+
+export function createArmatureClient(baseUrl: string, options: ClientOptions = {}): ArmatureClient {
+  const transport = createGrpcWebTransport({
+    baseUrl: baseUrl.replace(/\/+$/, ''),
+    useBinaryFormat: true,
+    defaultTimeoutMs: options.timeoutMs,
+    fetch: options.fetch,
+    interceptors: [tokenInterceptor(options.token), ...(options.interceptors ?? [])],
+  });
+  const pose = typedClient(PoseService, transport);
+  const mesh = typedClient(MeshService, transport);
+  const asset = typedClient(AssetService, transport);
+  const { jointNames, namesOf, forget } = jointNameCache(asset);
 
   return {
     pose, mesh, asset, transport,
@@ -195,7 +203,7 @@ export function createArmatureClient(baseUrl: string, options: ClientOptions = {
     deform: typedClient(DeformService, transport),
     authoring: typedClient(AuthoringService, transport),
     jointNames,
-    forgetSkeletons: () => skeletons.clear(),
+    forgetSkeletons: forget,
 
     async evaluateClip(clip, times, o = {}) {
       const res = await pose.evaluateClip({

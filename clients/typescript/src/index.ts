@@ -2,6 +2,8 @@
 export * from './client.js';
 export * from './errors.js';
 export * from './sessions.js';
+export { SessionLog } from './session_log.js';
+export { WorkerWebSocket } from './worker_socket.js';
 export { packFloats } from './arrays.js';
 export { Space, Interpolation, WrapMode } from './gen/armature/v1/types_pb.js';
 export { SkinningMethod } from './gen/armature/v1/meshes_pb.js';

@@ -2,7 +2,7 @@
 // SkinMesh through the client (gRPC-Web, binary), and an IK session over a
 // WebSocket (node's WebSocket: run with --experimental-websocket on node 20),
 // equal the same calls over gRPC (@connectrpc/connect-node on the gRPC port) value for value; joint names
-// equal REST's skeleton; errors are typed; the token and the deadline apply.
+// equal REST's skeleton; errors are typed; the token and the deadline apply; a session keeps its log.
 // Needs dist/ (npm run build).
 //   node test/client.test.mjs <armature-server>
 import path from 'node:path';
@@ -231,4 +231,23 @@ test('an IK session over a WebSocket answers each drag step as the gRPC session 
   assert.ok(secure.first.world);
   await secure.session.close();
   await assert.rejects(openIkSession(secured.url, start), /could not open a session/);
+});
+
+test('a session with keepLog keeps its latest requests and their round trips', async () => {
+  const start = {
+    skeleton: 'demo_walk', start: { case: 'fromClip', value: { clip: 'demo_walk', time: 0.8 } },
+    effectors: [{ joint: 'LeftWrist', targetPosition: [0, 100, 0] }],
+  };
+  const { session } = await openIkSession(server.url, start, { keepLog: 2 });
+  for (let i = 0; i < 3; ++i) await session.send({ targets: [{ effector: 0, targetPosition: [i, 100, 0] }] });
+  assert.ok(session.isOpen && session.pending === 0);
+  await session.close();
+  assert.ok(!session.isOpen, 'closed');
+  const { log } = session;
+  assert.ok(log.url.startsWith('ws://') && log.url.endsWith('/v1/skeletons/demo_walk:ikSession'), log.url);
+  assert.equal(log.sent.length, 2, 'the latest two frames');
+  assert.ok(log.sent.every((frame) => frame instanceof Uint8Array && frame.length > 0));
+  assert.deepEqual(log.requests.map((r) => r.targets[0].targetPosition), [[1, 100, 0], [2, 100, 0]]);
+  assert.ok(log.roundTrips.length === 2 && log.pageRoundTrips.length === 2 &&
+            log.roundTrips.every((ms, i) => ms > 0 && ms <= log.pageRoundTrips[i]));
 });

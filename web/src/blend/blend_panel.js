@@ -6,9 +6,9 @@
 // in flight and the latest time winning; paused, every change evaluates the
 // current time once. Emits 'pose' ({ time, motion, pose, frame }), 'state'
 // ({ playing }) and 'error' (message).
-import * as api from './api.js';
+import * as api from '../api.js';
 import { buildMotion, crossfadeWeights, upperBodyJoint } from './blend_motion.js';
-import { LatestWins } from './latest_wins.js';
+import { LatestWins } from '../latest_wins.js';
 
 const LAYERS = 3;
 

@@ -1,7 +1,7 @@
 // Playback of a clip's skeleton: world-space poses, streamed with StreamClip
 // while playing, one EvaluateClip per seek while paused. Emits 'load'
 // ({ clip, skeleton }), 'pose' ({ time, pose, frame }), 'state' and 'error'.
-import * as api from './api.js';
+import * as api from '../api.js';
 import { Playback } from './playback.js';
 
 export class Player extends Playback {

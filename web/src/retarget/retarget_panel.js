@@ -6,7 +6,7 @@
 // until the character changes. The source offered first is a clip of another
 // body (retarget_source.js) until the user picks one.
 // Emits 'retargeted' ({ response, skeleton }) and 'error' (message).
-import * as api from './api.js';
+import * as api from '../api.js';
 import { defaultRetargetSource } from './retarget_source.js';
 
 // One line for a RetargetClipResponse (as JSON).

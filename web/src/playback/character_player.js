@@ -4,7 +4,7 @@
 // answer is shown (one in flight), at the clip time the wall clock says, no
 // more often than `fps`. Emits 'load' ({ character, geometries, clip }),
 // 'frame' ({ time, meshes, frame }), 'state' and 'error', as MeshPlayer does.
-import * as api from './api.js';
+import * as api from '../api.js';
 import { Playback } from './playback.js';
 
 // The characters among `meshes` (MeshInfos): one per skeleton that has

@@ -1,7 +1,7 @@
 // Drag a joint and the skeleton follows, by inverse kinematics on the server.
 //
-// Each drag is one IkSession over a WebSocket (session_socket.js), in binary
-// frames (the proto encoding): the first message sets the effectors and the
+// Each drag is one IkSession over a WebSocket (api.openIkSession: the
+// TypeScript client's session, in binary frames): the first message sets the effectors and the
 // start pose, each drag step sends only the dragged joint's new target and
 // gets a pose solved warm from the last one. At most one step is in flight;
 // while it runs only the latest target is kept. The session closes when the
@@ -12,9 +12,8 @@
 // pinned where they were, so a hand moves its arm rather than the body.
 // Emits 'solve' ({ joint, response }) and 'error' (message) events.
 import * as THREE from 'three';
-import * as api from './api.js';
-import { LatestWins } from './latest_wins.js';
-import { SessionSocket } from './session_socket.js';
+import * as api from '../api.js';
+import { LatestWins } from '../latest_wins.js';
 
 const PICK_RADIUS_PX = 16;
 const TARGET_COLOR = 0x2ec4ff;
@@ -31,7 +30,7 @@ export class IkDrag extends EventTarget {
     this.drag = null;   // { joint, plane, pins, session }
     this.solver = new LatestWins((wanted) => this.solve(wanted));
     // roundTrips: ms per answered drag step (request sent → answer arrived), the latest session's;
-    // sessions: the latest few sessions' requests (JSON) and round trips.
+    // sessions: the latest few sessions (each one's log: requests, frames, round trips).
     this.stats = { solves: 0, converged: 0, lastResponse: null, sessions: [] };
     this.marker = new THREE.Mesh(
       new THREE.SphereGeometry(1, 16, 12),
@@ -130,20 +129,17 @@ export class IkDrag extends EventTarget {
     const clip = this.player.clip;
     if (!this.local) this.local = (await api.evaluate(clip.name, [this.player.time], 'LOCAL')).poses[0];
     const name = this.view.skeleton.joints[drag.joint].name;
-    const session = await SessionSocket.open(`/v1/skeletons/${encodeURIComponent(clip.skeleton)}:ikSession`);
-    this.stats.sessions.push(session);
-    if (this.stats.sessions.length > 4) this.stats.sessions.shift();
     const start = {
-      start: {
-        startPose: { rotations: this.local.rotations, translations: this.local.translations },
-        effectors: [{ joint: name, targetPosition: target.toArray() }, ...drag.pins],
-        options: { regularization: 0.5 },  // prefer small changes from the last pose
-        // the hips stay where they stand unless they are what is dragged, then they move
-        freeRoot: this.view.skeleton.joints[drag.joint].parent < 0 ? 'ROOT_TRANSLATION' : 'ROOT_FIXED',
-      },
+      startPose: { rotations: this.local.rotations, translations: this.local.translations },
+      effectors: [{ joint: name, targetPosition: target.toArray() }, ...drag.pins],
+      options: { regularization: 0.5 },  // prefer small changes from the last pose
+      // the hips stay where they stand unless they are what is dragged, then they move
+      freeRoot: this.view.skeleton.joints[drag.joint].parent < 0 ? 'ROOT_TRANSLATION' : 'ROOT_FIXED',
     };
-    const first = await step(session, start);
-    return { session, first };
+    const opened = await api.openIkSession(clip.skeleton, start);
+    this.stats.sessions.push(opened.session);
+    if (this.stats.sessions.length > 4) this.stats.sessions.shift();
+    return opened;
   }
 
   // One drag step: the first opens the session, later ones move the target.
@@ -158,14 +154,14 @@ export class IkDrag extends EventTarget {
         response = (await opening).first;
       } else {
         const session = await drag.session;
-        response = await step(session, { targets: [{ effector: 0, targetPosition: target.toArray() }] });
+        response = await api.ikStep(session, { targets: [{ effector: 0, targetPosition: target.toArray() }] });
       }
       this.local = response.local;
       this.view.setPose(response.world);
       this.stats.solves++;
       if (response.converged) this.stats.converged++;
       this.stats.lastResponse = response;
-      this.stats.roundTrips = (await drag.session).roundTrips;
+      this.stats.roundTrips = (await drag.session).log.roundTrips;
       this.dispatchEvent(new CustomEvent('solve', { detail: { joint: name, response } }));
     } catch (error) {
       this.solver.cancel();
@@ -174,7 +170,3 @@ export class IkDrag extends EventTarget {
   }
 }
 
-// One IkSession message and its answer, in binary frames (api.js).
-async function step(session, request) {
-  return api.decodeIkSessionAnswer(await session.request(api.encodeIkSessionRequest(request), request));
-}

@@ -4,7 +4,7 @@
 // skinned again). A mesh without a clip is only shown at rest. Emits 'load'
 // ({ mesh, geometry, clip }), 'frame' ({ time, positions, normals, frame }),
 // 'state' and 'error'.
-import * as api from './api.js';
+import * as api from '../api.js';
 import { Playback } from './playback.js';
 
 export const SKINNING_METHODS = ['LBS', 'DQS'];

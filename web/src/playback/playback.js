@@ -1,11 +1,11 @@
-// Playback of one clip, whatever it drives: play streams frames over SSE from
+// Playback of one clip, whatever it drives: play streams frames (gRPC-Web) from
 // the current time at the chosen speed (looping); pause closes the stream;
 // seeking while paused samples the clip once at that time (one call in
 // flight, the latest time wins). Subclasses say what a sample and a stream
 // are (a pose, a skinned mesh) and which event shows one; all emit 'load',
 // 'state' and 'error'.
-import * as api from './api.js';
-import { LatestWins } from './latest_wins.js';
+import * as api from '../api.js';
+import { LatestWins } from '../latest_wins.js';
 
 export class Playback extends EventTarget {
   // `sampleEvent`: the event each sample or frame is emitted as.

@@ -5,7 +5,7 @@
 // and the images' stored bytes, which the browser decodes (the server never does).
 import * as THREE from 'three';
 
-import { getMaterial, getMaterialImage } from './api.js';
+import { getMaterial, getMaterialImage } from '../api.js';
 
 const FILTERS = {
   9728: THREE.NearestFilter, 9729: THREE.LinearFilter, 9984: THREE.NearestMipmapNearestFilter,

@@ -3,8 +3,8 @@
 // with the same motion at the same time, the latest time winning, one call in
 // flight — and drawn by the character view under the (thin, see-through)
 // skeleton. Emits 'error' (message).
-import * as api from './api.js';
-import { LatestWins } from './latest_wins.js';
+import * as api from '../api.js';
+import { LatestWins } from '../latest_wins.js';
 
 export class BlendCharacter extends EventTarget {
   constructor(characterView) {

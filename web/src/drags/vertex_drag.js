@@ -4,10 +4,10 @@
 // pointer; dragging moves that vertex in the plane facing the camera through
 // it. Every vertex dragged so far stays a handle at its last target, so edits
 // accumulate. The handles, options and region are one DeformSession over a
-// WebSocket (session_socket.js), factored once when it opens: each drag
-// step sends the handles' targets and gets every vertex back (in the proto
-// encoding, deform_wire.js); a new handle,
-// option or radius opens a new session. At most one step is in flight, with
+// WebSocket (api.openDeformSession: the TypeScript client's session, in binary
+// frames), factored once when it opens: each drag step sends the handles'
+// targets and gets every vertex back; a new handle, option or radius opens a
+// new session. At most one step is in flight, with
 // only the latest targets kept.
 //
 // The region of interest is every vertex within `radius` (a fraction of the
@@ -17,9 +17,8 @@
 // would float freely, which the server rejects).
 // Emits 'deform' ({ response, ms, regionSize }) and 'error' (message).
 import * as THREE from 'three';
-import { LatestWins } from './latest_wins.js';
-import { decodeDeformResponse, encodeDeformMove } from './deform_wire.js';
-import { SessionSocket } from './session_socket.js';
+import * as api from '../api.js';
+import { LatestWins } from '../latest_wins.js';
 
 const HANDLE_COLOR = 0x2ec4ff;
 const ACTIVE_COLOR = 0xffe14d;
@@ -40,8 +39,8 @@ export class VertexDrag extends EventTarget {
     this.options = { method: 'LAPLACIAN', weights: 'UNIFORM', radius: 0.25 };
     this.region = { key: '', vertices: [] };
     this.edits = 0;  // bumped by start and reset: answers for an older edit are dropped
-    this.stats = { deforms: 0, sessions: [] };  // sessions: the latest few (requests, round trips)
-    this.session = null;  // { key, socket: Promise<SessionSocket> } for the current handles and options
+    this.stats = { deforms: 0, sessions: [] };  // sessions: the latest few (each one's log: requests, round trips)
+    this.session = null;  // { key, opened: Promise<the client's DeformSession> } for the current handles and options
     this.solver = new LatestWins(() => this.solve());
     this.markers = new THREE.Group();
     view.scene.add(this.markers);
@@ -190,26 +189,25 @@ export class VertexDrag extends EventTarget {
 
   // Ends the current session once the step in flight is answered.
   closeSession() {
-    const socket = this.session?.socket;
+    const opened = this.session?.opened;
     this.session = null;
-    Promise.resolve(this.solver.running).then(() => socket?.then((s) => s.close(), () => {}));
+    Promise.resolve(this.solver.running).then(() => opened?.then((s) => s.close(), () => {}));
   }
 
   // The session for these handles and options, opened (and factored) if new.
   sessionFor(mesh, handles, regionOfInterest) {
     const key = JSON.stringify([mesh, handles, this.options]);  // the region follows from them
-    if (this.session?.key === key) return this.session.socket;
+    if (this.session?.key === key) return this.session.opened;
     this.closeSession();
-    const socket = SessionSocket.open('/v1/meshes:deformSession').then(async (s) => {
+    const setup = { mesh, regionOfInterest, method: this.options.method, weights: this.options.weights };
+    const opened = api.openDeformSession(setup, handles).then((s) => {  // the setup answered with the rest shape
       this.stats.sessions.push(s);
       if (this.stats.sessions.length > 4) this.stats.sessions.shift();
-      const setup = { mesh, regionOfInterest, method: this.options.method, weights: this.options.weights };
-      await s.request({ start: { setup, handleIndices: handles } });  // answered with the rest shape
       return s;
     });
-    socket.catch(() => {});  // reported by the step that awaits it
-    this.session = { key, socket };
-    return socket;
+    opened.catch(() => {});  // reported by the step that awaits it
+    this.session = { key, opened };
+    return opened;
   }
 
   async solve() {
@@ -221,8 +219,8 @@ export class VertexDrag extends EventTarget {
     const started = performance.now();
     try {
       const session = await this.sessionFor(mesh, handles, regionOfInterest);
-      // Moves in binary: the answers (every vertex) come back as floats, not JSON.
-      const response = decodeDeformResponse(await session.request(encodeDeformMove(positions), { move: { positions } }));
+      // The answers (every vertex) come back as floats, not JSON.
+      const response = await api.deformMove(session, positions);
       if (edit !== this.edits) return;  // stopped, reset or restarted meanwhile
       const ms = performance.now() - started;
       this.stats.deforms++;
