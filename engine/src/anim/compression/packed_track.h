@@ -1,0 +1,128 @@
+// Internal: the packed form of a compressed clip's animated tracks, shared by
+// the compressor and the sampling job.
+//
+// Frames are cut into segments of kSegmentFrames intervals. In each segment
+// every animated track stores samples of its three components every
+// `stride` frames (rotations: three of x y z w, the fourth kept ≥ 0 and
+// rebuilt as √(1 − a² − b² − c²); the dropped one is the track's largest in
+// magnitude over the clip, or over each segment when none stays far from 0
+// (a root turning round), not always w as in ACL, so a joint turning
+// through 180° keeps its precision where w passes 0),
+// both ends included, as `bits`-bit integers in the track's clip range and,
+// optionally, a segment range (8 bits per end and component) inside it.
+// Frames between samples are interpolated (lerp, nlerp for rotations): at
+// 120 fps most tracks keep one sample in 4 or 8. A track's choice in a
+// segment is one byte (kCodes); a segment is laid out as every track's
+// code, then per track its dropped component (per-segment rotations) and
+// its range (when ranged), then every track's samples; ACL chooses the bit rate per track and
+// segment too, but keeps every frame.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+namespace armature::compression_internal {
+
+inline constexpr size_t kSegmentFrames = 16;
+inline constexpr int kMinBits = 3, kMaxBits = 23, kRateCount = kMaxBits - kMinBits + 1;
+inline constexpr int kStrideLogs = 5;  // strides 1, 2, 4, 8, 16
+inline constexpr size_t kRangeBytes = 6;  // segment range: low and extent bytes of 3 components
+inline constexpr size_t kReadPadding = 8;
+// AnimatedTrack::dropped when each segment names its own (one byte before its range).
+inline constexpr uint8_t kDroppedPerSegment = 4;  // bytes after the data, so 64-bit reads never leave it
+
+struct TrackCode {
+  uint8_t bits = 0;
+  uint8_t stride_log = 0;
+  bool ranged = false;
+};
+
+inline constexpr uint8_t EncodeTrackCode(int bits, int stride_log, bool ranged) {
+  return static_cast<uint8_t>(((bits - kMinBits) * kStrideLogs + stride_log) * 2 + (ranged ? 1 : 0));
+}
+
+inline constexpr std::array<TrackCode, 256> MakeCodes() {
+  std::array<TrackCode, 256> codes{};
+  for (int bits = kMinBits; bits <= kMaxBits; ++bits)
+    for (int s = 0; s < kStrideLogs; ++s)
+      for (int r = 0; r < 2; ++r)
+        codes[EncodeTrackCode(bits, s, r == 1)] = {static_cast<uint8_t>(bits), static_cast<uint8_t>(s), r == 1};
+  return codes;
+}
+inline constexpr std::array<TrackCode, 256> kCodes = MakeCodes();
+
+// Bits one track takes in a segment of `intervals` frames.
+inline size_t TrackBits(const TrackCode& code, size_t intervals) {
+  return 3 * static_cast<size_t>(code.bits) * ((intervals >> code.stride_log) + 1);
+}
+
+// The `bits`-bit integer at bit `offset` (little-endian, LSB first).
+inline uint32_t ReadBits(const uint8_t* data, size_t offset, int bits) {
+  uint64_t word;
+  std::memcpy(&word, data + (offset >> 3), sizeof word);
+  return static_cast<uint32_t>((word >> (offset & 7)) & ((uint64_t{1} << bits) - 1));
+}
+
+inline void WriteBits(uint8_t* data, size_t offset, int bits, uint32_t value) {
+  for (int b = 0; b < bits; ++b, ++offset)
+    if ((value >> b) & 1u) data[offset >> 3] |= static_cast<uint8_t>(1u << (offset & 7));
+}
+
+// value = offset + scale · q per component: the clip range [min, min + extent]
+// and, when ranged, the segment range inside it (bytes lo, extent of 255).
+struct Dequantizer {
+  float offset[3], scale[3];
+};
+
+inline Dequantizer MakeDequantizer(const float* clip_min, const float* clip_extent, const uint8_t* segment_range,
+                                   int bits) {
+  Dequantizer d;
+  const float inv_max = 1.f / static_cast<float>((1u << bits) - 1);
+  for (int c = 0; c < 3; ++c) {
+    float lo = 0.f, ext = 1.f;
+    if (segment_range) {
+      lo = static_cast<float>(segment_range[c]) * (1.f / 255);
+      ext = static_cast<float>(segment_range[3 + c]) * (1.f / 255);
+    }
+    d.offset[c] = clip_min[c] + clip_extent[c] * lo;
+    d.scale[c] = clip_extent[c] * ext * inv_max;
+  }
+  return d;
+}
+
+// Sample `i`'s three components.
+inline void ReadSample(const uint8_t* data, size_t track_bit, int bits, size_t i, const Dequantizer& d, float* v) {
+  size_t at = track_bit + i * 3 * static_cast<size_t>(bits);
+  for (int c = 0; c < 3; ++c, at += static_cast<size_t>(bits))
+    v[c] = d.offset[c] + d.scale[c] * static_cast<float>(ReadBits(data, at, bits));
+}
+
+// A rotation (x y z w) from its three kept components, in order, and the
+// index of the dropped one (kept ≥ 0, so rebuilt as the square root).
+inline void ExpandRotation(const float* kept, int dropped, float* q) {
+  const float w2 = 1.f - kept[0] * kept[0] - kept[1] * kept[1] - kept[2] * kept[2];
+  const float rebuilt = w2 > 0.f ? std::sqrt(w2) : 0.f;
+  if (dropped == 3) {  // the usual case: w
+    q[0] = kept[0], q[1] = kept[1], q[2] = kept[2], q[3] = rebuilt;
+    return;
+  }
+  for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped ? rebuilt : kept[k++];
+}
+
+// nlerp of two rotations (x y z w), along the shorter arc.
+inline void Nlerp(const float* a, const float* b, float u, float* out) {
+  const float d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+  const float ub = d < 0.f ? -u : u, ua = 1.f - u;
+  float n = 0;
+  for (int c = 0; c < 4; ++c) {
+    out[c] = ua * a[c] + ub * b[c];
+    n += out[c] * out[c];
+  }
+  const float inv = 1.f / std::sqrt(n);
+  for (int c = 0; c < 4; ++c) out[c] *= inv;
+}
+
+}  // namespace armature::compression_internal
