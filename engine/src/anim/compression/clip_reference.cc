@@ -16,6 +16,8 @@ StatusOr<ClipReference> SampleReference(const Clip& clip, const FrameGrid& frame
   r.reach.assign(n, 0);
   r.parent_scale.assign(n, 1);
   r.min_scale.assign(n, 1);
+  const size_t segments = SegmentCount(frames.count);
+  r.segment_reach.assign(segments * n, 0);
   std::vector<double> reach(n);
   for (size_t f = 0; f < frames.count; ++f) {
     const std::span<Trs> local(r.local.data() + f * n, n);
@@ -26,6 +28,13 @@ StatusOr<ClipReference> SampleReference(const Clip& clip, const FrameGrid& frame
     for (size_t j = n; j-- > 0;) {  // children after parents: fold each into its parent
       const int p = skeleton.parents[j];
       r.reach[j] = std::max(r.reach[j], reach[j]);
+      // The frame belongs to its segment, and ends the one before when on a boundary.
+      if (segments > 0) {
+        const size_t s = std::min(f / kSegmentFrames, segments - 1);
+        r.segment_reach[s * n + j] = std::max(r.segment_reach[s * n + j], reach[j]);
+        if (f % kSegmentFrames == 0 && s > 0 && f / kSegmentFrames == s)
+          r.segment_reach[(s - 1) * n + j] = std::max(r.segment_reach[(s - 1) * n + j], reach[j]);
+      }
       r.min_scale[j] = std::min(r.min_scale[j], local[j].scale.cwiseAbs().minCoeff());
       if (p < 0) continue;
       reach[p] = std::max(reach[p], (world[j].translation - world[p].translation).norm() + reach[j]);
@@ -56,9 +65,14 @@ TrackValues ReadTrack(const ClipReference& reference, uint16_t joint, TrackKind 
   // A rotation error turns the farthest point by its chord; a translation
   // moves everything below by the parent's scale; a scale error stretches
   // the reach relative to the scale.
-  t.lever = kind == TrackKind::kRotation      ? reference.reach[joint]
-            : kind == TrackKind::kTranslation ? reference.parent_scale[joint]
-                                              : reference.reach[joint] / std::max(reference.min_scale[joint], 1e-6);
+  auto lever = [&](double reach) {
+    return kind == TrackKind::kRotation      ? reach
+           : kind == TrackKind::kTranslation ? reference.parent_scale[joint]
+                                             : reach / std::max(reference.min_scale[joint], 1e-6);
+  };
+  t.lever = lever(reference.reach[joint]);
+  const size_t segments = reference.segment_reach.size() / std::max<size_t>(n, 1);
+  for (size_t s = 0; s < segments; ++s) t.segment_lever.push_back(lever(reference.segment_reach[s * n + joint]));
   return t;
 }
 

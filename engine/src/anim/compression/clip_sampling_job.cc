@@ -5,6 +5,7 @@
 #include <string>
 
 #include "anim/compression/packed_track.h"
+#include "anim/compression/rotation_batch.h"
 
 namespace armature {
 namespace {
@@ -54,24 +55,19 @@ void Store(TrackKind kind, const float* v, Trs& out) {
 // One animated track at segment position `at`: its two samples around q,
 // interpolated. `range_at` is its range's byte in the segment or kNoRange.
 inline void DecodeTrack(const AnimatedTrack& track, TrackCode code, int dropped, const uint8_t* segment,
-                        uint32_t range_at, size_t bit, const SegmentPosition& at, Trs& out) {
+                        uint32_t range_at, size_t bit, const SegmentPosition& at, Trs& out,
+                        compression_internal::RotationBatch& rotations) {
   using namespace compression_internal;
   const Dequantizer d =
       MakeDequantizer(track.min, track.extent, range_at == kNoRange ? nullptr : segment + range_at, code.bits);
   const size_t last = (at.intervals >> code.stride_log) - 1;
   const size_t i = std::min(static_cast<size_t>(at.q) >> code.stride_log, last);
-  const float u = (at.q - static_cast<float>(i << code.stride_log)) * (1.f / static_cast<float>(1u << code.stride_log));
+  const float u = (at.q - static_cast<float>(i << code.stride_log)) * kInverseStride[code.stride_log];
   float a[4], b[4], r[4];
   ReadSample(segment, bit, code.bits, i, d, a);
   ReadSample(segment, bit, code.bits, i + 1, d, b);
-  if (track.kind == TrackKind::kRotation) {
-    float qa[4], qb[4];
-    ExpandRotation(a, dropped, qa);
-    ExpandRotation(b, dropped, qb);
-    Nlerp(qa, qb, u, r);
-  } else {
-    for (int c = 0; c < 3; ++c) r[c] = a[c] + u * (b[c] - a[c]);
-  }
+  if (track.kind == TrackKind::kRotation) return rotations.Add(a, b, u, dropped, &out);
+  for (int c = 0; c < 3; ++c) r[c] = a[c] + u * (b[c] - a[c]);
   Store(track.kind, r, out);
 }
 
@@ -103,11 +99,12 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   if (clip.animated.empty()) return;
   const SegmentPosition at = Locate(clip, t);
   const uint8_t* segment = clip.data.data() + clip.segment_offsets[at.segment];
+  compression_internal::RotationBatch rotations;
   if (!index) {
     WalkSegment(clip, segment, at.intervals, [&](size_t i, TrackCode code, int dropped, uint32_t range, size_t bit) {
-      DecodeTrack(clip.animated[i], code, dropped, segment, range, bit, at, out[clip.animated[i].joint]);
+      DecodeTrack(clip.animated[i], code, dropped, segment, range, bit, at, out[clip.animated[i].joint], rotations);
     });
-    return;
+    return rotations.Flush();
   }
   if (index->segment != at.segment) {  // sequential playback: each segment's header is walked once
     WalkSegment(clip, segment, at.intervals, [&](size_t i, TrackCode, int dropped, uint32_t range, size_t bit) {
@@ -120,8 +117,9 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   for (size_t i = 0; i < clip.animated.size(); ++i) {
     const AnimatedTrack& track = clip.animated[i];
     DecodeTrack(track, kCodes[segment[i]], index->dropped[i], segment, index->ranges[i], index->bits[i], at,
-                out[track.joint]);
+                out[track.joint], rotations);
   }
+  rotations.Flush();
 }
 
 Status CheckClip(const CompressedClip* clip) {

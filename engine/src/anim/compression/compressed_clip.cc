@@ -1,3 +1,9 @@
+
+
+
+
+
+
 #include "armature/engine/anim/compression/compressed_clip.h"
 
 #include <algorithm>
@@ -23,8 +29,9 @@ constexpr double kConstantShare = 0.05;
 // Each animated track's first target, as a share of the bound; segments
 // whose measured error is over the bound tighten the tracks of the
 // offending joints' chains and choose again.
-constexpr double kFirstShare = 0.5;
+constexpr double kFirstShare = 1.0;
 constexpr int kRefinements = 24;
+constexpr double kTighten = 0.7;
 
 // A track's bytes before its range in a segment: the dropped component of
 // a per-segment rotation.
@@ -32,7 +39,7 @@ size_t LeadBytes(const AnimatedTrack& track) { return track.dropped == kDroppedP
 
 // Lays the choices out as the sampling job reads them (packed_track.h).
 void Pack(const std::vector<TrackState>& states, CompressedClip& out) {
-  const size_t segments = SegmentCount(out.frames), tracks = states.size();
+  const size_t segments = SegmentCount(out.frames.count), tracks = states.size();
   out.segment_offsets.assign(segments, 0);
   out.data.clear();
   for (size_t s = 0; s < segments; ++s) {
@@ -97,8 +104,13 @@ void ClassifyTracks(const Clip& clip, const ClipReference& reference, double bou
 // Chooses every track's code in `segment` at its target; false when one cannot meet it.
 bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t segment) {
   for (TrackState& state : states) {
-    const std::optional<SegmentTrackChoice> c =
-        ChooseSegmentTrack(SegmentInput(state, out.frames, segment), state.target[segment]);
+    SegmentTrackInput in = SegmentInput(state, out.frames, segment);
+    const SegmentTrackChoice& hint = state.choice[segment > 0 && state.choice[segment].bits == 0 ? segment - 1 : segment];
+    if (hint.bits > 0) {
+      in.hint_bits = kCodes[hint.code].bits;
+      in.hint_stride_log = kCodes[hint.code].stride_log;
+    }
+    const std::optional<SegmentTrackChoice> c = ChooseSegmentTrack(in, state.target[segment]);
     if (!c) return false;
     state.choice[segment] = *c;
   }
@@ -130,14 +142,14 @@ void Tighten(std::vector<TrackState>& states, const Skeleton& skeleton, const st
   for (size_t j : joints)
     for (int k = static_cast<int>(j); k >= 0 && !chain[k]; k = skeleton.parents[k]) chain[k] = true;
   for (TrackState& s : states)
-    if (chain[s.values.joint]) s.target[segment] *= 0.5;
+    if (chain[s.values.joint]) s.target[segment] *= kTighten;
 }
 
 // The lossy form within the bound, or false (and a reason) when it cannot be met.
 bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedClip& out, std::string& why) {
   std::vector<TrackState> states;
   ClassifyTracks(clip, reference, out.bound.precision, out, states);
-  const size_t segments = SegmentCount(out.frames);
+  const size_t segments = SegmentCount(out.frames.count);
   for (const TrackState& s : states) out.animated.push_back(s.track);
   std::vector<size_t> dirty;
   for (size_t s = 0; s < segments; ++s) {

@@ -24,6 +24,10 @@
 #include <cstdint>
 #include <cstring>
 
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
+
 namespace armature::compression_internal {
 
 inline constexpr size_t kSegmentFrames = 16;
@@ -33,6 +37,9 @@ inline constexpr size_t kRangeBytes = 6;  // segment range: low and extent bytes
 inline constexpr size_t kReadPadding = 8;
 // AnimatedTrack::dropped when each segment names its own (one byte before its range).
 inline constexpr uint8_t kDroppedPerSegment = 4;  // bytes after the data, so 64-bit reads never leave it
+
+// Segments of a clip of `frames` frames (the last holds the rest; none for one frame).
+inline size_t SegmentCount(size_t frames) { return frames < 2 ? 0 : (frames - 2) / kSegmentFrames + 1; }
 
 struct TrackCode {
   uint8_t bits = 0;
@@ -66,9 +73,12 @@ inline uint32_t ReadBits(const uint8_t* data, size_t offset, int bits) {
   return static_cast<uint32_t>((word >> (offset & 7)) & ((uint64_t{1} << bits) - 1));
 }
 
+// ORs `value` in at bit `offset`, touching only the bytes it covers.
 inline void WriteBits(uint8_t* data, size_t offset, int bits, uint32_t value) {
-  for (int b = 0; b < bits; ++b, ++offset)
-    if ((value >> b) & 1u) data[offset >> 3] |= static_cast<uint8_t>(1u << (offset & 7));
+  const uint64_t shifted = static_cast<uint64_t>(value) << (offset & 7);
+  const size_t bytes = ((offset & 7) + static_cast<size_t>(bits) + 7) / 8;
+  uint8_t* at = data + (offset >> 3);
+  for (size_t i = 0; i < bytes; ++i) at[i] |= static_cast<uint8_t>(shifted >> (8 * i));
 }
 
 // value = offset + scale · q per component: the clip range [min, min + extent]
@@ -77,10 +87,17 @@ struct Dequantizer {
   float offset[3], scale[3];
 };
 
+inline constexpr std::array<float, kMaxBits + 1> MakeInverseMax() {
+  std::array<float, kMaxBits + 1> inv{};
+  for (int b = 1; b <= kMaxBits; ++b) inv[b] = 1.f / static_cast<float>((1u << b) - 1);
+  return inv;
+}
+inline constexpr std::array<float, kMaxBits + 1> kInverseMax = MakeInverseMax();
+
 inline Dequantizer MakeDequantizer(const float* clip_min, const float* clip_extent, const uint8_t* segment_range,
                                    int bits) {
   Dequantizer d;
-  const float inv_max = 1.f / static_cast<float>((1u << bits) - 1);
+  const float inv_max = kInverseMax[bits];
   for (int c = 0; c < 3; ++c) {
     float lo = 0.f, ext = 1.f;
     if (segment_range) {
@@ -100,11 +117,22 @@ inline void ReadSample(const uint8_t* data, size_t track_bit, int bits, size_t i
     v[c] = d.offset[c] + d.scale[c] * static_cast<float>(ReadBits(data, at, bits));
 }
 
+// √x without libm's errno path (x ≥ 0 here).
+inline float Sqrt(float x) {
+#if defined(__SSE__)
+  return _mm_cvtss_f32(_mm_sqrt_ss(_mm_set_ss(x)));
+#else
+  return __builtin_sqrtf(x);
+#endif
+}
+
+inline constexpr float kInverseStride[kStrideLogs] = {1.f, 0.5f, 0.25f, 0.125f, 0.0625f};
+
 // A rotation (x y z w) from its three kept components, in order, and the
 // index of the dropped one (kept ≥ 0, so rebuilt as the square root).
 inline void ExpandRotation(const float* kept, int dropped, float* q) {
   const float w2 = 1.f - kept[0] * kept[0] - kept[1] * kept[1] - kept[2] * kept[2];
-  const float rebuilt = w2 > 0.f ? std::sqrt(w2) : 0.f;
+  const float rebuilt = Sqrt(w2 > 0.f ? w2 : 0.f);
   if (dropped == 3) {  // the usual case: w
     q[0] = kept[0], q[1] = kept[1], q[2] = kept[2], q[3] = rebuilt;
     return;
@@ -121,7 +149,7 @@ inline void Nlerp(const float* a, const float* b, float u, float* out) {
     out[c] = ua * a[c] + ub * b[c];
     n += out[c] * out[c];
   }
-  const float inv = 1.f / std::sqrt(n);
+  const float inv = 1.f / Sqrt(n);
   for (int c = 0; c < 4; ++c) out[c] *= inv;
 }
 

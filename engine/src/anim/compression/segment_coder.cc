@@ -36,7 +36,7 @@ uint32_t Quantize(double normalized, const uint8_t* range, int c, int bits) {
   double v = normalized;
   if (range) v = (v - range[c] / 255.0) / (range[3 + c] / 255.0);
   const double max_q = static_cast<double>((1u << bits) - 1);
-  return static_cast<uint32_t>(std::clamp(std::round(v * max_q), 0.0, max_q));
+  return static_cast<uint32_t>(std::clamp(v * max_q + 0.5, 0.0, max_q));  // rounded: v ≥ 0
 }
 
 // The decoded samples a choice keeps (as the sampling job reads them).
@@ -56,45 +56,57 @@ size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, cons
   return count;
 }
 
-// The largest displacement over the segment's frames, or early once above `target`.
+// The largest displacement over the segment's frames, or early once above
+// `target`. Compared squared, per unit of lever.
 double ChoiceError(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, double target) {
   float samples[kMaxFrames][4];
   const size_t count = DecodeSamples(in, bits, stride_log, range, samples);
-  const size_t stride = size_t{1} << stride_log;
-  const float inv_stride = 1.f / static_cast<float>(stride);
-  double worst = 0;
+  const float inv_stride = kInverseStride[stride_log];
+  const double limit = target / in.lever, limit2 = limit * limit;
+  double worst2 = 0;
   for (size_t f = 0; f <= in.intervals; ++f) {
     const size_t i = std::min(f >> stride_log, count - 2);
     const float u = static_cast<float>(f - (i << stride_log)) * inv_stride;
     const double* raw = &in.raw[f * 4];
-    double e;
+    double e2;
     if (in.kind == TrackKind::kRotation) {
       float r[4];
       Nlerp(samples[i], samples[i + 1], u, r);
-      const double q[4] = {r[0], r[1], r[2], r[3]};
-      e = RotationChord(raw, q);
+      e2 = RotationChordSquared(raw, r);
     } else {
-      double s = 0;
+      e2 = 0;
       for (int c = 0; c < 3; ++c) {
-        const float v = samples[i][c] + u * (samples[i + 1][c] - samples[i][c]);
-        s += (v - raw[c]) * (v - raw[c]);
+        const double v = samples[i][c] + u * (samples[i + 1][c] - samples[i][c]);
+        e2 += (v - raw[c]) * (v - raw[c]);
       }
-      e = std::sqrt(s);
     }
-    worst = std::max(worst, e * in.lever);
-    if (worst > target) return worst;
+    worst2 = std::max(worst2, e2);
+    if (worst2 > limit2) break;
   }
-  return worst;
+  return std::sqrt(worst2) * in.lever;
 }
 
 // The fewest bits in [lo, kMaxBits] meeting `target` (errors shrink with
-// bits), or 0.
+// bits), or 0. A hint (the neighbouring segment's bits) starts a walk that
+// usually ends in two or three tries; without one, a binary search.
 int FewestBits(const SegmentTrackInput& in, int stride_log, const uint8_t* range, double target, int lo) {
+  auto meets = [&](int bits) { return ChoiceError(in, bits, stride_log, range, target) <= target; };
   int hi = kMaxBits;
-  if (ChoiceError(in, hi, stride_log, range, target) > target) return 0;
+  if (in.hint_stride_log == stride_log && in.hint_bits >= lo && in.hint_bits <= kMaxBits) {
+    int bits = in.hint_bits;
+    if (meets(bits)) {
+      while (bits > lo && meets(bits - 1)) --bits;
+      return bits;
+    }
+    if (!meets(hi)) return 0;
+    while (++bits < hi)
+      if (meets(bits)) return bits;
+    return hi;
+  }
+  if (!meets(hi)) return 0;
   while (lo < hi) {
     const int mid = (lo + hi) / 2;
-    if (ChoiceError(in, mid, stride_log, range, target) <= target)
+    if (meets(mid))
       hi = mid;
     else
       lo = mid + 1;

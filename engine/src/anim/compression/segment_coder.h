@@ -26,6 +26,8 @@ struct SegmentTrackInput {
   // World displacement per unit of value error: rotations per unit of
   // chord (2·sin(angle/2)), vectors per unit of distance.
   double lever = 1;
+  int hint_bits = 0;  // bits likely to be near the answer (a neighbour's), or 0
+  int hint_stride_log = -1;  // the stride the hint is for
 };
 
 struct SegmentTrackChoice {

@@ -45,15 +45,11 @@ void Segment(const FrameGrid& frames, size_t segment, size_t& start, size_t& int
 
 }  // namespace
 
-size_t SegmentCount(const FrameGrid& frames) {
-  return frames.count < 2 ? 0 : (frames.count - 2) / kSegmentFrames + 1;
-}
-
 TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double first_target) {
   TrackState s;
   s.values = std::move(values);
   const TrackValues& t = s.values;
-  const size_t segments = SegmentCount(frames), count = t.raw.size() / 4;
+  const size_t segments = SegmentCount(frames.count), count = t.raw.size() / 4;
   s.track.joint = t.joint;
   s.track.kind = t.kind;
   s.dropped.assign(segments, 3);
@@ -119,7 +115,7 @@ SegmentTrackInput SegmentInput(const TrackState& s, const FrameGrid& frames, siz
   in.normalized = std::span<const double>(s.normalized).subspan(segment * kSegmentStride, (intervals + 1) * 3);
   in.clip_min = s.track.min;
   in.clip_extent = s.track.extent;
-  in.lever = s.values.lever;
+  in.lever = s.values.segment_lever[segment];
   return in;
 }
 

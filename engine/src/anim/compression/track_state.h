@@ -21,8 +21,6 @@ struct TrackState {
   std::vector<SegmentTrackChoice> choice;
 };
 
-size_t SegmentCount(const FrameGrid& frames);
-
 // The track's clip range, dropped components and normalized values.
 TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double first_target);
 
