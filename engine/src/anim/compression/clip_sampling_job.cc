@@ -15,8 +15,6 @@ using compression_internal::kRangeBytes;
 using compression_internal::kSegmentFrames;
 using compression_internal::TrackCode;
 
-constexpr uint32_t kNoRange = 0xffffffffu;
-
 // Where a clip time falls among the packed segments.
 struct SegmentPosition {
   size_t segment = 0;
@@ -53,29 +51,32 @@ void Store(TrackKind kind, const float* v, Trs& out) {
 }
 
 // One animated track at segment position `at`: its two samples around q,
-// interpolated. `range_at` is its range's byte in the segment or kNoRange.
-inline void DecodeTrack(const AnimatedTrack& track, TrackCode code, int dropped, const uint8_t* segment,
-                        uint32_t range_at, size_t bit, const SegmentPosition& at, Trs& out,
-                        compression_internal::RotationBatch& rotations) {
-  using namespace compression_internal;
-  const Dequantizer d =
-      MakeDequantizer(track.min, track.extent, range_at == kNoRange ? nullptr : segment + range_at, code.bits);
-  const size_t last = (at.intervals >> code.stride_log) - 1;
-  const size_t i = std::min(static_cast<size_t>(at.q) >> code.stride_log, last);
-  const float u = (at.q - static_cast<float>(i << code.stride_log)) * kInverseStride[code.stride_log];
-  float a[4], b[4], r[4];
-  ReadSample(segment, bit, code.bits, i, d, a);
-  ReadSample(segment, bit, code.bits, i + 1, d, b);
-  if (track.kind == TrackKind::kRotation) return rotations.Add(a, b, u, dropped, &out);
+// interpolated.
+inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, const uint8_t* segment,
+                        const SegmentPosition& at, Trs& out, compression_internal::RotationBatch& rotations) {
+  using compression_internal::ReadBits;
+  const size_t last = (at.intervals >> cursor.stride_log) - 1;
+  const size_t i = std::min(static_cast<size_t>(at.q) >> cursor.stride_log, last);
+  const float u =
+      (at.q - static_cast<float>(i << cursor.stride_log)) * compression_internal::kInverseStride[cursor.stride_log];
+  float a[3], b[3];
+  size_t bit_a = cursor.bit + i * cursor.total, bit_b = bit_a + cursor.total;
+  for (int c = 0; c < 3; ++c) {
+    a[c] = cursor.offset[c] + cursor.scale[c] * static_cast<float>(ReadBits(segment, bit_a, cursor.bits[c]));
+    b[c] = cursor.offset[c] + cursor.scale[c] * static_cast<float>(ReadBits(segment, bit_b, cursor.bits[c]));
+    bit_a += cursor.bits[c];
+    bit_b += cursor.bits[c];
+  }
+  if (track.kind == TrackKind::kRotation) return rotations.Add(a, b, u, cursor.dropped, &out);
+  float r[3];
   for (int c = 0; c < 3; ++c) r[c] = a[c] + u * (b[c] - a[c]);
   Store(track.kind, r, out);
 }
 
-// Walks a segment's header: per track its code, dropped component, range
-// byte and first sample bit, handed to `visit(track, code, dropped, range_at, bit)`.
+// Reads a segment's header into a cursor per track, handed to `visit(track, cursor)`.
 template <class Visit>
 void WalkSegment(const CompressedClip& clip, const uint8_t* segment, size_t intervals, const Visit& visit) {
-  using compression_internal::kDroppedPerSegment;
+  using namespace compression_internal;
   const size_t tracks = clip.animated.size();
   size_t header = tracks;
   for (size_t t = 0; t < tracks; ++t)
@@ -84,11 +85,20 @@ void WalkSegment(const CompressedClip& clip, const uint8_t* segment, size_t inte
   for (size_t t = 0; t < tracks; ++t) {
     const AnimatedTrack& track = clip.animated[t];
     const TrackCode code = kCodes[segment[t]];
-    int dropped = track.dropped;
-    if (dropped == kDroppedPerSegment) dropped = segment[at++];
-    visit(t, code, dropped, code.ranged ? static_cast<uint32_t>(at) : kNoRange, bit);
+    TrackCursor cursor;
+    cursor.dropped = track.dropped == kDroppedPerSegment ? segment[at++] : track.dropped;
+    const uint8_t* range = code.ranged ? segment + at : nullptr;
     if (code.ranged) at += kRangeBytes;
-    bit += compression_internal::TrackBits(code, intervals);
+    const SampleLayout layout = MakeLayout(code.bits, track.extent, range);
+    const Dequantizer d = MakeDequantizer(track.min, track.extent, range, layout);
+    cursor.bit = static_cast<uint32_t>(bit);
+    std::copy(layout.bits, layout.bits + 3, cursor.bits);
+    cursor.total = layout.total;
+    cursor.stride_log = code.stride_log;
+    std::copy(d.offset, d.offset + 3, cursor.offset);
+    std::copy(d.scale, d.scale + 3, cursor.scale);
+    visit(t, cursor);
+    bit += TrackBits(layout, code.stride_log, intervals);
   }
 }
 
@@ -101,24 +111,17 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   const uint8_t* segment = clip.data.data() + clip.segment_offsets[at.segment];
   compression_internal::RotationBatch rotations;
   if (!index) {
-    WalkSegment(clip, segment, at.intervals, [&](size_t i, TrackCode code, int dropped, uint32_t range, size_t bit) {
-      DecodeTrack(clip.animated[i], code, dropped, segment, range, bit, at, out[clip.animated[i].joint], rotations);
+    WalkSegment(clip, segment, at.intervals, [&](size_t i, const TrackCursor& cursor) {
+      DecodeTrack(clip.animated[i], cursor, segment, at, out[clip.animated[i].joint], rotations);
     });
     return rotations.Flush();
   }
-  if (index->segment != at.segment) {  // sequential playback: each segment's header is walked once
-    WalkSegment(clip, segment, at.intervals, [&](size_t i, TrackCode, int dropped, uint32_t range, size_t bit) {
-      index->dropped[i] = static_cast<uint8_t>(dropped);
-      index->ranges[i] = range;
-      index->bits[i] = static_cast<uint32_t>(bit);
-    });
+  if (index->segment != at.segment) {  // sequential playback: each segment's header is read once
+    WalkSegment(clip, segment, at.intervals, [&](size_t i, const TrackCursor& cursor) { index->tracks[i] = cursor; });
     index->segment = at.segment;
   }
-  for (size_t i = 0; i < clip.animated.size(); ++i) {
-    const AnimatedTrack& track = clip.animated[i];
-    DecodeTrack(track, kCodes[segment[i]], index->dropped[i], segment, index->ranges[i], index->bits[i], at,
-                out[track.joint], rotations);
-  }
+  for (size_t i = 0; i < clip.animated.size(); ++i)
+    DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
   rotations.Flush();
 }
 
@@ -143,9 +146,7 @@ Status CheckTime(double time, WrapMode wrap) {
 void ClipSamplingContext::Resize(const CompressedClip& clip) {
   clip_ = &clip;
   index_.segment = static_cast<size_t>(-1);
-  index_.bits.assign(clip.animated.size(), 0);
-  index_.ranges.assign(clip.animated.size(), kNoRange);
-  index_.dropped.assign(clip.animated.size(), 3);
+  index_.tracks.assign(clip.animated.size(), TrackCursor{});
   clip_pose_.assign(clip.skeleton ? clip.skeleton->size() : 0, Trs{});
 }
 

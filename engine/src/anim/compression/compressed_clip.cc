@@ -32,6 +32,11 @@ constexpr double kConstantShare = 0.05;
 constexpr double kFirstShare = 1.0;
 constexpr int kRefinements = 24;
 constexpr double kTighten = 0.7;
+// Then, rounds that loosen the targets of tracks whose subtree's error is
+// under the bound by kRelaxAbove or more: by kRelaxShare of that ratio, at
+// most kRelaxMost (errors grow about as the target does).
+constexpr int kRelaxations = 2;
+constexpr double kRelaxAbove = 1.2, kRelaxShare = 0.9, kRelaxMost = 4.0;
 
 // A track's bytes before its range in a segment: the dropped component of
 // a per-segment rotation.
@@ -145,52 +150,109 @@ void Tighten(std::vector<TrackState>& states, const Skeleton& skeleton, const st
     if (chain[s.values.joint]) s.target[segment] *= kTighten;
 }
 
+// The compressor's working state after the first choices: it measures
+// segments through the sampling job, and tightens or relaxes targets.
+struct Refiner {
+  Refiner(const Skeleton& sk, const ClipReference& ref, CompressedClip& o, std::vector<TrackState>& st)
+      : skeleton(sk), reference(ref), out(o), states(st) {}
+
+  const Skeleton& skeleton;
+  const ClipReference& reference;
+  CompressedClip& out;
+  std::vector<TrackState>& states;
+  ShellErrorMeter meter{skeleton, out.bound.shell_distance};
+  std::vector<Trs> pose = std::vector<Trs>(reference.joints);
+  std::vector<double> errors = std::vector<double>(out.frames.count * reference.joints, 0.0);
+  std::string why;
+
+  bool ChooseOrExplain(size_t segment) {
+    if (Choose(states, out, segment)) return true;
+    why = "a track cannot meet the bound at " + std::to_string(kMaxBits) + " bits";
+    return false;
+  }
+
+  // Until every frame of `dirty` is within the bound: tighten the chains over it.
+  bool MeetBound(std::vector<size_t> dirty) {
+    for (int round = 0; round <= kRefinements; ++round) {
+      Pack(states, out);
+      std::vector<size_t> next;
+      for (size_t s : dirty) {
+        const std::vector<size_t> over = MeasureSegment(out, reference, s, meter, pose, errors);
+        if (over.empty()) continue;
+        if (round == kRefinements) {
+          why = "the bound is not met after " + std::to_string(kRefinements) + " refinements";
+          return false;
+        }
+        Tighten(states, skeleton, over, s);
+        if (!ChooseOrExplain(s)) return false;
+        next.push_back(s);
+      }
+      if (next.empty()) return true;
+      dirty = std::move(next);
+    }
+    return true;
+  }
+
+  // Spends the budget left: each track whose joint's subtree stays well under
+  // the bound in a segment gets a looser target; a segment that then goes
+  // over is tightened again where it does.
+  bool Relax() {
+    const size_t n = reference.joints, segments = SegmentCount(out.frames.count);
+    std::vector<double> subtree(n);
+    std::vector<size_t> loosened;
+    for (size_t s = 0; s < segments; ++s) {
+      std::fill(subtree.begin(), subtree.end(), 0.0);
+      const size_t end = s + 1 == segments ? out.frames.count : (s + 1) * kSegmentFrames;
+      for (size_t f = s * kSegmentFrames; f < end; ++f)
+        for (size_t j = 0; j < n; ++j) subtree[j] = std::max(subtree[j], errors[f * n + j]);
+      for (size_t j = n; j-- > 0;)
+        if (skeleton.parents[j] >= 0) subtree[skeleton.parents[j]] = std::max(subtree[skeleton.parents[j]], subtree[j]);
+      bool any = false;
+      for (TrackState& st : states) {
+        const double ratio = out.bound.precision / std::max(subtree[st.values.joint], 1e-30);
+        if (ratio < kRelaxAbove) continue;
+        st.target[s] *= std::min(kRelaxShare * ratio, kRelaxMost);
+        any = true;
+      }
+      if (!any) continue;
+      if (!ChooseOrExplain(s)) return false;
+      loosened.push_back(s);
+    }
+    return loosened.empty() || MeetBound(loosened);
+  }
+};
+
 // The lossy form within the bound, or false (and a reason) when it cannot be met.
 bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedClip& out, std::string& why) {
   std::vector<TrackState> states;
   ClassifyTracks(clip, reference, out.bound.precision, out, states);
   const size_t segments = SegmentCount(out.frames.count);
   for (const TrackState& s : states) out.animated.push_back(s.track);
-  std::vector<size_t> dirty;
+  Refiner refiner(*clip.skeleton, reference, out, states);
+  std::vector<size_t> all;
   for (size_t s = 0; s < segments; ++s) {
-    if (!Choose(states, out, s)) {
-      why = "a track cannot meet the bound at " + std::to_string(kMaxBits) + " bits";
+    if (!refiner.ChooseOrExplain(s)) {
+      why = refiner.why;
       return false;
     }
-    dirty.push_back(s);
+    all.push_back(s);
   }
-  ShellErrorMeter meter(*clip.skeleton, out.bound.shell_distance);
-  std::vector<Trs> pose(reference.joints);
-  std::vector<double> errors(out.frames.count * reference.joints, 0.0);
-  for (int round = 0; round <= kRefinements; ++round) {
+  if (segments == 0) {  // one frame: constants only
     Pack(states, out);
-    if (segments == 0) {  // one frame: constants only
-      for (size_t s = 0; s < 1; ++s) {
-        ClipSamplingJob job{&out, 0, WrapMode::kClamp, nullptr, pose};
-        (void)job.Run();
-        meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data(), reference.joints), pose, errors);
-      }
-      break;
-    }
-    std::vector<size_t> next;
-    for (size_t s : dirty) {
-      const std::vector<size_t> over = MeasureSegment(out, reference, s, meter, pose, errors);
-      if (over.empty()) continue;
-      if (round == kRefinements) {
-        why = "the bound is not met after " + std::to_string(kRefinements) + " refinements";
-        return false;
-      }
-      Tighten(states, *clip.skeleton, over, s);
-      if (!Choose(states, out, s)) {
-        why = "a track cannot meet the bound at " + std::to_string(kMaxBits) + " bits";
-        return false;
-      }
-      next.push_back(s);
-    }
-    if (next.empty()) break;
-    dirty = std::move(next);
+    (void)ClipSamplingJob{&out, 0, WrapMode::kClamp, nullptr, refiner.pose}.Run();
+    refiner.meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data(), reference.joints), refiner.pose,
+                               refiner.errors);
+  } else if (!refiner.MeetBound(all)) {
+    why = refiner.why;
+    return false;
   }
-  out.error = SummarizeErrors(std::move(errors));
+  for (int round = 0; round < kRelaxations && segments > 0; ++round)
+    if (!refiner.Relax()) {
+      why = refiner.why;
+      return false;
+    }
+  Pack(states, out);
+  out.error = SummarizeErrors(std::move(refiner.errors));
   if (out.error.worst > out.bound.precision) {
     why = "constant tracks exceed the bound";
     return false;

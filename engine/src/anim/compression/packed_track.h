@@ -61,9 +61,42 @@ inline constexpr std::array<TrackCode, 256> MakeCodes() {
 }
 inline constexpr std::array<TrackCode, 256> kCodes = MakeCodes();
 
+// A sample's bits per component. The code's bits go to the component with
+// the widest range (clip extent × segment extent); a narrower one gets a bit
+// less per halving of its range, so every component is quantized with about
+// the same step (ACL gives all three the same bits). Decided from what the
+// segment stores, so the decoder finds the same.
+struct SampleLayout {
+  uint8_t bits[3];
+  uint8_t total;
+};
+
+inline int FloatExponent(float x) {
+  uint32_t u;
+  std::memcpy(&u, &x, sizeof u);
+  return static_cast<int>((u >> 23) & 0xffu);
+}
+
+inline SampleLayout MakeLayout(int bits, const float* clip_extent, const uint8_t* segment_range) {
+  int exponent[3], widest = 0;
+  for (int c = 0; c < 3; ++c) {
+    const float extent = clip_extent[c] * static_cast<float>(segment_range ? segment_range[3 + c] : 255);
+    exponent[c] = FloatExponent(extent);
+    widest = exponent[c] > widest ? exponent[c] : widest;
+  }
+  SampleLayout layout;
+  layout.total = 0;
+  for (int c = 0; c < 3; ++c) {
+    const int b = bits - (widest - exponent[c]);
+    layout.bits[c] = static_cast<uint8_t>(b < 1 ? 1 : b);
+    layout.total = static_cast<uint8_t>(layout.total + layout.bits[c]);
+  }
+  return layout;
+}
+
 // Bits one track takes in a segment of `intervals` frames.
-inline size_t TrackBits(const TrackCode& code, size_t intervals) {
-  return 3 * static_cast<size_t>(code.bits) * ((intervals >> code.stride_log) + 1);
+inline size_t TrackBits(const SampleLayout& layout, int stride_log, size_t intervals) {
+  return static_cast<size_t>(layout.total) * ((intervals >> stride_log) + 1);
 }
 
 // The `bits`-bit integer at bit `offset` (little-endian, LSB first).
@@ -95,10 +128,10 @@ inline constexpr std::array<float, kMaxBits + 1> MakeInverseMax() {
 inline constexpr std::array<float, kMaxBits + 1> kInverseMax = MakeInverseMax();
 
 inline Dequantizer MakeDequantizer(const float* clip_min, const float* clip_extent, const uint8_t* segment_range,
-                                   int bits) {
+                                   const SampleLayout& layout) {
   Dequantizer d;
-  const float inv_max = kInverseMax[bits];
   for (int c = 0; c < 3; ++c) {
+    const float inv_max = kInverseMax[layout.bits[c]];
     float lo = 0.f, ext = 1.f;
     if (segment_range) {
       lo = static_cast<float>(segment_range[c]) * (1.f / 255);
@@ -111,10 +144,13 @@ inline Dequantizer MakeDequantizer(const float* clip_min, const float* clip_exte
 }
 
 // Sample `i`'s three components.
-inline void ReadSample(const uint8_t* data, size_t track_bit, int bits, size_t i, const Dequantizer& d, float* v) {
-  size_t at = track_bit + i * 3 * static_cast<size_t>(bits);
-  for (int c = 0; c < 3; ++c, at += static_cast<size_t>(bits))
-    v[c] = d.offset[c] + d.scale[c] * static_cast<float>(ReadBits(data, at, bits));
+inline void ReadSample(const uint8_t* data, size_t track_bit, const SampleLayout& layout, size_t i,
+                       const Dequantizer& d, float* v) {
+  size_t at = track_bit + i * layout.total;
+  for (int c = 0; c < 3; ++c) {
+    v[c] = d.offset[c] + d.scale[c] * static_cast<float>(ReadBits(data, at, layout.bits[c]));
+    at += layout.bits[c];
+  }
 }
 
 // √x without libm's errno path (x ≥ 0 here).

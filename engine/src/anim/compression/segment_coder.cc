@@ -42,12 +42,14 @@ uint32_t Quantize(double normalized, const uint8_t* range, int c, int bits) {
 // The decoded samples a choice keeps (as the sampling job reads them).
 size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range,
                      float (*out)[4]) {
-  const Dequantizer d = MakeDequantizer(in.clip_min, in.clip_extent, range, bits);
+  const SampleLayout layout = MakeLayout(bits, in.clip_extent, range);
+  const Dequantizer d = MakeDequantizer(in.clip_min, in.clip_extent, range, layout);
   size_t count = 0;
   for (size_t f = 0; f <= in.intervals; f += size_t{1} << stride_log, ++count) {
     float kept[3];
     for (int c = 0; c < 3; ++c)
-      kept[c] = d.offset[c] + d.scale[c] * static_cast<float>(Quantize(in.normalized[f * 3 + c], range, c, bits));
+      kept[c] =
+          d.offset[c] + d.scale[c] * static_cast<float>(Quantize(in.normalized[f * 3 + c], range, c, layout.bits[c]));
     if (in.kind == TrackKind::kRotation)
       ExpandRotation(kept, in.dropped, out[count]);
     else
@@ -122,19 +124,19 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
     const size_t stride = size_t{1} << s;
     if (in.intervals % stride != 0) continue;
     const size_t samples = in.intervals / stride + 1;
-    if (best && 3 * kMinBits * samples >= best->bits) continue;  // cannot be cheaper
+    if (best && (kMinBits + 2) * samples >= best->bits) continue;  // cannot be cheaper
     SegmentTrackChoice ranged;
     SegmentRange(in, s, ranged.range);
     const int ranged_bits = FewestBits(in, s, ranged.range, target, kMinBits);
     if (ranged_bits == 0) continue;
     ranged.code = EncodeTrackCode(ranged_bits, s, true);
-    ranged.bits = TrackBits(kCodes[ranged.code], in.intervals) + 8 * kRangeBytes;
+    ranged.bits = TrackBits(MakeLayout(ranged_bits, in.clip_extent, ranged.range), s, in.intervals) + 8 * kRangeBytes;
     if (!best || ranged.bits < best->bits) best = ranged;
     // Without a segment range: more bits per sample, no range bytes.
     for (int bits = ranged_bits; bits <= std::min(kMaxBits, ranged_bits + 4); ++bits) {
       SegmentTrackChoice plain;
       plain.code = EncodeTrackCode(bits, s, false);
-      plain.bits = TrackBits(kCodes[plain.code], in.intervals);
+      plain.bits = TrackBits(MakeLayout(bits, in.clip_extent, nullptr), s, in.intervals);
       if (plain.bits >= best->bits) break;
       if (ChoiceError(in, bits, s, nullptr, target) <= target) {
         best = plain;
@@ -148,9 +150,10 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
 void PackSegmentTrack(const SegmentTrackInput& in, const SegmentTrackChoice& choice, uint8_t* data, size_t offset) {
   const TrackCode code = kCodes[choice.code];
   const uint8_t* range = code.ranged ? choice.range : nullptr;
+  const SampleLayout layout = MakeLayout(code.bits, in.clip_extent, range);
   for (size_t f = 0; f <= in.intervals; f += size_t{1} << code.stride_log)
-    for (int c = 0; c < 3; ++c, offset += code.bits)
-      WriteBits(data, offset, code.bits, Quantize(in.normalized[f * 3 + c], range, c, code.bits));
+    for (int c = 0; c < 3; offset += layout.bits[c], ++c)
+      WriteBits(data, offset, layout.bits[c], Quantize(in.normalized[f * 3 + c], range, c, layout.bits[c]));
 }
 
 }  // namespace armature::compression_internal

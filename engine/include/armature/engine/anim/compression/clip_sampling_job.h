@@ -15,12 +15,22 @@
 
 namespace armature {
 
-// Where each animated track's data lies in one segment.
+// One animated track in one segment, read from its header: where its
+// samples start, their bits per component, its stride, the component a
+// rotation rebuilds, and value = offset + scale · q per component.
+struct TrackCursor {
+  uint32_t bit = 0;
+  uint8_t bits[3] = {};
+  uint8_t total = 0;
+  uint8_t stride_log = 0;
+  uint8_t dropped = 3;
+  float offset[3] = {}, scale[3] = {};
+};
+
+// Every animated track's cursor in one segment.
 struct SegmentIndex {
   size_t segment = static_cast<size_t>(-1);
-  std::vector<uint32_t> bits;     // first sample's bit
-  std::vector<uint32_t> ranges;   // segment range's byte, or all ones
-  std::vector<uint8_t> dropped;   // rotations: the component rebuilt
+  std::vector<TrackCursor> tracks;
 };
 
 // Per-playback state: the segment last sampled and where each animated
