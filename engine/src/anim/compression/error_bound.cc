@@ -10,6 +10,9 @@ namespace armature {
 
 double UnitsPerCentimetre(const Skeleton& skeleton) {
   constexpr double kCentimetreSpan = 10;  // see the header: no human-sized rig spans 10 m, or under 10 cm
+  const bool bvh = std::any_of(skeleton.channels.begin(), skeleton.channels.end(),
+                               [](const std::vector<Channel>& c) { return !c.empty(); });
+  if (!bvh) return 0.01;  // glTF: metres
   const size_t n = skeleton.size();
   std::vector<Eigen::Vector3d> position(n);
   std::vector<Eigen::Matrix3d> linear(n);

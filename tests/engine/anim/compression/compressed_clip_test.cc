@@ -57,17 +57,21 @@ TEST(CompressedClipTest, BadBoundsAreRefusedNamingPrecision) {
   EXPECT_TRUE(CompressClip(Cmu(), ten).ok());
 }
 
-TEST(CompressedClipTest, UnitsAreCentimetresFromTenUnitsUp) {
+TEST(CompressedClipTest, UnitsAreMetresForGltfAndBySpanForBvh) {
   SKIP_WITHOUT_SHARED_DATA();
   EXPECT_EQ(UnitsPerCentimetre(*Cmu()->skeleton), 1.0);  // CMU's body spans about 35 units
-  Skeleton metres;
+  Skeleton metres;  // a BVH skeleton 1.7 units tall
   metres.names = {"hips", "head"};
   metres.parents = {-1, 0};
   metres.rest.resize(2);
   metres.rest[1].translation = Eigen::Vector3d(0, 1.7, 0);
-  metres.channels.resize(2);
+  metres.channels = {{Channel::kXrotation}, {Channel::kXrotation}};
   metres.end_sites.resize(2);
   EXPECT_EQ(UnitsPerCentimetre(metres), 0.01);
+  Skeleton gltf = metres;  // no channels: glTF, metres whatever its span
+  gltf.channels.assign(2, {});
+  gltf.rest[1].translation = Eigen::Vector3d(0, 170, 0);
+  EXPECT_EQ(UnitsPerCentimetre(gltf), 0.01);
   StatusOr<ErrorBound> bound = ResolveErrorBound(metres, {});
   ASSERT_TRUE(bound.ok());
   EXPECT_DOUBLE_EQ(bound->precision, 0.0001);

@@ -26,11 +26,12 @@ struct ErrorBound {
   double shell_distance = 0;  // virtual points' distance from their joint
 };
 
-// Skeleton units per centimetre. The rule: a skeleton whose rest pose (joints
-// and end sites, in world space) spans 10 units or more along some axis is
-// in centimetres (1), otherwise in metres (0.01). A human is 1.7 units tall
-// in metres and 170 in centimetres; CMU's BVH units (about 35 for a body)
-// count as centimetres, as ACL sees them when they are fed to it unscaled.
+// Skeleton units per centimetre. The rule: a skeleton without BVH channels
+// (glTF) is in metres (0.01), as glTF 2.0 says. A BVH skeleton, which has no
+// unit, is in centimetres (1) when its rest pose (joints and end sites, in
+// world space) spans 10 units or more along some axis, else in metres: a
+// human is 1.7 units tall in metres and 170 in centimetres; CMU's BVH units
+// (about 35 for a body) count as centimetres, as ACL sees them unscaled.
 double UnitsPerCentimetre(const Skeleton& skeleton);
 
 // INVALID_ARGUMENT naming `precision` unless the bound is exact or in
