@@ -73,9 +73,12 @@ inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, c
   Store(track.kind, r, out);
 }
 
-// Reads a segment's header into a cursor per track, handed to `visit(track, cursor)`.
-template <class Visit>
-void WalkSegment(const CompressedClip& clip, const uint8_t* segment, size_t intervals, const Visit& visit) {
+// Reads a segment's header into a cursor per track: `cursor_of(track)` says
+// where (written in place: a cursor built aside and copied stalls on store
+// forwarding), then `visit(track, cursor)`.
+template <class CursorOf, class Visit>
+void WalkSegment(const CompressedClip& clip, const uint8_t* segment, size_t intervals, const CursorOf& cursor_of,
+                 const Visit& visit) {
   using namespace compression_internal;
   const size_t tracks = clip.animated.size();
   size_t header = tracks;
@@ -85,7 +88,7 @@ void WalkSegment(const CompressedClip& clip, const uint8_t* segment, size_t inte
   for (size_t t = 0; t < tracks; ++t) {
     const AnimatedTrack& track = clip.animated[t];
     const TrackCode code = kCodes[segment[t]];
-    TrackCursor cursor;
+    TrackCursor& cursor = cursor_of(t);
     cursor.dropped = track.dropped == kDroppedPerSegment ? segment[at++] : track.dropped;
     const uint8_t* range = code.ranged ? segment + at : nullptr;
     if (code.ranged) at += kRangeBytes;
@@ -111,13 +114,18 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   const uint8_t* segment = clip.data.data() + clip.segment_offsets[at.segment];
   compression_internal::RotationBatch rotations;
   if (!index) {
-    WalkSegment(clip, segment, at.intervals, [&](size_t i, const TrackCursor& cursor) {
-      DecodeTrack(clip.animated[i], cursor, segment, at, out[clip.animated[i].joint], rotations);
-    });
+    TrackCursor cursor;
+    WalkSegment(
+        clip, segment, at.intervals, [&](size_t) -> TrackCursor& { return cursor; },
+        [&](size_t i, const TrackCursor& c) {
+          DecodeTrack(clip.animated[i], c, segment, at, out[clip.animated[i].joint], rotations);
+        });
     return rotations.Flush();
   }
   if (index->segment != at.segment) {  // sequential playback: each segment's header is read once
-    WalkSegment(clip, segment, at.intervals, [&](size_t i, const TrackCursor& cursor) { index->tracks[i] = cursor; });
+    WalkSegment(
+        clip, segment, at.intervals, [&](size_t i) -> TrackCursor& { return index->tracks[i]; },
+        [](size_t, const TrackCursor&) {});
     index->segment = at.segment;
   }
   for (size_t i = 0; i < clip.animated.size(); ++i)
