@@ -77,21 +77,18 @@ inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, c
 // where (written in place: a cursor built aside and copied stalls on store
 // forwarding), then `visit(track, cursor)`.
 template <class CursorOf, class Visit>
-void WalkSegment(const CompressedClip& clip, const uint8_t* segment, size_t intervals, const CursorOf& cursor_of,
-                 const Visit& visit) {
+void WalkSegment(const CompressedClip& clip, const uint8_t* segment, const uint8_t* end, size_t intervals,
+                 const CursorOf& cursor_of, const Visit& visit) {
   using namespace compression_internal;
   const size_t tracks = clip.animated.size();
-  size_t header = tracks;
-  for (size_t t = 0; t < tracks; ++t)
-    header += (clip.animated[t].dropped == kDroppedPerSegment ? 1 : 0) + (kCodes[segment[t]].ranged ? kRangeBytes : 0);
-  size_t at = tracks, bit = header * 8;
+  size_t bit = tracks * 8;
+  const uint8_t* back = end;  // dropped components and ranges, from the end, in track order
   for (size_t t = 0; t < tracks; ++t) {
     const AnimatedTrack& track = clip.animated[t];
     const TrackCode code = kCodes[segment[t]];
     TrackCursor& cursor = cursor_of(t);
-    cursor.dropped = track.dropped == kDroppedPerSegment ? segment[at++] : track.dropped;
-    const uint8_t* range = code.ranged ? segment + at : nullptr;
-    if (code.ranged) at += kRangeBytes;
+    cursor.dropped = track.dropped == kDroppedPerSegment ? *--back : track.dropped;
+    const uint8_t* range = code.ranged ? (back -= kRangeBytes) : nullptr;
     const SampleLayout layout = MakeLayout(code.bits, track.extent, range);
     const Dequantizer d = MakeDequantizer(track.min, track.extent, range, layout);
     cursor.bit = static_cast<uint32_t>(bit);
@@ -112,11 +109,14 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   if (clip.animated.empty()) return;
   const SegmentPosition at = Locate(clip, t);
   const uint8_t* segment = clip.data.data() + clip.segment_offsets[at.segment];
+  const uint8_t* end = clip.data.data() + (at.segment + 1 < clip.segment_offsets.size()
+                                               ? clip.segment_offsets[at.segment + 1]
+                                               : clip.data.size() - compression_internal::kReadPadding);
   compression_internal::RotationBatch rotations;
   if (!index) {
     TrackCursor cursor;
     WalkSegment(
-        clip, segment, at.intervals, [&](size_t) -> TrackCursor& { return cursor; },
+        clip, segment, end, at.intervals, [&](size_t) -> TrackCursor& { return cursor; },
         [&](size_t i, const TrackCursor& c) {
           DecodeTrack(clip.animated[i], c, segment, at, out[clip.animated[i].joint], rotations);
         });
@@ -124,7 +124,7 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   }
   if (index->segment != at.segment) {  // sequential playback: each segment's header is read once
     WalkSegment(
-        clip, segment, at.intervals, [&](size_t i) -> TrackCursor& { return index->tracks[i]; },
+        clip, segment, end, at.intervals, [&](size_t i) -> TrackCursor& { return index->tracks[i]; },
         [](size_t, const TrackCursor&) {});
     index->segment = at.segment;
   }

@@ -46,24 +46,25 @@ void Pack(const std::vector<TrackState>& states, CompressedClip& out) {
   out.data.clear();
   for (size_t s = 0; s < segments; ++s) {
     out.segment_offsets[s] = static_cast<uint32_t>(out.data.size());
-    size_t header = tracks, bits = 0;
+    size_t tail = 0, bits = 0;
     for (const TrackState& st : states) {
       const SegmentTrackChoice& c = st.choice[s];
       const bool ranged = kCodes[c.code].ranged;
-      header += LeadBytes(st.track) + (ranged ? kRangeBytes : 0);
+      tail += LeadBytes(st.track) + (ranged ? kRangeBytes : 0);
       bits += c.bits - (ranged ? 8 * kRangeBytes : 0);
     }
-    const size_t base = out.data.size();
-    out.data.resize(base + header + (bits + 7) / 8);
+    const size_t base = out.data.size(), size = tracks + (bits + 7) / 8 + tail;
+    out.data.resize(base + size);
     uint8_t* seg = out.data.data() + base;
-    size_t at = tracks, bit = header * 8;
+    uint8_t* back = seg + size;  // dropped components and ranges, from the end, in track order
+    size_t bit = tracks * 8;
     for (size_t t = 0; t < tracks; ++t) {
       const SegmentTrackChoice& c = states[t].choice[s];
       seg[t] = c.code;
-      if (LeadBytes(states[t].track)) seg[at++] = states[t].dropped[s];
+      if (LeadBytes(states[t].track)) *--back = states[t].dropped[s];
       if (kCodes[c.code].ranged) {
-        std::copy(c.range, c.range + kRangeBytes, seg + at);
-        at += kRangeBytes;
+        back -= kRangeBytes;
+        std::copy(c.range, c.range + kRangeBytes, back);
       }
       PackSegmentTrack(SegmentInput(states[t], out.frames, s), c, seg, bit);
       bit += c.bits - (kCodes[c.code].ranged ? 8 * kRangeBytes : 0);

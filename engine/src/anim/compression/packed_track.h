@@ -13,8 +13,9 @@
 // Frames between samples are interpolated (lerp, nlerp for rotations): at
 // 120 fps most tracks keep one sample in 4 or 8. A track's choice in a
 // segment is one byte (kCodes); a segment is laid out as every track's
-// code, then per track its dropped component (per-segment rotations) and
-// its range (when ranged), then every track's samples; ACL chooses the bit rate per track and
+// code, then every track's samples, then from the segment's end backwards,
+// per track in order, its dropped component (per-segment rotations) and
+// its range (when ranged), so both are found without a first pass; ACL chooses the bit rate per track and
 // segment too, but keeps every frame.
 #pragma once
 
