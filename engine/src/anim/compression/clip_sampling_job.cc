@@ -89,16 +89,12 @@ void WalkSegment(const CompressedClip& clip, const uint8_t* segment, const uint8
     TrackCursor& cursor = cursor_of(t);
     cursor.dropped = track.dropped == kDroppedPerSegment ? *--back : track.dropped;
     const uint8_t* range = code.ranged ? (back -= kRangeBytes) : nullptr;
-    const SampleLayout layout = MakeLayout(code.bits, track.extent, range);
-    const Dequantizer d = MakeDequantizer(track.min, track.extent, range, layout);
+    cursor.total = FillLayout(code.bits, track.extent, range, cursor.bits);
+    FillDequantizer(track.min, track.extent, range, cursor.bits, cursor.offset, cursor.scale);
     cursor.bit = static_cast<uint32_t>(bit);
-    std::copy(layout.bits, layout.bits + 3, cursor.bits);
-    cursor.total = layout.total;
     cursor.stride_log = code.stride_log;
-    std::copy(d.offset, d.offset + 3, cursor.offset);
-    std::copy(d.scale, d.scale + 3, cursor.scale);
     visit(t, cursor);
-    bit += TrackBits(layout, code.stride_log, intervals);
+    bit += static_cast<size_t>(cursor.total) * ((intervals >> code.stride_log) + 1);
   }
 }
 

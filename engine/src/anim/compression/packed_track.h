@@ -78,20 +78,27 @@ inline int FloatExponent(float x) {
   return static_cast<int>((u >> 23) & 0xffu);
 }
 
-inline SampleLayout MakeLayout(int bits, const float* clip_extent, const uint8_t* segment_range) {
+// Writes the per-component bits to `out` (3) and returns their sum: in
+// place, so the sampling job's cursors need no copy.
+inline uint8_t FillLayout(int bits, const float* clip_extent, const uint8_t* segment_range, uint8_t* out) {
   int exponent[3], widest = 0;
   for (int c = 0; c < 3; ++c) {
     const float extent = clip_extent[c] * static_cast<float>(segment_range ? segment_range[3 + c] : 255);
     exponent[c] = FloatExponent(extent);
     widest = exponent[c] > widest ? exponent[c] : widest;
   }
-  SampleLayout layout;
-  layout.total = 0;
+  int total = 0;
   for (int c = 0; c < 3; ++c) {
     const int b = bits - (widest - exponent[c]);
-    layout.bits[c] = static_cast<uint8_t>(b < 1 ? 1 : b);
-    layout.total = static_cast<uint8_t>(layout.total + layout.bits[c]);
+    out[c] = static_cast<uint8_t>(b < 1 ? 1 : b);
+    total += out[c];
   }
+  return static_cast<uint8_t>(total);
+}
+
+inline SampleLayout MakeLayout(int bits, const float* clip_extent, const uint8_t* segment_range) {
+  SampleLayout layout;
+  layout.total = FillLayout(bits, clip_extent, segment_range, layout.bits);
   return layout;
 }
 
@@ -128,19 +135,24 @@ inline constexpr std::array<float, kMaxBits + 1> MakeInverseMax() {
 }
 inline constexpr std::array<float, kMaxBits + 1> kInverseMax = MakeInverseMax();
 
-inline Dequantizer MakeDequantizer(const float* clip_min, const float* clip_extent, const uint8_t* segment_range,
-                                   const SampleLayout& layout) {
-  Dequantizer d;
+// Writes offset and scale per component (3 each) for `bits` per component.
+inline void FillDequantizer(const float* clip_min, const float* clip_extent, const uint8_t* segment_range,
+                            const uint8_t* bits, float* offset, float* scale) {
   for (int c = 0; c < 3; ++c) {
-    const float inv_max = kInverseMax[layout.bits[c]];
     float lo = 0.f, ext = 1.f;
     if (segment_range) {
       lo = static_cast<float>(segment_range[c]) * (1.f / 255);
       ext = static_cast<float>(segment_range[3 + c]) * (1.f / 255);
     }
-    d.offset[c] = clip_min[c] + clip_extent[c] * lo;
-    d.scale[c] = clip_extent[c] * ext * inv_max;
+    offset[c] = clip_min[c] + clip_extent[c] * lo;
+    scale[c] = clip_extent[c] * ext * kInverseMax[bits[c]];
   }
+}
+
+inline Dequantizer MakeDequantizer(const float* clip_min, const float* clip_extent, const uint8_t* segment_range,
+                                   const SampleLayout& layout) {
+  Dequantizer d;
+  FillDequantizer(clip_min, clip_extent, segment_range, layout.bits, d.offset, d.scale);
   return d;
 }
 
