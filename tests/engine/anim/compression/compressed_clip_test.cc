@@ -100,6 +100,35 @@ TEST(CompressedClipTest, TheBoundHoldsOnEveryClip) {
   }
 }
 
+// A joint whose child is a million units away turns every rotation error
+// into a displacement no 23-bit track can keep under 0.01: stored exact,
+// with a warning naming why, never above the bound.
+TEST(CompressedClipTest, AClipThatCannotMeetTheBoundIsKeptExactWithAWarning) {
+  auto skeleton = std::make_shared<Skeleton>();
+  skeleton->names = {"root", "far"};
+  skeleton->parents = {-1, 0};
+  skeleton->rest.resize(2);
+  skeleton->rest[1].translation = Eigen::Vector3d(1e6, 0, 0);
+  skeleton->channels = {{Channel::kZrotation}, {}};
+  skeleton->end_sites.resize(2);
+  auto clip = std::make_shared<Clip>();
+  clip->skeleton = skeleton;
+  clip->joints.resize(2);
+  for (int k = 0; k < 40; ++k) {
+    clip->joints[0].rotation.times.push_back(k / 30.0);
+    clip->joints[0].rotation.values.push_back(
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * k * k, Eigen::Vector3d(0.3, 1, 0.2).normalized())));
+  }
+  clip->duration = 39 / 30.0;
+  clip->frame_count = 40;
+  StatusOr<std::shared_ptr<const CompressedClip>> z = CompressClip(clip);
+  ASSERT_TRUE(z.ok()) << z.status().message();
+  EXPECT_TRUE((*z)->exact());
+  EXPECT_TRUE((*z)->precision.exact);
+  EXPECT_NE((*z)->warning.find("kept exact"), std::string::npos) << (*z)->warning;
+  EXPECT_EQ((*z)->error.worst, 0.0);
+}
+
 TEST(CompressedClipTest, ExactKeepsTheStoredKeysBitForBit) {
   SKIP_WITHOUT_SHARED_DATA();
   ClipPrecision exact;
