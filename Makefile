@@ -2,8 +2,9 @@
 BUILD ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?=
-# ozz-animation (../shared/third_party) as the benchmarks' baseline: only `make bench` turns it on.
+# ozz-animation and ACL (../shared/third_party) as the benchmarks' baselines: only `make bench` turns them on.
 BENCH_OZZ ?= OFF
+BENCH_ACL ?= OFF
 # Compiler warnings fail the build (-Werror): WERROR=OFF to build with a compiler that warns more.
 WERROR ?= ON
 DATA_DIR ?= armature-data
@@ -30,7 +31,7 @@ test-deps:
 	./scripts/setup.sh test
 
 configure:
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DARMATURE_BENCH_OZZ=$(BENCH_OZZ) -DARMATURE_WERROR=$(WERROR) $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DARMATURE_BENCH_OZZ=$(BENCH_OZZ) -DARMATURE_BENCH_ACL=$(BENCH_ACL) -DARMATURE_WERROR=$(WERROR) $(CMAKE_FLAGS)
 
 build: deps configure
 	cmake --build $(BUILD) -j $(JOBS)
@@ -72,20 +73,26 @@ image-test: configure
 soak: build
 	sh bench/soak/run_soak.sh $(BUILD)/bin/armature-server $(BUILD)/bin/armature-soak $(SOAK_CLIENTS) $(SOAK_SECONDS)
 
-# Builds ozz-animation beside the benchmarks (bench/CMakeLists.txt) and ends
-# with the Armature/ozz ratio of each BM_VsOzz_* pair (scripts/bench_ratios.py),
+# Builds ozz-animation beside the benchmarks (bench/CMakeLists.txt) and ACL's
+# armature-bench-acl (bench/acl/), and ends with the Armature/ozz ratio of each
+# BM_VsOzz_* pair, the Armature/ACL ratio of each BM_VsAcl_* pair and the
+# compressed clips' sizes and errors against ACL (scripts/bench_ratios.py),
 # then armature-load against a real server (bench/load/run_load_bench.sh:
 # closed loop at concurrency 1-128, 100-1000 streams).
 bench: BENCH_OZZ = ON
+bench: BENCH_ACL = ON
 bench: build
 	./scripts/setup.sh bench
-	$(MAKE) configure BENCH_OZZ=ON
+	$(MAKE) configure BENCH_OZZ=ON BENCH_ACL=ON
 	cmake --build $(BUILD) -j $(JOBS)
 	$(BUILD)/bin/armature-bench --benchmark_counters_tabular=true \
 	  --benchmark_out=$(BUILD)/bench.json --benchmark_out_format=json $(ARGS)
+	@if [ -x $(BUILD)/bin/armature-bench-acl ]; then $(BUILD)/bin/armature-bench-acl --benchmark_counters_tabular=true \
+	  --benchmark_out=$(BUILD)/bench_acl.json --benchmark_out_format=json $(ARGS); \
+	else echo "armature-bench-acl not built (ACL or RTM tarball absent): compressed clips not compared with ACL"; fi
 	@if [ -x $(BUILD)/bin/armature-bench-assimp ]; then $(BUILD)/bin/armature-bench-assimp --benchmark_repetitions=3; \
 	else echo "armature-bench-assimp not built (no libassimp-dev): BVH parse not compared with assimp"; fi
-	@if command -v python3 >/dev/null; then python3 scripts/bench_ratios.py $(BUILD)/bench.json; \
+	@if command -v python3 >/dev/null; then python3 scripts/bench_ratios.py $(BUILD)/bench.json $$(ls $(BUILD)/bench_acl.json 2>/dev/null); \
 	else echo "python3 not found: Armature/ozz ratios not printed (see $(BUILD)/bench.json)"; fi
 	sh bench/load/run_load_bench.sh $(BUILD)/bin/armature-server $(BUILD)/bin/armature-load
 

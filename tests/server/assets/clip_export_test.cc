@@ -5,8 +5,8 @@
 #include <string>
 
 #include "../testing/demo_catalog.h"
-#include "armature/engine/io/bvh.h"
-#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/io/bvh/bvh.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 #include "server/assets/clip_export.h"
 
 namespace armature::server {

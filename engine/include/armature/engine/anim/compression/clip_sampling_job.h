@@ -1,0 +1,84 @@
+// The one way to sample a compressed clip, in ozz's style: a job holds its
+// inputs and output span, Validate() checks them, Run() samples with no
+// allocation. A context carries what sequential playback reuses from one
+// call to the next; a joint map plays the clip on another skeleton.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "armature/base/status.h"
+#include "armature/engine/anim/clip.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
+#include "armature/engine/math/transform.h"
+
+namespace armature {
+
+// One animated track in one segment, read from its header: where its
+// samples start, their bits per component, its stride, the component a
+// rotation rebuilds, and value = offset + scale · q per component.
+struct TrackCursor {
+  uint32_t bit = 0;
+  uint8_t bits[3] = {};
+  uint8_t total = 0;
+  uint8_t stride_log = 0;
+  uint8_t dropped = 3;
+  float offset[3] = {}, scale[3] = {};
+};
+
+// Every animated track's cursor in one segment.
+struct SegmentIndex {
+  size_t segment = static_cast<size_t>(-1);
+  std::vector<TrackCursor> tracks;
+};
+
+// Per-playback state: the segment last sampled and where each animated
+// track's samples start in it, and the clip-skeleton pose a joint map reads.
+// Resize it to the clip once (allocates); jobs then reuse it.
+class ClipSamplingContext {
+ public:
+  ClipSamplingContext() = default;
+  explicit ClipSamplingContext(const CompressedClip& clip) { Resize(clip); }
+  void Resize(const CompressedClip& clip);
+  bool Fits(const CompressedClip& clip) const;
+
+ private:
+  friend struct ClipSamplingJob;
+  friend struct ClipSamplingOntoJob;
+  const CompressedClip* clip_ = nullptr;
+  SegmentIndex index_;
+  std::vector<Trs> clip_pose_;  // for ClipSamplingOntoJob
+};
+
+// Samples every joint's local transform at `time` into `output` (size =
+// the clip's joints). Between frames rotations are nlerped (the stride's
+// samples and the frames alike); an exact clip samples as SampleClip.
+struct ClipSamplingJob {
+  const CompressedClip* clip = nullptr;
+  double time = 0;
+  WrapMode wrap = WrapMode::kClamp;
+  ClipSamplingContext* context = nullptr;  // optional: sequential playback reuses it
+  std::span<Trs> output;
+
+  Status Validate() const;
+  Status Run() const;  // Validate(), then samples
+};
+
+// The same on `target`, through `map` (MapJointsByName(target,
+// *clip->skeleton), anim/joint_map.h): each joint starts at target's rest
+// and its clip joint replaces what the clip animates. Needs a context.
+struct ClipSamplingOntoJob {
+  const CompressedClip* clip = nullptr;
+  std::span<const int> map;
+  const Skeleton* target = nullptr;
+  double time = 0;
+  WrapMode wrap = WrapMode::kClamp;
+  ClipSamplingContext* context = nullptr;
+  std::span<Trs> output;
+
+  Status Validate() const;
+  Status Run() const;
+};
+
+}  // namespace armature

@@ -1,0 +1,62 @@
+// Internal: the clip as stored, sampled at its frames (the reference the
+// error is measured against), its tracks' values, and how far a value error
+// of each track moves the virtual points (its lever).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "armature/engine/anim/compression/compressed_clip.h"
+#include "armature/engine/anim/compression/shell_error.h"
+#include "anim/compression/packed_track.h"
+
+namespace armature::compression_internal {
+
+struct ClipReference {
+  FrameGrid frames;
+  size_t joints = 0;
+  std::vector<Trs> local;       // frames × joints
+  std::vector<WorldQvv> world;  // frames × joints
+  // Per joint: the farthest virtual point of it or its descendants (world
+  // units), its parent's largest world scale, its smallest local scale.
+  std::vector<double> reach, parent_scale, min_scale;
+  std::vector<double> segment_reach;  // the same per segment: segments × joints
+};
+
+StatusOr<ClipReference> SampleReference(const Clip& clip, const FrameGrid& frames, double shell_distance);
+
+// One source track over every frame: 4 values per frame (rotations x y z w
+// as stored, vectors x y z 0) and its lever.
+struct TrackValues {
+  uint16_t joint = 0;
+  TrackKind kind = TrackKind::kRotation;
+  std::vector<double> raw;
+  double lever = 1;                   // over the clip
+  std::vector<double> segment_lever;  // over each segment's frames
+};
+
+TrackValues ReadTrack(const ClipReference& reference, uint16_t joint, TrackKind kind);
+
+// 2·sin(angle/2) of the rotation between unit `raw` and `q` (x y z w, any
+// length): a point at distance 1 moves that far. From the chord |raw − q̂|,
+// which keeps its precision for tiny angles where 1 − dot² does not.
+double RotationChord(const double* raw, const double* q);
+
+// Its square, from a float rotation, without square roots but |q|'s: for
+// the segment coder's inner loop. 1 − |dot|/|q| keeps double's precision.
+inline double RotationChordSquared(const double* raw, const float* q) {
+  double dot = 0, norm2 = 0;
+  for (int c = 0; c < 4; ++c) {
+    dot += raw[c] * q[c];
+    norm2 += static_cast<double>(q[c]) * q[c];
+  }
+  const double d2 = std::max(0.0, 2 - 2 * std::abs(dot) / std::sqrt(norm2));  // |raw − q̂|² = 4·sin²(angle/4)
+  return 4 * d2 * (1 - d2 / 4);  // (2·sin(angle/2))² = 16·sin²(angle/4)·cos²(angle/4)
+}
+
+// The largest displacement when `value` replaces every frame of `track`.
+double ConstantError(const TrackValues& track, const float* value);
+
+}  // namespace armature::compression_internal

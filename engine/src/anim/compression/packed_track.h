@@ -1,0 +1,205 @@
+// Internal: the packed form of a compressed clip's animated tracks, shared by
+// the compressor and the sampling job.
+//
+// Frames are cut into segments of kSegmentFrames intervals. In each segment
+// every animated track stores samples of its three components every
+// `stride` frames (rotations: three of x y z w, the fourth kept ≥ 0 and
+// rebuilt as √(1 − a² − b² − c²); the dropped one is the track's largest in
+// magnitude over the clip, or over each segment when none stays far from 0
+// (a root turning round), not always w as in ACL, so a joint turning
+// through 180° keeps its precision where w passes 0),
+// both ends included, as `bits`-bit integers in the track's clip range and,
+// optionally, a segment range (8 bits per end and component) inside it.
+// Frames between samples are interpolated (lerp, nlerp for rotations): at
+// 120 fps most tracks keep one sample in 4 or 8. A track's choice in a
+// segment is one byte (kCodes); a segment is laid out as every track's
+// code, then every track's samples, then from the segment's end backwards,
+// per track in order, its dropped component (per-segment rotations) and
+// its range (when ranged), so both are found without a first pass; ACL chooses the bit rate per track and
+// segment too, but keeps every frame.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
+
+namespace armature::compression_internal {
+
+inline constexpr size_t kSegmentFrames = 16;
+inline constexpr int kMinBits = 3, kMaxBits = 23, kRateCount = kMaxBits - kMinBits + 1;
+inline constexpr int kStrideLogs = 5;  // strides 1, 2, 4, 8, 16
+inline constexpr size_t kRangeBytes = 6;  // segment range: low and extent bytes of 3 components
+inline constexpr size_t kReadPadding = 8;
+// AnimatedTrack::dropped when each segment names its own (one byte before its range).
+inline constexpr uint8_t kDroppedPerSegment = 4;  // bytes after the data, so 64-bit reads never leave it
+
+// Segments of a clip of `frames` frames (the last holds the rest; none for one frame).
+inline size_t SegmentCount(size_t frames) { return frames < 2 ? 0 : (frames - 2) / kSegmentFrames + 1; }
+
+struct TrackCode {
+  uint8_t bits = 0;
+  uint8_t stride_log = 0;
+  bool ranged = false;
+};
+
+inline constexpr uint8_t EncodeTrackCode(int bits, int stride_log, bool ranged) {
+  return static_cast<uint8_t>(((bits - kMinBits) * kStrideLogs + stride_log) * 2 + (ranged ? 1 : 0));
+}
+
+inline constexpr std::array<TrackCode, 256> MakeCodes() {
+  std::array<TrackCode, 256> codes{};
+  for (int bits = kMinBits; bits <= kMaxBits; ++bits)
+    for (int s = 0; s < kStrideLogs; ++s)
+      for (int r = 0; r < 2; ++r)
+        codes[EncodeTrackCode(bits, s, r == 1)] = {static_cast<uint8_t>(bits), static_cast<uint8_t>(s), r == 1};
+  return codes;
+}
+inline constexpr std::array<TrackCode, 256> kCodes = MakeCodes();
+
+// A sample's bits per component. The code's bits go to the component with
+// the widest range (clip extent × segment extent); a narrower one gets a bit
+// less per halving of its range, so every component is quantized with about
+// the same step (ACL gives all three the same bits). Decided from what the
+// segment stores, so the decoder finds the same.
+struct SampleLayout {
+  uint8_t bits[3];
+  uint8_t total;
+};
+
+inline int FloatExponent(float x) {
+  uint32_t u;
+  std::memcpy(&u, &x, sizeof u);
+  return static_cast<int>((u >> 23) & 0xffu);
+}
+
+// Writes the per-component bits to `out` (3) and returns their sum: in
+// place, so the sampling job's cursors need no copy.
+inline uint8_t FillLayout(int bits, const float* clip_extent, const uint8_t* segment_range, uint8_t* out) {
+  int exponent[3], widest = 0;
+  for (int c = 0; c < 3; ++c) {
+    const float extent = clip_extent[c] * static_cast<float>(segment_range ? segment_range[3 + c] : 255);
+    exponent[c] = FloatExponent(extent);
+    widest = exponent[c] > widest ? exponent[c] : widest;
+  }
+  int total = 0;
+  for (int c = 0; c < 3; ++c) {
+    const int b = bits - (widest - exponent[c]);
+    out[c] = static_cast<uint8_t>(b < 1 ? 1 : b);
+    total += out[c];
+  }
+  return static_cast<uint8_t>(total);
+}
+
+inline SampleLayout MakeLayout(int bits, const float* clip_extent, const uint8_t* segment_range) {
+  SampleLayout layout;
+  layout.total = FillLayout(bits, clip_extent, segment_range, layout.bits);
+  return layout;
+}
+
+// Bits one track takes in a segment of `intervals` frames.
+inline size_t TrackBits(const SampleLayout& layout, int stride_log, size_t intervals) {
+  return static_cast<size_t>(layout.total) * ((intervals >> stride_log) + 1);
+}
+
+// The `bits`-bit integer at bit `offset` (little-endian, LSB first).
+inline uint32_t ReadBits(const uint8_t* data, size_t offset, int bits) {
+  uint64_t word;
+  std::memcpy(&word, data + (offset >> 3), sizeof word);
+  return static_cast<uint32_t>((word >> (offset & 7)) & ((uint64_t{1} << bits) - 1));
+}
+
+// ORs `value` in at bit `offset`, touching only the bytes it covers.
+inline void WriteBits(uint8_t* data, size_t offset, int bits, uint32_t value) {
+  const uint64_t shifted = static_cast<uint64_t>(value) << (offset & 7);
+  const size_t bytes = ((offset & 7) + static_cast<size_t>(bits) + 7) / 8;
+  uint8_t* at = data + (offset >> 3);
+  for (size_t i = 0; i < bytes; ++i) at[i] |= static_cast<uint8_t>(shifted >> (8 * i));
+}
+
+// value = offset + scale · q per component: the clip range [min, min + extent]
+// and, when ranged, the segment range inside it (bytes lo, extent of 255).
+struct Dequantizer {
+  float offset[3], scale[3];
+};
+
+inline constexpr std::array<float, kMaxBits + 1> MakeInverseMax() {
+  std::array<float, kMaxBits + 1> inv{};
+  for (int b = 1; b <= kMaxBits; ++b) inv[b] = 1.f / static_cast<float>((1u << b) - 1);
+  return inv;
+}
+inline constexpr std::array<float, kMaxBits + 1> kInverseMax = MakeInverseMax();
+
+// Writes offset and scale per component (3 each) for `bits` per component.
+inline void FillDequantizer(const float* clip_min, const float* clip_extent, const uint8_t* segment_range,
+                            const uint8_t* bits, float* offset, float* scale) {
+  for (int c = 0; c < 3; ++c) {
+    float lo = 0.f, ext = 1.f;
+    if (segment_range) {
+      lo = static_cast<float>(segment_range[c]) * (1.f / 255);
+      ext = static_cast<float>(segment_range[3 + c]) * (1.f / 255);
+    }
+    offset[c] = clip_min[c] + clip_extent[c] * lo;
+    scale[c] = clip_extent[c] * ext * kInverseMax[bits[c]];
+  }
+}
+
+inline Dequantizer MakeDequantizer(const float* clip_min, const float* clip_extent, const uint8_t* segment_range,
+                                   const SampleLayout& layout) {
+  Dequantizer d;
+  FillDequantizer(clip_min, clip_extent, segment_range, layout.bits, d.offset, d.scale);
+  return d;
+}
+
+// Sample `i`'s three components.
+inline void ReadSample(const uint8_t* data, size_t track_bit, const SampleLayout& layout, size_t i,
+                       const Dequantizer& d, float* v) {
+  size_t at = track_bit + i * layout.total;
+  for (int c = 0; c < 3; ++c) {
+    v[c] = d.offset[c] + d.scale[c] * static_cast<float>(ReadBits(data, at, layout.bits[c]));
+    at += layout.bits[c];
+  }
+}
+
+// √x without libm's errno path (x ≥ 0 here).
+inline float Sqrt(float x) {
+#if defined(__SSE__)
+  return _mm_cvtss_f32(_mm_sqrt_ss(_mm_set_ss(x)));
+#else
+  return __builtin_sqrtf(x);
+#endif
+}
+
+inline constexpr float kInverseStride[kStrideLogs] = {1.f, 0.5f, 0.25f, 0.125f, 0.0625f};
+
+// A rotation (x y z w) from its three kept components, in order, and the
+// index of the dropped one (kept ≥ 0, so rebuilt as the square root).
+inline void ExpandRotation(const float* kept, int dropped, float* q) {
+  const float w2 = 1.f - kept[0] * kept[0] - kept[1] * kept[1] - kept[2] * kept[2];
+  const float rebuilt = Sqrt(w2 > 0.f ? w2 : 0.f);
+  if (dropped == 3) {  // the usual case: w
+    q[0] = kept[0], q[1] = kept[1], q[2] = kept[2], q[3] = rebuilt;
+    return;
+  }
+  for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped ? rebuilt : kept[k++];
+}
+
+// nlerp of two rotations (x y z w), along the shorter arc.
+inline void Nlerp(const float* a, const float* b, float u, float* out) {
+  const float d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+  const float ub = d < 0.f ? -u : u, ua = 1.f - u;
+  float n = 0;
+  for (int c = 0; c < 4; ++c) {
+    out[c] = ua * a[c] + ub * b[c];
+    n += out[c] * out[c];
+  }
+  const float inv = 1.f / Sqrt(n);
+  for (int c = 0; c < 4; ++c) out[c] *= inv;
+}
+
+}  // namespace armature::compression_internal

@@ -1,0 +1,62 @@
+// Internal: the sampling job's rotations, four tracks per vector. Each lane
+// holds a track's two samples as kept (three components, the fourth rebuilt
+// as √(1 − a² − b² − c²)) and its parameter; nlerp is the same in any
+// component order, so the rebuilt one is put back in its place on store.
+#pragma once
+
+#include <cstddef>
+
+#include "anim/fast_slerp.h"
+#include "armature/engine/math/transform.h"
+
+namespace armature::compression_internal {
+
+class RotationBatch {
+ public:
+  void Add(const float* a, const float* b, float u, int dropped, Trs* out) {
+    for (int c = 0; c < 3; ++c) {
+      a_[c][n_] = a[c];
+      b_[c][n_] = b[c];
+    }
+    u_[n_] = u;
+    dropped_[n_] = dropped;
+    out_[n_] = out;
+    if (++n_ == 4) Flush();
+  }
+
+  void Flush() {
+    using compiled_internal::Max;
+    using compiled_internal::Splat;
+    using compiled_internal::Sqrt;
+    using compiled_internal::v4;
+    if (n_ == 0) return;
+    for (size_t lane = n_; lane < 4; ++lane) {  // unused lanes: identity
+      for (int c = 0; c < 3; ++c) a_[c][lane] = b_[c][lane] = 0.f;
+      u_[lane] = 0.f;
+    }
+    const v4 zero = Splat(0.f), one = Splat(1.f);
+    const v4 wa = Sqrt(Max(one - a_[0] * a_[0] - a_[1] * a_[1] - a_[2] * a_[2], zero));
+    const v4 wb = Sqrt(Max(one - b_[0] * b_[0] - b_[1] * b_[1] - b_[2] * b_[2], zero));
+    const v4 d = a_[0] * b_[0] + a_[1] * b_[1] + a_[2] * b_[2] + wa * wb;
+    const v4 ub = compiled_internal::Select(d < zero, -u_, u_), ua = one - u_;
+    v4 r[4];
+    for (int c = 0; c < 3; ++c) r[c] = ua * a_[c] + ub * b_[c];
+    r[3] = ua * wa + ub * wb;
+    const v4 inv = one / Sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
+    for (int c = 0; c < 4; ++c) r[c] *= inv;
+    for (size_t lane = 0; lane < n_; ++lane) {
+      double q[4];  // x y z w
+      for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped_[lane] ? r[3][lane] : r[k++][lane];
+      out_[lane]->rotation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+    }
+    n_ = 0;
+  }
+
+ private:
+  compiled_internal::v4 a_[3], b_[3], u_;
+  int dropped_[4];
+  Trs* out_[4];
+  size_t n_ = 0;
+};
+
+}  // namespace armature::compression_internal

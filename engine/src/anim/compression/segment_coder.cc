@@ -1,0 +1,159 @@
+#include "anim/compression/segment_coder.h"
+
+#include "anim/compression/clip_reference.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace armature::compression_internal {
+namespace {
+
+constexpr size_t kMaxFrames = kSegmentFrames + 1;
+
+// The segment range over the samples a stride keeps: low byte rounded
+// down, high rounded up, so every sample lies inside.
+void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
+  for (int c = 0; c < 3; ++c) {
+    double lo = 1, hi = 0;
+    for (size_t f = 0; f <= in.intervals; f += size_t{1} << stride_log) {
+      lo = std::min(lo, in.normalized[f * 3 + c]);
+      hi = std::max(hi, in.normalized[f * 3 + c]);
+    }
+    int lo_q = std::clamp(static_cast<int>(std::floor(lo * 255)), 0, 255);
+    int hi_q = std::clamp(static_cast<int>(std::ceil(hi * 255)), 0, 255);
+    if (hi_q == lo_q) {  // a range of one value has no extent to divide by
+      if (hi_q < 255)
+        ++hi_q;
+      else
+        --lo_q;
+    }
+    range[c] = static_cast<uint8_t>(lo_q);
+    range[3 + c] = static_cast<uint8_t>(hi_q - lo_q);
+  }
+}
+
+uint32_t Quantize(double normalized, const uint8_t* range, int c, int bits) {
+  double v = normalized;
+  if (range) v = (v - range[c] / 255.0) / (range[3 + c] / 255.0);
+  const double max_q = static_cast<double>((1u << bits) - 1);
+  return static_cast<uint32_t>(std::clamp(v * max_q + 0.5, 0.0, max_q));  // rounded: v ≥ 0
+}
+
+// The decoded samples a choice keeps (as the sampling job reads them).
+size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range,
+                     float (*out)[4]) {
+  const SampleLayout layout = MakeLayout(bits, in.clip_extent, range);
+  const Dequantizer d = MakeDequantizer(in.clip_min, in.clip_extent, range, layout);
+  size_t count = 0;
+  for (size_t f = 0; f <= in.intervals; f += size_t{1} << stride_log, ++count) {
+    float kept[3];
+    for (int c = 0; c < 3; ++c)
+      kept[c] =
+          d.offset[c] + d.scale[c] * static_cast<float>(Quantize(in.normalized[f * 3 + c], range, c, layout.bits[c]));
+    if (in.kind == TrackKind::kRotation)
+      ExpandRotation(kept, in.dropped, out[count]);
+    else
+      std::copy(kept, kept + 3, out[count]);
+  }
+  return count;
+}
+
+// The largest displacement over the segment's frames, or early once above
+// `target`. Compared squared, per unit of lever.
+double ChoiceError(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, double target) {
+  float samples[kMaxFrames][4];
+  const size_t count = DecodeSamples(in, bits, stride_log, range, samples);
+  const float inv_stride = kInverseStride[stride_log];
+  const double limit = target / in.lever, limit2 = limit * limit;
+  double worst2 = 0;
+  for (size_t f = 0; f <= in.intervals; ++f) {
+    const size_t i = std::min(f >> stride_log, count - 2);
+    const float u = static_cast<float>(f - (i << stride_log)) * inv_stride;
+    const double* raw = &in.raw[f * 4];
+    double e2;
+    if (in.kind == TrackKind::kRotation) {
+      float r[4];
+      Nlerp(samples[i], samples[i + 1], u, r);
+      e2 = RotationChordSquared(raw, r);
+    } else {
+      e2 = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double v = samples[i][c] + u * (samples[i + 1][c] - samples[i][c]);
+        e2 += (v - raw[c]) * (v - raw[c]);
+      }
+    }
+    worst2 = std::max(worst2, e2);
+    if (worst2 > limit2) break;
+  }
+  return std::sqrt(worst2) * in.lever;
+}
+
+// The fewest bits in [lo, kMaxBits] meeting `target` (errors shrink with
+// bits), or 0. A hint (the neighbouring segment's bits) starts a walk that
+// usually ends in two or three tries; without one, a binary search.
+int FewestBits(const SegmentTrackInput& in, int stride_log, const uint8_t* range, double target, int lo) {
+  auto meets = [&](int bits) { return ChoiceError(in, bits, stride_log, range, target) <= target; };
+  int hi = kMaxBits;
+  if (in.hint_stride_log == stride_log && in.hint_bits >= lo && in.hint_bits <= kMaxBits) {
+    int bits = in.hint_bits;
+    if (meets(bits)) {
+      while (bits > lo && meets(bits - 1)) --bits;
+      return bits;
+    }
+    if (!meets(hi)) return 0;
+    while (++bits < hi)
+      if (meets(bits)) return bits;
+    return hi;
+  }
+  if (!meets(hi)) return 0;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (meets(mid))
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  return hi;
+}
+
+}  // namespace
+
+std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in, double target) {
+  std::optional<SegmentTrackChoice> best;
+  for (int s = kStrideLogs - 1; s >= 0; --s) {
+    const size_t stride = size_t{1} << s;
+    if (in.intervals % stride != 0) continue;
+    const size_t samples = in.intervals / stride + 1;
+    if (best && (kMinBits + 2) * samples >= best->bits) continue;  // cannot be cheaper
+    SegmentTrackChoice ranged;
+    SegmentRange(in, s, ranged.range);
+    const int ranged_bits = FewestBits(in, s, ranged.range, target, kMinBits);
+    if (ranged_bits == 0) continue;
+    ranged.code = EncodeTrackCode(ranged_bits, s, true);
+    ranged.bits = TrackBits(MakeLayout(ranged_bits, in.clip_extent, ranged.range), s, in.intervals) + 8 * kRangeBytes;
+    if (!best || ranged.bits < best->bits) best = ranged;
+    // Without a segment range: more bits per sample, no range bytes.
+    for (int bits = ranged_bits; bits <= std::min(kMaxBits, ranged_bits + 4); ++bits) {
+      SegmentTrackChoice plain;
+      plain.code = EncodeTrackCode(bits, s, false);
+      plain.bits = TrackBits(MakeLayout(bits, in.clip_extent, nullptr), s, in.intervals);
+      if (plain.bits >= best->bits) break;
+      if (ChoiceError(in, bits, s, nullptr, target) <= target) {
+        best = plain;
+        break;
+      }
+    }
+  }
+  return best;
+}
+
+void PackSegmentTrack(const SegmentTrackInput& in, const SegmentTrackChoice& choice, uint8_t* data, size_t offset) {
+  const TrackCode code = kCodes[choice.code];
+  const uint8_t* range = code.ranged ? choice.range : nullptr;
+  const SampleLayout layout = MakeLayout(code.bits, in.clip_extent, range);
+  for (size_t f = 0; f <= in.intervals; f += size_t{1} << code.stride_log)
+    for (int c = 0; c < 3; offset += layout.bits[c], ++c)
+      WriteBits(data, offset, layout.bits[c], Quantize(in.normalized[f * 3 + c], range, c, layout.bits[c]));
+}
+
+}  // namespace armature::compression_internal

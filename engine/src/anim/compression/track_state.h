@@ -1,0 +1,30 @@
+// Internal: an animated track while it is compressed: its values in its
+// clip range, laid out per segment, and per segment the component a
+// rotation drops, its target and its choice.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "anim/compression/clip_reference.h"
+#include "anim/compression/segment_coder.h"
+
+namespace armature::compression_internal {
+
+struct TrackState {
+  TrackValues values;
+  AnimatedTrack track;                 // what the runtime form keeps of it
+  std::vector<uint8_t> dropped;        // per segment (rotations)
+  std::vector<double> normalized;      // per segment: (kSegmentFrames + 1) × 3
+  std::vector<double> target;          // per segment
+  std::vector<SegmentTrackChoice> choice;
+};
+
+// The track's clip range, dropped components and normalized values.
+TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double first_target);
+
+// The frames of `segment` as the segment coder reads them.
+SegmentTrackInput SegmentInput(const TrackState& state, const FrameGrid& frames, size_t segment);
+
+}  // namespace armature::compression_internal
