@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 struct BenchServer {
   fs::path dir;
   std::unique_ptr<armature::server::ArmatureServer> server;
-  std::unique_ptr<armature::Client> client;
+  std::unique_ptr<armature::client::Client> client;
   bool has_cmu = false;
 
   BenchServer() {
@@ -34,9 +34,9 @@ struct BenchServer {
     auto started = armature::server::ArmatureServer::Start(config);
     if (!started.ok()) throw std::runtime_error(started.status().message());
     server = std::move(*started);
-    armature::ClientOptions o;
+    armature::client::ClientOptions o;
     o.target = "127.0.0.1:" + std::to_string(server->grpc_port());
-    client = std::make_unique<armature::Client>(o);
+    client = std::make_unique<armature::client::Client>(o);
     const fs::path cmu = fs::path(ARMATURE_SHARED_DATA) / "bvh" / "cmu_01_01.bvh";
     if (fs::exists(cmu)) {
       client->ImportFile(cmu, "cmu");

@@ -219,10 +219,10 @@ int main(int argc, char** argv) {
     return std::fprintf(stderr, "--streams: a comma-separated list of 1..20000\n"), 2;
 
   if (!import_bvh.empty()) {
-    armature::ClientOptions o;
+    armature::client::ClientOptions o;
     o.target = target;
     try {
-      armature::Client(o).ImportFile(import_bvh, shape.clip, /*replace=*/true);
+      armature::client::Client(o).ImportFile(import_bvh, shape.clip, /*replace=*/true);
     } catch (const std::exception& e) {
       return std::fprintf(stderr, "--import-bvh %s: %s\n", import_bvh.c_str(), e.what()), 1;
     }

@@ -109,13 +109,13 @@ int main(int argc, char** argv) {
   }
 
   // The deformed sheet is the soak's own asset (replaced if a previous run left it).
-  armature::ClientOptions setup_options;
+  armature::client::ClientOptions setup_options;
   setup_options.target = server;
   setup_options.timeout = std::chrono::seconds(30);
   try {
-    armature::Client setup(setup_options);
+    armature::client::Client setup(setup_options);
     setup.Import({"grid.obj", armature::soak::GridObj()}, "soak_grid", "", true);
-  } catch (const armature::ClientError& e) {
+  } catch (const armature::client::ClientError& e) {
     std::fprintf(stderr, "cannot set up (import soak_grid) on %s: %s\n", server.c_str(), e.what());
     return 1;
   }
@@ -141,8 +141,8 @@ int main(int argc, char** argv) {
   done = true;
   sampler.join();
   try {
-    armature::Client(setup_options).DeleteAsset("soak_grid");
-  } catch (const armature::ClientError&) {
+    armature::client::Client(setup_options).DeleteAsset("soak_grid");
+  } catch (const armature::client::ClientError&) {
   }
 
   std::printf("armature-soak: %d clients, %d s against %s (HTTP port %d)\n", clients, seconds, server.c_str(),

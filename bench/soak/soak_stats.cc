@@ -22,7 +22,7 @@ void Stats::Record(const std::string& method, double ms, const grpc::Status& st)
     ++m.refused;
   } else if (!st.ok()) {
     if (m.first_error.empty()) m.first_error = st.error_message();
-    ++m.errors[StatusCodeName(st.error_code())];
+    ++m.errors[client::StatusCodeName(st.error_code())];
   }
 }
 

@@ -50,11 +50,11 @@ std::string GridObj() {
 
 Worker::Worker(const std::string& target, int http_port, int id, const Mix& mix, Stats& stats)
     : id_(id), mix_(mix), stats_(stats), rng_(1000 + id), http_(http_port), has_http_(http_port > 0) {
-  ClientOptions o;
+  client::ClientOptions o;
   o.target = target;
   o.timeout = std::chrono::seconds(10);
   o.stream_timeout = std::chrono::seconds(10);
-  client_ = std::make_unique<Client>(o);
+  client_ = std::make_unique<client::Client>(o);
 }
 
 void Worker::Run(Clock::time_point deadline) {
@@ -82,7 +82,7 @@ void Worker::TimedStatus(const std::string& method, const std::function<grpc::St
   grpc::Status st = grpc::Status::OK;
   try {
     st = call();
-  } catch (const ClientError& e) {
+  } catch (const client::ClientError& e) {
     st = grpc::Status(e.code(), e.what());
   } catch (const std::exception& e) {
     st = grpc::Status(grpc::StatusCode::UNKNOWN, e.what());

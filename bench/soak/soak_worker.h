@@ -63,7 +63,7 @@ class Worker {
   const Mix& mix_;
   Stats& stats_;
   std::mt19937 rng_;
-  std::unique_ptr<Client> client_;
+  std::unique_ptr<client::Client> client_;
   HttpTransports http_;
   bool has_http_;
   int next_ = 0;

@@ -6,7 +6,7 @@
 - base uses nothing of ours.
 - server: rpc <- assets <- the slices (pose, mesh, ik, deform, authoring)
   <- host (host/gateway is part of host). Slices never include each other.
-- client/ talks to the server over gRPC only: nothing of server/ or engine/.
+- clients/cpp/ talks to the server over gRPC only: nothing of server/ or engine/.
 - No include cycle between folders (the rules above are an order, and the
   graph is checked for cycles as well).
 
@@ -29,8 +29,10 @@ def folder_of_file(path):
         return f"engine/{concern}" if concern else None
     if parts[0] == "server":
         return "server/host" if parts[1] == "host" else f"server/{parts[1]}"
-    if parts[0] in ("base", "client"):
-        return parts[0]
+    if parts[0] == "base":
+        return "base"
+    if parts[:2] == ["clients", "cpp"]:
+        return "clients/cpp"
     return None
 
 
@@ -42,7 +44,7 @@ def folder_of_include(include, includer_folder):
     if include.startswith("armature/base/"):
         return "base"
     if include == "armature/client.h":
-        return "client"
+        return "clients/cpp"
     m = re.match(r"server/([a-z_]+)/", include)
     if m:
         return "server/host" if m.group(1) == "host" else f"server/{m.group(1)}"
@@ -71,15 +73,15 @@ def allowed(src, dst):
     if src.startswith("server/"):
         if dst == "base" or dst.startswith("engine/"):
             return True
-        if dst == "client":
+        if dst == "clients/cpp":
             return False
         order = {"server/rpc": 0, "server/assets": 1, "server/host": 3}
         rank = lambda f: order.get(f, 2)  # the slices sit between assets and host
         if rank(src) == 2 and rank(dst) == 2:
             return False  # slices never include each other
         return rank(dst) < rank(src)
-    if src == "client":
-        return dst in ("base", "client")
+    if src == "clients/cpp":
+        return dst in ("base", "clients/cpp")
     return True
 
 
@@ -112,7 +114,7 @@ def find_cycle(edges):
 def main():
     root = os.path.abspath(sys.argv[1])
     problems, edges, files = [], set(), 0
-    for top in ("base", "engine", "server", "client"):
+    for top in ("base", "engine", "server", "clients/cpp"):
         for dirpath, _, names in os.walk(os.path.join(root, top)):
             for name in sorted(names):
                 if not name.endswith((".h", ".cc")):

@@ -25,7 +25,7 @@ TEST(Concurrency, ListsRacingImportsAndDeletesAllAnswerOk) {
   std::vector<std::thread> threads;
   for (int w = 0; w < kWriters; ++w)
     threads.emplace_back([&, w] {
-      Client client(OptionsFor(server));
+      client::Client client(OptionsFor(server));
       for (int i = 0; i < kCycles; ++i) {
         const std::string name = "arm" + std::to_string(w) + "_" + std::to_string(i % 3);
         if (!StatusOf([&] { client.Import({"arm.bvh", kArmBvh}, name); }).ok()) ++failures;
@@ -35,7 +35,7 @@ TEST(Concurrency, ListsRacingImportsAndDeletesAllAnswerOk) {
     });
   for (int r = 0; r < kReaders; ++r)
     threads.emplace_back([&] {
-      Client client(OptionsFor(server));
+      client::Client client(OptionsFor(server));
       while (writers_left > 0) {
         const grpc::Status st = StatusOf([&] {
           client.ListAssets();
@@ -54,7 +54,7 @@ TEST(Concurrency, ListsRacingImportsAndDeletesAllAnswerOk) {
   EXPECT_EQ(failures, 0);
   EXPECT_GT(lists, 0);
   // The server survived and still answers.
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   EXPECT_TRUE(client.ListAssets().assets().empty());
   EXPECT_EQ(server.Stop(SIGTERM), 0);
 }

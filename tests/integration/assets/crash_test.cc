@@ -62,7 +62,7 @@ class Writer {
   }
 
  private:
-  Client client_;
+  client::Client client_;
   State& acked_;
   std::mt19937 rng_;
   std::mutex mu_;
@@ -70,7 +70,7 @@ class Writer {
 };
 
 // The frames of `name`'s clip as the restarted server serves it, 0 if absent.
-int ServedFrames(Client& client, const std::string& name) {
+int ServedFrames(client::Client& client, const std::string& name) {
   int frames = 0;
   const grpc::Status st = StatusOf([&] { frames = client.GetClip(name).frames(); });
   if (st.error_code() == grpc::StatusCode::NOT_FOUND) return 0;
@@ -96,7 +96,7 @@ TEST(Crash, KillNineDuringWritesKeepsEveryAcknowledgedChange) {
       server.Stop(SIGKILL);  // reaps it
     }
     ServerProcess server(data.path(), {"--no-demo"});
-    Client client(OptionsFor(server));
+    client::Client client(OptionsFor(server));
     EXPECT_EQ(LeftoverFiles(data.path()), std::vector<std::string>{}) << "the start left leftovers";
     const std::string log = ReadFile(server.log_file());
     EXPECT_EQ(log.find("could not be loaded"), std::string::npos) << log;

@@ -18,7 +18,7 @@ constexpr char kRefusal[] =
 TEST(DeletePart, AClipOfALargerAssetIsRefusedOverGrpcAndRestAndNothingIsDeleted) {
   TempDir data;
   ServerProcess server(data.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const grpc::Status refused = StatusOf([&] { client.DeleteAsset("demo_character.walk"); });
   EXPECT_EQ(refused.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
   EXPECT_EQ(refused.error_message(), kRefusal);

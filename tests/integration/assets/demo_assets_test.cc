@@ -29,7 +29,7 @@ double Mean(const google::protobuf::RepeatedField<float>& xyz, int first) {
 TEST(DemoAssets, AFreshServerServesAWalkingCharacter) {
   TempDir data;
   ServerProcess server(data.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   EXPECT_EQ(AssetNames(client), (std::set<std::string>{"demo_character", "demo_walk"}));
 
   // The mesh, listed with its skeleton.
@@ -106,7 +106,7 @@ TEST(DemoAssets, ReplicasSeedingOneNewDataDirKeepOneCopyOfEach) {
   // servers check every 500 ms.
   const std::set<std::string> both = {"demo_character", "demo_walk"};
   for (ServerProcess* server : {&*a, &*b}) {
-    Client client(OptionsFor(*server));
+    client::Client client(OptionsFor(*server));
     EXPECT_TRUE(WaitFor([&] { return AssetNames(client) == both; }, kPropagationTimeoutSeconds))
         << ReadFile(server->log_file());
     EXPECT_EQ(client.GetMesh("demo_character.body").skeleton(), "demo_character");
@@ -116,7 +116,7 @@ TEST(DemoAssets, ReplicasSeedingOneNewDataDirKeepOneCopyOfEach) {
   a.reset();
   b.reset();
   ServerProcess again(data.path());
-  Client client(OptionsFor(again));
+  client::Client client(OptionsFor(again));
   EXPECT_EQ(AssetNames(client), both);
   EXPECT_EQ(ReadFile(again.log_file()).find("seeded demo"), std::string::npos) << ReadFile(again.log_file());
 }
@@ -124,7 +124,7 @@ TEST(DemoAssets, ReplicasSeedingOneNewDataDirKeepOneCopyOfEach) {
 TEST(DemoAssets, NoDemoSeedsNothing) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   EXPECT_TRUE(AssetNames(client).empty());
   EXPECT_EQ(client.ListMeshes().meshes_size(), 0);
 }

@@ -45,7 +45,7 @@ class DiskFull : public ::testing::Test {
 
   // Imports characters (a .gltf and its .bin) until the disk refuses one;
   // returns that refusal.
-  grpc::Status FillUp(Client& client) {
+  grpc::Status FillUp(client::Client& client) {
     for (int i = 0; i < 100; ++i) {
       const std::string name = "c" + std::to_string(next_++);
       const grpc::Status st =
@@ -64,7 +64,7 @@ class DiskFull : public ::testing::Test {
     EXPECT_EQ(st.error_message().find(".tmp-"), std::string::npos) << "names a temporary file: " << st.error_message();
   }
 
-  void ExpectStoreMatches(Client& client) {
+  void ExpectStoreMatches(client::Client& client) {
     EXPECT_EQ(AssetNames(client), acknowledged_);
     EXPECT_EQ(ManifestAssetNames(data_), acknowledged_);
     EXPECT_EQ(LeftoverFiles(data_), std::vector<std::string>{});
@@ -81,7 +81,7 @@ class DiskFull : public ::testing::Test {
 
 TEST_F(DiskFull, FailedImportsLeaveNothingAndDeletesStillWork) {
   server_.emplace(data_, std::vector<std::string>{"--no-demo"});
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   ExpectFullDiskError(FillUp(client));
   ASSERT_GE(acknowledged_.size(), 2u) << "the character should fit a few times on 2 MiB";
   ExpectStoreMatches(client);
@@ -114,7 +114,7 @@ TEST_F(DiskFull, FailedImportsLeaveNothingAndDeletesStillWork) {
   // A restart loads every acknowledged asset, and deletes go on working.
   ASSERT_EQ(server_->Stop(SIGTERM), 0);
   server_.emplace(data_, std::vector<std::string>{"--no-demo"});
-  Client again(OptionsFor(*server_));
+  client::Client again(OptionsFor(*server_));
   ExpectStoreMatches(again);
   EXPECT_EQ(ReadFile(server_->log_file()).find("could not be loaded"), std::string::npos)
       << ReadFile(server_->log_file());

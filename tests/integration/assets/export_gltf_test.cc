@@ -21,7 +21,7 @@
 namespace armature::testing {
 namespace {
 
-v1::EvaluateClipResponse Local(Client& client, const std::string& clip, const std::vector<double>& times) {
+v1::EvaluateClipResponse Local(client::Client& client, const std::string& clip, const std::vector<double>& times) {
   v1::EvaluateClipRequest r;
   r.set_clip(clip);
   for (double t : times) r.add_times(t);
@@ -32,7 +32,7 @@ v1::EvaluateClipResponse Local(Client& client, const std::string& clip, const st
 TEST(ExportGltf, AGlbWithMeshesImportsBackAndPlaysTheSamePoses) {
   TempDir data;
   ServerProcess server(data.path());  // with the demo assets
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const auto glb = client.ExportClip("demo_character.walk", "glb", true);
   EXPECT_EQ(glb.filename(), "demo_character.walk.glb");
   ASSERT_EQ(glb.data().substr(0, 4), "glTF");
@@ -74,7 +74,7 @@ TEST(ExportGltf, AGlbWithMeshesImportsBackAndPlaysTheSamePoses) {
 TEST(ExportGltf, BadFormatsAreInvalidArgumentNamingTheField) {
   TempDir data;
   ServerProcess server(data.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const grpc::Status fbx = StatusOf([&] { client.ExportClip("demo_walk", "fbx"); });
   EXPECT_EQ(fbx.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_EQ(fbx.error_message(), "format: unknown export format 'fbx'; allowed: bvh, glb, gltf");
@@ -103,7 +103,7 @@ TEST(ExportGltf, RestTakesFormatAndWithMeshesAsQueryParameters) {
 TEST(ExportGltf, IsRefusedOverTheReplyLimitBeforeWriting) {
   TempDir data;
   ServerProcess server(data.path(), {"--max-message-mb", "0.05"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   // The body: thousands of vertices with normals, skin and indices, well over 51 KB.
   const grpc::Status refused = StatusOf([&] { client.ExportClip("demo_character.walk", "glb", true); });
   EXPECT_EQ(refused.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << refused.error_message();

@@ -28,7 +28,7 @@ class Foundation : public ::testing::Test {
 
 TEST_F(Foundation, ServesTheDemoWalkOnAFreshDataDir) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   EXPECT_TRUE(client.Healthy());
   const auto clip = client.GetClip("demo_walk");
   EXPECT_GT(clip.duration(), 0.5);
@@ -59,7 +59,7 @@ TEST_F(Foundation, ImportEvaluateStreamExportDeleteAndRestart) {
   const fs::path arm = WriteTemp(files_, "arm.bvh", kArmBvh);
   {
     ServerProcess server(data_.path(), {"--no-demo"});
-    Client client(OptionsFor(server));
+    client::Client client(OptionsFor(server));
     const auto imported = client.ImportFile(arm);
     ASSERT_EQ(imported.asset().clips_size(), 1);
     EXPECT_EQ(imported.asset().clips(0).name(), "arm");
@@ -128,7 +128,7 @@ TEST_F(Foundation, ImportEvaluateStreamExportDeleteAndRestart) {
   }
   // Restart on the same data dir: everything is still there.
   ServerProcess server(data_.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const auto clips = client.ListClips();
   ASSERT_EQ(clips.clips_size(), 1);
   EXPECT_EQ(clips.clips(0).name(), "arm");
@@ -141,7 +141,7 @@ TEST_F(Foundation, ImportEvaluateStreamExportDeleteAndRestart) {
 
 TEST_F(Foundation, BadInputGetsClearErrorsAndChangesNothing) {
   ServerProcess server(data_.path(), {"--no-demo", "--max-upload-mb", "1"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   const std::string before = client.ListAssets().SerializeAsString();
 
@@ -207,7 +207,7 @@ TEST_F(Foundation, BadInputGetsClearErrorsAndChangesNothing) {
 
 TEST_F(Foundation, ComputeFkOfAClientPose) {
   ServerProcess server(data_.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   v1::ComputeFkRequest fk;
   fk.set_skeleton("arm");
@@ -225,7 +225,7 @@ TEST_F(Foundation, ComputeFkOfAClientPose) {
 
 TEST_F(Foundation, SigtermEndsInFlightStreamsAndExitsZero) {
   ServerProcess server(data_.path(), {"--shutdown-grace", "1"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   std::atomic<int> frames{0};
   std::atomic<bool> ended{false};
   std::thread streamer([&] {
@@ -237,7 +237,7 @@ TEST_F(Foundation, SigtermEndsInFlightStreamsAndExitsZero) {
         ++frames;
         return true;
       });
-    } catch (const ClientError&) {
+    } catch (const client::ClientError&) {
     }
     ended = true;
   });
@@ -250,7 +250,7 @@ TEST_F(Foundation, SigtermEndsInFlightStreamsAndExitsZero) {
 TEST_F(Foundation, InterruptedImportLeavesNoHalfAsset) {
   {
     ServerProcess server(data_.path(), {"--no-demo"});
-    Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
+    client::Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
   }
   // What a crash between writes leaves: temporary files and a stored file no
   // manifest entry names, just written (a restart right after a kill -9).
@@ -260,7 +260,7 @@ TEST_F(Foundation, InterruptedImportLeavesNoHalfAsset) {
                                 data_.path() / ".manifest.json.tmp-99", data_.path() / "files" / "killed.def.bvh"};
   for (const fs::path& p : leftovers) std::ofstream(p) << "HIERARCHY";
   ServerProcess server(data_.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const auto assets = client.ListAssets();
   ASSERT_EQ(assets.assets_size(), 1);
   EXPECT_EQ(assets.assets(0).name(), "arm");
@@ -274,7 +274,7 @@ TEST_F(Foundation, InterruptedImportLeavesNoHalfAsset) {
 TEST_F(Foundation, AnAssetThatDoesNotLoadSurvivesOtherWritesUntilRepaired) {
   {
     ServerProcess server(data_.path(), {"--no-demo"});
-    Client client(OptionsFor(server));
+    client::Client client(OptionsFor(server));
     client.Import({"arm.bvh", kArmBvh});
     client.Import({"second.bvh", kArmBvh});
   }
@@ -287,7 +287,7 @@ TEST_F(Foundation, AnAssetThatDoesNotLoadSurvivesOtherWritesUntilRepaired) {
   fs::last_write_time(stored, a_day_ago);
   {
     ServerProcess server(data_.path(), {"--no-demo"});
-    Client client(OptionsFor(server));
+    client::Client client(OptionsFor(server));
     EXPECT_EQ(client.ListAssets().assets_size(), 1);  // "arm" is skipped
     client.Import({"third.bvh", kArmBvh});
     client.DeleteAsset("second");
@@ -295,7 +295,7 @@ TEST_F(Foundation, AnAssetThatDoesNotLoadSurvivesOtherWritesUntilRepaired) {
   std::ofstream(stored, std::ios::trunc) << kArmBvh;
   fs::last_write_time(stored, a_day_ago);
   ServerProcess server(data_.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   EXPECT_EQ(AssetNames(client), (std::set<std::string>{"arm", "third"}));
   EXPECT_TRUE(fs::exists(stored));
 }

@@ -37,7 +37,7 @@ constexpr double kAnswerSeconds = 2.0;
 constexpr int64_t kMaxResidentKb = 1 << 20;  // 1 GiB
 
 // What the store serves, in a form that changes if anything stored does.
-std::string StoredState(Client& client) {
+std::string StoredState(client::Client& client) {
   std::string state = client.ListAssets().SerializeAsString();
   const v1::ListClipsResponse clips = client.ListClips();  // named: a range-for over a temporary's member dangles
   for (const auto& clip : clips.clips()) {
@@ -55,13 +55,13 @@ struct Outcome {
   std::string what;          // the status or HTTP answer, for the report
 };
 
-Outcome ViaGrpc(Client& client, const HostileUpload& u, const std::string& name) {
+Outcome ViaGrpc(client::Client& client, const HostileUpload& u, const std::string& name) {
   const grpc::Status st = StatusOf([&] { client.Import({u.filename, u.bytes}, name); });
   const auto c = st.error_code();
   const bool client_error = c == grpc::StatusCode::INVALID_ARGUMENT || c == grpc::StatusCode::RESOURCE_EXHAUSTED ||
                             c == grpc::StatusCode::FAILED_PRECONDITION || c == grpc::StatusCode::ALREADY_EXISTS;
   return {st.ok(), st.ok() || (client_error && !st.error_message().empty()),
-          std::string(StatusCodeName(c)) + ": " + st.error_message().substr(0, 200)};
+          std::string(client::StatusCodeName(c)) + ": " + st.error_message().substr(0, 200)};
 }
 
 Outcome ViaRest(httplib::Client& http, const HostileUpload& u, const std::string& name) {
@@ -92,7 +92,7 @@ struct RunReport {
 
 // Sends `uploads` (alternately gRPC and REST, named from `first`), checking
 // each answer, until done or `give_up`.
-void RunUploads(const ServerProcess& server, Client& client, httplib::Client& http,
+void RunUploads(const ServerProcess& server, client::Client& client, httplib::Client& http,
                 const std::vector<HostileUpload>& uploads, int first,
                 std::chrono::steady_clock::time_point give_up, RunReport& run) {
   for (int i = 0; i < static_cast<int>(uploads.size()); ++i, ++run.done) {
@@ -148,9 +148,9 @@ TEST(HostileUploads, AThousandInARowAreAnsweredAndChangeNothing) {
   const auto server_process = CappedServer(data);
   ServerProcess& server = *server_process;
 
-  ClientOptions o = OptionsFor(server);
+  client::ClientOptions o = OptionsFor(server);
   o.timeout = std::chrono::seconds(5);  // beyond the 2 s asserted: a slow answer is measured, a hang cut off
-  Client client(o);
+  client::Client client(o);
   client.Import({"arm.bvh", kArmBvh});
   const std::string before = StoredState(client);
   httplib::Client http("127.0.0.1", server.http_port());
@@ -187,9 +187,9 @@ TEST(HostileUploads, ResidentMemoryLevelsOffOverThousands) {
   TempDir data;
   const auto server_process = CappedServer(data);
   ServerProcess& server = *server_process;
-  ClientOptions o = OptionsFor(server);
+  client::ClientOptions o = OptionsFor(server);
   o.timeout = std::chrono::seconds(5);
-  Client client(o);
+  client::Client client(o);
   httplib::Client http("127.0.0.1", server.http_port());
   http.set_read_timeout(5);
   constexpr int kThousands = 3;

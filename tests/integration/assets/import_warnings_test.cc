@@ -19,7 +19,7 @@ constexpr char kShearedGltf[] = R"({"asset":{"version":"2.0"},"scene":0,"scenes"
 TEST(ImportWarnings, ReachGrpcRestAndTheCli) {
   TempDir data, files;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const auto grpc_answer = client.Import({"sheared.gltf", kShearedGltf});
   ASSERT_EQ(grpc_answer.warnings_size(), 1);
   EXPECT_NE(grpc_answer.warnings(0).find("shear"), std::string::npos) << grpc_answer.warnings(0);

@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include "armature/client.h"
-#include "armature/create_clip.h"
 #include "support/client_helpers.h"
 #include "support/metrics_scrape.h"
 #include "support/process_memory.h"
@@ -33,7 +32,7 @@ std::string SharedAccessorBomb() {
 TEST(MemoryBounds, ASharedAccessorBombIsRefusedBeforeItDecodes) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const std::string bomb = SharedAccessorBomb();
   ASSERT_LT(bomb.size(), 1000u);
   const grpc::Status st = StatusOf([&] { client.Import({"bomb.gltf", bomb}); });
@@ -49,7 +48,7 @@ TEST(MemoryBounds, ASharedAccessorBombIsRefusedBeforeItDecodes) {
   // With less room, it stops at the first mesh.
   TempDir small_data;
   ServerProcess small(small_data.path(), {"--no-demo", "--max-assets-mb", "64"});
-  Client small_client(OptionsFor(small));
+  client::Client small_client(OptionsFor(small));
   EXPECT_EQ(CodeOf([&] { small_client.Import({"bomb.gltf", bomb}); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
   const int64_t small_peak = StatusKb(small.pid(), "VmHWM");
   std::printf("  with --max-assets-mb 64: server peak %.0f MB\n", small_peak / 1024.0);
@@ -59,7 +58,7 @@ TEST(MemoryBounds, ASharedAccessorBombIsRefusedBeforeItDecodes) {
 TEST(MemoryBounds, ImportsStopAtMaxAssetsMbAndResumeAfterADelete) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-assets-mb", "4"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const std::string walk = ArmBvhWithFrames(10000);  // a clip of about 1 MB in memory
   int imported = 0;
   grpc::Status refused;
@@ -83,7 +82,7 @@ TEST(MemoryBounds, ImportsStopAtMaxAssetsMbAndResumeAfterADelete) {
 TEST(MemoryBounds, ABakeCountsTheClipInMemoryNotOnlyTheFile) {
   TempDir data;
   ServerProcess server(data.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const int64_t before = StatusKb(server.pid(), "VmHWM");
   // demo_walk at 1,000 fps for 392 s: a file of about 255 MB, under
   // --max-upload-mb, but about 1.8 GB while made and stored.
@@ -94,7 +93,7 @@ TEST(MemoryBounds, ABakeCountsTheClipInMemoryNotOnlyTheFile) {
   request.mutable_bake()->set_fps(1000);
   request.mutable_bake()->set_duration(392);
   EXPECT_LT(request.ByteSizeLong(), 200u);
-  const grpc::Status st = StatusOf([&] { CreateClip(client, request); });
+  const grpc::Status st = StatusOf([&] { client.CreateClip(request); });
   EXPECT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << st.error_message();
   EXPECT_NE(st.error_message().find("in memory"), std::string::npos) << st.error_message();
   EXPECT_NE(st.error_message().find("--max-upload-mb"), std::string::npos) << st.error_message();
@@ -106,7 +105,7 @@ TEST(MemoryBounds, ABakeCountsTheClipInMemoryNotOnlyTheFile) {
   // A bake within the bound is still made.
   request.set_name("short_bake");
   request.mutable_bake()->set_duration(10);
-  EXPECT_EQ(CodeOf([&] { CreateClip(client, request); }), grpc::StatusCode::OK);
+  EXPECT_EQ(CodeOf([&] { client.CreateClip(request); }), grpc::StatusCode::OK);
   EXPECT_EQ(server.Stop(SIGTERM), 0);
 }
 

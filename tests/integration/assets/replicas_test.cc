@@ -27,7 +27,7 @@ class Replicas : public ::testing::Test {
 TEST_F(Replicas, ImportOnOneIsServedByTheOther) {
   ServerProcess a(data_.path(), {"--no-demo"});
   ServerProcess b(data_.path(), {"--no-demo"});
-  Client ca(OptionsFor(a)), cb(OptionsFor(b));
+  client::Client ca(OptionsFor(a)), cb(OptionsFor(b));
   ASSERT_EQ(CodeOf([&] { cb.GetClip("arm"); }), grpc::StatusCode::NOT_FOUND);
 
   ca.Import({"arm.bvh", kArmBvh});
@@ -47,11 +47,11 @@ TEST_F(Replicas, ImportOnOneIsServedByTheOther) {
 
 TEST_F(Replicas, DeleteOnOneDisappearsFromTheOther) {
   ServerProcess a(data_.path(), {"--no-demo"});
-  Client ca(OptionsFor(a));
+  client::Client ca(OptionsFor(a));
   ca.Import({"arm.bvh", kArmBvh});
   ca.Import({"keep.bvh", kArmBvh});
   ServerProcess b(data_.path(), {"--no-demo"});
-  Client cb(OptionsFor(b));
+  client::Client cb(OptionsFor(b));
   ASSERT_EQ(AssetNames(cb), (std::set<std::string>{"arm", "keep"}));
 
   cb.DeleteAsset("arm");
@@ -69,7 +69,7 @@ TEST_F(Replicas, ConcurrentImportsOnBothKeepEveryEntry) {
   ServerProcess b(data_.path(), {"--no-demo"});
   constexpr int kEach = 12;
   auto import_all = [&](const ServerProcess& server, const std::string& prefix) {
-    Client client(OptionsFor(server));
+    client::Client client(OptionsFor(server));
     for (int i = 0; i < kEach; ++i) client.Import({prefix + std::to_string(i) + ".bvh", kArmBvh});
   };
   std::thread ta([&] { import_all(a, "a"); });
@@ -88,7 +88,7 @@ TEST_F(Replicas, ConcurrentImportsOnBothKeepEveryEntry) {
   }
   EXPECT_EQ(listed, expected);
   // Both servers serve all of them.
-  Client ca(OptionsFor(a)), cb(OptionsFor(b));
+  client::Client ca(OptionsFor(a)), cb(OptionsFor(b));
   EXPECT_TRUE(WaitFor([&] { return AssetNames(ca) == expected && AssetNames(cb) == expected; },
                       kPropagationTimeoutSeconds));
   EXPECT_EQ(AssetNames(ca), expected);
@@ -103,7 +103,7 @@ TEST_F(Replicas, ConcurrentImportsOnBothKeepEveryEntry) {
 // never one of an import in progress.
 TEST_F(Replicas, AStartingReplicaRemovesLeftoversButNoImportInProgress) {
   ServerProcess a(data_.path(), {"--no-demo"});
-  Client ca(OptionsFor(a));
+  client::Client ca(OptionsFor(a));
   ca.Import({"arm.bvh", kArmBvh});
   const fs::path leftover = data_.path() / "files" / "killed.0123.bvh";
   std::ofstream(leftover) << kArmBvh;
@@ -126,7 +126,7 @@ TEST_F(Replicas, AStartingReplicaRemovesLeftoversButNoImportInProgress) {
   importer.join();
   // Every acknowledged import kept its file: a fresh server loads them all.
   ServerProcess c(data_.path(), {"--no-demo"});
-  Client cc(OptionsFor(c));
+  client::Client cc(OptionsFor(c));
   EXPECT_EQ(AssetNames(cc), acknowledged);
   EXPECT_EQ(ReadFile(c.log_file()).find("could not be loaded"), std::string::npos) << ReadFile(c.log_file());
 }

@@ -20,7 +20,7 @@ namespace {
 
 // The demo character as a .gltf whose real buffer is `real_uri`, with a
 // second, unused 8-byte buffer at `other_uri`.
-UploadFile GltfWithTwoBuffers(const SplitGltf& character, const std::string& real_uri, const std::string& other_uri) {
+client::UploadFile GltfWithTwoBuffers(const SplitGltf& character, const std::string& real_uri, const std::string& other_uri) {
   auto doc = nlohmann::json::parse(character.gltf);
   doc["buffers"][0]["uri"] = real_uri;
   doc["buffers"].push_back({{"uri", other_uri}, {"byteLength", 8}});
@@ -37,7 +37,7 @@ TEST(ResourceNames, ResourcesWhoseNamesEndAlikeSurviveARestart) {
   std::set<std::string> clips_before;
   {
     ServerProcess server(data.path(), {"--no-demo"});
-    Client client(OptionsFor(server));
+    client::Client client(OptionsFor(server));
     int i = 0;
     for (const auto& [real, other] : pairs) {
       const auto imported = client.Import(GltfWithTwoBuffers(character, real, other), "pair" + std::to_string(i++), "",
@@ -49,7 +49,7 @@ TEST(ResourceNames, ResourcesWhoseNamesEndAlikeSurviveARestart) {
     EXPECT_EQ(server.Stop(SIGTERM), 0);
   }
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   EXPECT_EQ(AssetNames(client), (std::set<std::string>{"pair0", "pair1"})) << "an acknowledged import was lost";
   std::set<std::string> clips_after;
   const auto clips = client.ListClips();

@@ -27,13 +27,13 @@ v1::Motion Blend() {
 }
 
 TEST_F(CreateClipBake, BakedKeysAreTheMotionsPosesAtTheFps) {
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   v1::CreateClipRequest request;
   request.set_name("baked");
   *request.mutable_bake()->mutable_motion() = Blend();
   request.mutable_bake()->set_fps(24);
   request.mutable_bake()->set_duration(1.1);
-  const auto made = CreateClip(client, request);
+  const auto made = client.CreateClip(request);
   EXPECT_EQ(made.clip().frames(), 28);  // 0, 1/24, …, 26/24, and 1.1
   EXPECT_NEAR(made.clip().duration(), 1.1, 1e-6);
 
@@ -75,7 +75,7 @@ TEST_F(CreateClipBake, BakedKeysAreTheMotionsPosesAtTheFps) {
 }
 
 TEST_F(CreateClipBake, TracksReplaceBakedJointsAndBadBakesAreNamed) {
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   v1::CreateClipRequest request;
   request.set_name("baked_head");
   *request.mutable_bake()->mutable_motion() = Blend();
@@ -83,7 +83,7 @@ TEST_F(CreateClipBake, TracksReplaceBakedJointsAndBadBakesAreNamed) {
   const Eigen::Quaterniond q(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()));
   *request.add_tracks() = Keys("Head", {0, 0.5}, {q, q}, {}, v1::LINEAR);
   request.add_tracks()->set_joint("LeftKnee");  // no times: the baked track is deleted
-  const auto made = CreateClip(client, request);
+  const auto made = client.CreateClip(request);
   EXPECT_EQ(made.clip().frames(), 16);  // 30 fps by default: 0 … 15/30
   EXPECT_LT(q.angularDistance(SampleLocal(client, "baked_head", "Head", {0.25})[0].rotation), 1e-6);
   const v1::Skeleton skeleton = client.GetSkeleton(made.clip().skeleton());
@@ -114,7 +114,7 @@ TEST_F(CreateClipBake, TracksReplaceBakedJointsAndBadBakesAreNamed) {
   for (const Bad& b : bad) {
     v1::CreateClipRequest r = request;
     b.mutate(r);
-    const grpc::Status status = StatusOf([&] { CreateClip(client, r); });
+    const grpc::Status status = StatusOf([&] { client.CreateClip(r); });
     EXPECT_EQ(status.error_code(), b.code) << status.error_message();
     EXPECT_NE(status.error_message().find(b.mention), std::string::npos) << status.error_message();
   }

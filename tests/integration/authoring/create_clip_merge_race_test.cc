@@ -20,7 +20,7 @@ namespace {
 TEST(CreateClipMergeRace, EveryConcurrentMergeKeepsItsTrack) {
   TempDir data;
   ServerProcess server(data.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   KeyMaker make;
   const v1::Skeleton skeleton = client.GetSkeleton("demo_walk");
   ASSERT_GT(skeleton.joints_size(), 13);
@@ -30,7 +30,7 @@ TEST(CreateClipMergeRace, EveryConcurrentMergeKeepsItsTrack) {
   first.set_name("race");
   const std::vector<double> times = make.Times(3);
   *first.add_tracks() = Keys("Hips", times, {make.Rotation(), make.Rotation(), make.Rotation()}, {}, v1::LINEAR);
-  CreateClip(client, first);
+  client.CreateClip(first);
 
   // Twelve joints, one merge each, all let go at once.
   constexpr int kMerges = 12;
@@ -45,7 +45,7 @@ TEST(CreateClipMergeRace, EveryConcurrentMergeKeepsItsTrack) {
   std::vector<std::thread> threads;
   for (int i = 0; i < kMerges; ++i) {
     threads.emplace_back([&, i] {
-      Client own(OptionsFor(server));
+      client::Client own(OptionsFor(server));
       v1::CreateClipRequest merge;
       merge.set_name("race");
       merge.set_merge(true);
@@ -53,7 +53,7 @@ TEST(CreateClipMergeRace, EveryConcurrentMergeKeepsItsTrack) {
       ++ready;
       while (ready.load() < kMerges) std::this_thread::yield();
       try {
-        CreateClip(own, merge);
+        own.CreateClip(merge);
       } catch (const std::exception& e) {
         ADD_FAILURE() << joints[i] << ": " << e.what();
         ++failed;

@@ -11,7 +11,6 @@
 #include <Eigen/Geometry>
 
 #include "armature/client.h"
-#include "armature/create_clip.h"
 
 namespace armature::testing {
 
@@ -22,7 +21,7 @@ struct Local {
 };
 
 // `joint` of `clip` (local space) at each of `times`, in one call.
-inline std::vector<Local> SampleLocal(Client& client, const std::string& clip, const std::string& joint,
+inline std::vector<Local> SampleLocal(client::Client& client, const std::string& clip, const std::string& joint,
                                       const std::vector<double>& times) {
   v1::EvaluateClipRequest r;
   r.set_clip(clip);

@@ -33,11 +33,11 @@ class CreateClipTest : public ::testing::Test {
  protected:
   CreateClipTest() : server_(std::make_unique<ServerProcess>(data_.path())), client_(OptionsFor(*server_)) {}
 
-  v1::CreateClipResponse Create(v1::CreateClipRequest request) { return CreateClip(client_, request); }
+  v1::CreateClipResponse Create(v1::CreateClipRequest request) { return client_.CreateClip(request); }
 
   TempDir data_;
   std::unique_ptr<ServerProcess> server_;
-  Client client_;
+  client::Client client_;
   KeyMaker make_;
 };
 
@@ -149,7 +149,7 @@ struct Slopes {
   Eigen::VectorXd left, right;
 };
 
-Slopes SlopesAround(Client& client, const std::string& clip, const std::string& joint, double t,
+Slopes SlopesAround(client::Client& client, const std::string& clip, const std::string& joint, double t,
                     const Eigen::Quaterniond& sign) {
   const double h = 2e-3;
   const auto s = SampleLocal(client, clip, joint, {t - 2 * h, t - h, t, t + h, t + 2 * h});
@@ -254,7 +254,7 @@ TEST_F(CreateClipTest, SurvivesARestartWithTheSameAnswers) {
 
   ASSERT_EQ(server_->Stop(SIGTERM), 0);
   server_ = std::make_unique<ServerProcess>(data_.path());
-  Client again(OptionsFor(*server_));
+  client::Client again(OptionsFor(*server_));
   const auto after = again.EvaluateClip(r);
   ASSERT_EQ(after.poses_size(), before.poses_size());
   for (int i = 0; i < after.poses_size(); ++i)

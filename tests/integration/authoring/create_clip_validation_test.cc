@@ -131,11 +131,11 @@ TEST_F(CreateClipValidation, EachMalformedKeyIsNamed) {
       {"unknown skeleton", [&](auto& r) { r.set_skeleton("demo_wlak"); }, grpc::StatusCode::NOT_FOUND,
        {"skeleton 'demo_wlak'", "did you mean 'demo_walk'"}},
   };
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   for (const BadCase& c : cases) {
     v1::CreateClipRequest r = Good();
     c.mutate(r);
-    const grpc::Status status = StatusOf([&] { CreateClip(client, r); });
+    const grpc::Status status = StatusOf([&] { client.CreateClip(r); });
     EXPECT_EQ(status.error_code(), c.code) << c.what << ": " << status.error_message();
     for (const std::string& m : c.mentions)
       EXPECT_NE(status.error_message().find(m), std::string::npos)
@@ -143,14 +143,14 @@ TEST_F(CreateClipValidation, EachMalformedKeyIsNamed) {
   }
   // Nothing was stored; the good request itself is accepted.
   EXPECT_EQ(CodeOf([&] { client.GetAsset("bad"); }), grpc::StatusCode::NOT_FOUND);
-  EXPECT_EQ(CreateClip(client, Good()).clip().name(), "bad");
+  EXPECT_EQ(client.CreateClip(Good()).clip().name(), "bad");
 }
 
 TEST(CreateClipLimits, KeysOverMaxClipFramesAreResourceExhaustedNamingTheFlag) {
   TempDir data;
   // The demo walk (91 frames) is over this limit: a small BVH arm instead.
   ServerProcess server(data.path(), {"--max-clip-frames", "10"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh}, "arm");
   v1::CreateClipRequest r;
   r.set_skeleton("arm");
@@ -161,13 +161,13 @@ TEST(CreateClipLimits, KeysOverMaxClipFramesAreResourceExhaustedNamingTheFlag) {
     k->add_times(0.1 * i);
     for (double c : {1.0, 0.0, 0.0, 0.0}) k->add_rotations(c);
   }
-  const grpc::Status status = StatusOf([&] { CreateClip(client, r); });
+  const grpc::Status status = StatusOf([&] { client.CreateClip(r); });
   EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
   EXPECT_NE(status.error_message().find("--max-clip-frames"), std::string::npos) << status.error_message();
   EXPECT_NE(status.error_message().find("joint 'Tip'"), std::string::npos) << status.error_message();
   k->mutable_times()->RemoveLast();
   k->mutable_rotations()->Truncate(40);
-  EXPECT_EQ(CreateClip(client, r).clip().frames(), 10);
+  EXPECT_EQ(client.CreateClip(r).clip().frames(), 10);
 }
 
 }  // namespace

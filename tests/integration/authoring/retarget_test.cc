@@ -21,7 +21,6 @@
 #include <nlohmann/json.hpp>
 
 #include "armature/client.h"
-#include "armature/retarget_client.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
 
@@ -39,7 +38,7 @@ struct V3 {
 using Frame = std::map<std::string, V3>;  // joint name → world position
 
 // World joint positions of `clip` at `times`, by joint name (batches of 100 times).
-std::vector<Frame> WorldPositions(Client& client, const std::string& clip, const std::vector<double>& times) {
+std::vector<Frame> WorldPositions(client::Client& client, const std::string& clip, const std::vector<double>& times) {
   const v1::Skeleton skeleton = client.GetSkeleton(client.GetClip(clip).skeleton());
   std::vector<Frame> out;
   for (size_t begin = 0; begin < times.size(); begin += 100) {
@@ -112,7 +111,7 @@ class Retarget : public ::testing::Test {
       return;
     data_ = new TempDir;
     server_ = new ServerProcess(data_->path());
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     client.ImportFile(SharedData("bvh/cmu_01_01.bvh"), "cmu");
     client.ImportFile(SharedData("gltf/RobotExpressive/RobotExpressive.glb"), "robot");
   }
@@ -126,14 +125,14 @@ class Retarget : public ::testing::Test {
     if (!server_) GTEST_SKIP() << "../shared/data (cmu_01_01.bvh, RobotExpressive.glb) is absent";
   }
   static v1::RetargetClipResponse Run(const std::string& skeleton, const std::string& name, bool feet = false) {
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     v1::RetargetClipRequest r;
     r.set_clip("cmu");
     r.set_skeleton(skeleton);
     r.set_name(name);
     r.set_feet(feet);
     r.set_replace(true);
-    return RetargetClip(client, r);
+    return client.RetargetClip(r);
   }
 
   static inline TempDir* data_ = nullptr;
@@ -143,7 +142,7 @@ class Retarget : public ::testing::Test {
 // The largest angle between a target bone and the source's, after the one yaw
 // that best turns every source bone onto the target's (least squares on the
 // horizontal components), at 10 times.
-double MaxBoneAngle(Client& client, const std::string& clip, const std::vector<Bone>& bones, double* yaw_degrees) {
+double MaxBoneAngle(client::Client& client, const std::string& clip, const std::vector<Bone>& bones, double* yaw_degrees) {
   const double duration = client.GetClip("cmu").duration();
   std::vector<double> times;
   for (int i = 0; i < 10; ++i) times.push_back(duration * (i + 0.5) / 10);
@@ -174,7 +173,7 @@ double MaxBoneAngle(Client& client, const std::string& clip, const std::vector<B
 }
 
 // The hip-height ratio's largest departure from the leg-length ratio, at 10 times.
-double MaxHipRatioError(Client& client, const std::string& clip, const Legs& legs) {
+double MaxHipRatioError(client::Client& client, const std::string& clip, const Legs& legs) {
   const double duration = client.GetClip("cmu").duration();
   std::vector<double> times;
   for (int i = 0; i < 10; ++i) times.push_back(duration * (i + 0.5) / 10);
@@ -189,7 +188,7 @@ double MaxHipRatioError(Client& client, const std::string& clip, const Legs& leg
 // The farthest a target foot strays, over stretches (≥ 4 samples at 30 Hz)
 // where the source's ankle is within 5 % of its leg length of its lowest and
 // slower than 15 % of its leg length per second, as a fraction of the target's leg length.
-double MaxPlantedDrift(Client& client, const std::string& clip, const Legs& legs, int* stretches) {
+double MaxPlantedDrift(client::Client& client, const std::string& clip, const Legs& legs, int* stretches) {
   const double duration = client.GetClip("cmu").duration();
   std::vector<double> times;
   for (double t = 0; t <= duration; t += 1.0 / 30) times.push_back(t);
@@ -221,7 +220,7 @@ double MaxPlantedDrift(Client& client, const std::string& clip, const Legs& legs
 }
 
 TEST_F(Retarget, CmuOntoRobotExpressiveAndTheDemoCharacterKeepsBonesHipsAndPlantedFeet) {
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   struct Case {
     std::string skeleton, name;
     std::vector<Bone> bones;
@@ -260,7 +259,7 @@ TEST_F(Retarget, TheMapAnswerListsPairsAndUnmappedJointsAndExplicitPairsOverride
   EXPECT_EQ(r.mapping_size(), 19);  // every demo joint
   EXPECT_EQ(r.unmapped().target_size(), 0);
   EXPECT_EQ(r.mapping_size() + r.unmapped().source_size(), 31);  // every CMU joint once
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   v1::RetargetClipRequest req;
   req.set_clip("cmu");
   req.set_skeleton("demo_character");
@@ -268,14 +267,14 @@ TEST_F(Retarget, TheMapAnswerListsPairsAndUnmappedJointsAndExplicitPairsOverride
   auto* pair = req.add_map();
   pair->set_source("Neck1");
   pair->set_target("Neck");
-  const auto explicit_map = RetargetClip(client, req);
+  const auto explicit_map = client.RetargetClip(req);
   for (const auto& p : explicit_map.mapping())
     if (p.target() == "Neck") EXPECT_EQ(p.source(), "Neck1");
 }
 
 TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
   {
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
 
     client.ImportFile(SharedData("bvh/cmu_01_01.bvh"), "cmu_copy");
 
@@ -285,12 +284,12 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
 
     r.set_skeleton("robot");
 
-    const auto made = RetargetClip(client, r);
+    const auto made = client.RetargetClip(r);
 
     EXPECT_EQ(made.asset().name(), "cmu_copy_on_robot");  // the default name
   }
   const std::string clip = "cmu_copy_on_robot";
-  auto sample = [&](Client& client) {
+  auto sample = [&](client::Client& client) {
     v1::EvaluateClipRequest e;
 
     e.set_clip(clip);
@@ -300,7 +299,7 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
   };
   v1::EvaluateClipResponse before;
   {
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
 
     before = sample(client);
 
@@ -309,7 +308,7 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
   // A restart on the same data dir.
   delete server_;
   server_ = new ServerProcess(data_->path());
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   bool listed = false;
   const auto clips = client.ListClips();  // held: a temporary's member would die before the loop
   for (const auto& c : clips.clips()) listed |= c.name() == clip;
@@ -358,7 +357,7 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
 // mesh (it was "animates skeleton 'rt0', not the mesh's skeleton 'robot'")
 // and blended with the robot's Idle, exactly as the robot's own clips are.
 TEST_F(Retarget, TheClipBelongsToTheTargetAndBlendsAndSkinsWithItsOwnClips) {
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   const auto made = Run("robot", "rt0");
   EXPECT_EQ(made.clip().name(), "rt0");
   EXPECT_EQ(made.clip().skeleton(), "robot");
@@ -413,7 +412,7 @@ TEST_F(Retarget, TheClipBelongsToTheTargetAndBlendsAndSkinsWithItsOwnClips) {
 }
 
 TEST_F(Retarget, BadInputIsInvalidArgumentNamingIt) {
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   auto call = [&](const std::string& skeleton, const std::vector<std::pair<std::string, std::string>>& map,
                   bool feet = false) {
     v1::RetargetClipRequest r;
@@ -426,7 +425,7 @@ TEST_F(Retarget, BadInputIsInvalidArgumentNamingIt) {
       p->set_source(s);
       p->set_target(t);
     }
-    return StatusOf([&] { RetargetClip(client, r); });
+    return StatusOf([&] { client.RetargetClip(r); });
   };
   const auto unknown = call("robot", {{"LeftArm", "UpperArmLL"}});
   EXPECT_EQ(unknown.error_code(), grpc::StatusCode::INVALID_ARGUMENT);

@@ -18,7 +18,7 @@ using nlohmann::json;
 
 class CliFiles : public ::testing::Test {
  protected:
-  void SetUp() override { Client(OptionsFor(server_)).Import({"arm.bvh", kArmBvh}); }
+  void SetUp() override { client::Client(OptionsFor(server_)).Import({"arm.bvh", kArmBvh}); }
   CommandResult Cli(const std::vector<std::string>& args) { return RunCli(server_.target(), args); }
   fs::path Out(const std::string& name) const { return files_.path() / name; }
 
@@ -27,7 +27,7 @@ class CliFiles : public ::testing::Test {
 };
 
 TEST_F(CliFiles, ExportWritesTheFormatTheFileNameSays) {
-  const std::string bvh = Client(OptionsFor(server_)).ExportClip("arm").data();
+  const std::string bvh = client::Client(OptionsFor(server_)).ExportClip("arm").data();
   ASSERT_NE(bvh.find("HIERARCHY"), std::string::npos);
   for (const std::string name : {"arm.bvh", "ARM.BVH"}) {
     const CommandResult r = Cli({"export", "arm", "-o", Out(name).string()});
@@ -104,14 +104,14 @@ TEST_F(CliFiles, ImportFormatOverridesTheFileName) {
   const json j = json::parse(forced.out);
   EXPECT_EQ(j["clips"][0]["name"], "capture");
   EXPECT_EQ(j["clips"][0]["frames"], 3);
-  EXPECT_EQ(Client(OptionsFor(server_)).GetAsset("capture").format(), "bvh");
+  EXPECT_EQ(client::Client(OptionsFor(server_)).GetAsset("capture").format(), "bvh");
   const CommandResult unknown = Cli({"import", file.string(), "--format", "fbx", "--name", "x"});
   EXPECT_NE(unknown.exit_code, 0);
   EXPECT_NE(unknown.err.find("bvh,gltf,glb,obj"), std::string::npos) << unknown.err;
 }
 
 TEST_F(CliFiles, SkinWritesAnObjThatImportsBack) {
-  Client client(OptionsFor(server_));
+  client::Client client(OptionsFor(server_));
   v1::SkinMeshRequest request;
   request.set_mesh("demo_character.body");
   request.set_clip("demo_character.walk");

@@ -48,7 +48,7 @@ class CliGltfResources : public ::testing::Test {
 
 TEST_F(CliGltfResources, OnlyFilesInTheGltfsFolderAreUploaded) {
   ServerProcess server(data_.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
 
   // In a subfolder: uploaded, and the import works.
   const auto ok = RunCli(server.target(), {"import", WriteGltf("inside", "buffers/body.bin")});

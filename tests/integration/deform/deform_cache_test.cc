@@ -44,7 +44,7 @@ Edit Moved(const Edit& e, double dx, double dz) {
 // One server (and client) over a data dir.
 struct Served {
   ServerProcess server;
-  Client client;
+  client::Client client;
   std::unique_ptr<v1::DeformService::Stub> stub;
 
   Served(const TempDir& data, std::vector<std::string> args)

@@ -21,7 +21,7 @@ namespace {
 TEST(DeformOffload, HealthIsAnsweredWhileFactorizationsRun) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--deform-cache-mb", "0"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const Grid grid = MakeGrid(250);  // 62,500 vertices: each factorization takes about a second
   client.Import({"big.obj", grid.obj}, "big");
   const Edit edit = BumpEdit(grid);
@@ -33,9 +33,9 @@ TEST(DeformOffload, HealthIsAnsweredWhileFactorizationsRun) {
     deforms.push_back(std::async(std::launch::async, [&, k] {
       // The test asserts order, not speed: six factorizations at once on a
       // loaded 2-core machine can take far longer than the usual 30 s.
-      ClientOptions options = OptionsFor(server);
+      client::ClientOptions options = OptionsFor(server);
       options.timeout = std::chrono::seconds(240);
-      Client c(options);
+      client::Client c(options);
       v1::DeformRequest r = RequestFor("big", edit, v1::UNIFORM);
       r.mutable_handles(0)->set_position(2, 0.1 * (k + 1));
       const int n = c.Deform(r).positions_size();
@@ -47,7 +47,7 @@ TEST(DeformOffload, HealthIsAnsweredWhileFactorizationsRun) {
   const std::string in_flight = "armature_rpc_in_flight{method=\"armature.v1.DeformService/Deform\"}";
   EXPECT_TRUE(WaitFor([&] { return ScrapeSample(server, in_flight) == kCalls; }, 60))
       << in_flight << " = " << ScrapeSample(server, in_flight) << ", " << finished.load() << " finished";
-  EXPECT_TRUE(Client(OptionsFor(server)).Healthy());
+  EXPECT_TRUE(client::Client(OptionsFor(server)).Healthy());
   const int done_at_health = finished.load();
   for (auto& d : deforms) EXPECT_EQ(d.get(), 3 * grid.n * grid.n);
   // Health did not queue behind the factorizations (with them on the

@@ -47,7 +47,7 @@ class Deform : public ::testing::Test {
   TempDir data_;
   Grid grid_;
   std::optional<ServerProcess> server_;
-  std::optional<Client> client_;
+  std::optional<client::Client> client_;
   std::string mesh_;
   std::unique_ptr<v1::DeformService::Stub> stub_;
 };
@@ -281,7 +281,7 @@ TEST_F(Deform, SessionsPerClientAreLimitedAndFreedWhenTheyEnd) {
 TEST_F(Deform, SessionsInAllAreLimited) {
   server_->Stop(SIGTERM);
   ServerProcess two(data_.path(), {"--no-demo", "--max-sessions", "2"});
-  Client client(OptionsFor(two));
+  client::Client client(OptionsFor(two));
   auto stub = v1::DeformService::NewStub(client.channel());
   const Edit e = BumpEdit(grid_);
   grpc::ClientContext c1, c2, c3;
@@ -328,7 +328,7 @@ TEST_F(Deform, MeshOverMaxMeshVerticesIsResourceExhausted) {
   // Imported under the default limit, then served by a server with a lower one.
   server_->Stop(SIGTERM);
   ServerProcess small(data_.path(), {"--no-demo", "--max-mesh-vertices", "100"});
-  Client client(OptionsFor(small));
+  client::Client client(OptionsFor(small));
   const v1::DeformRequest r = RequestFor(mesh_, BumpEdit(grid_), v1::UNIFORM);
   const grpc::Status status = StatusOf([&] { client.Deform(r); });
   const std::string& message = status.error_message();

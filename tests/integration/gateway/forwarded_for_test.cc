@@ -61,7 +61,7 @@ TEST(ForwardedFor, ATrustedProxysClientsCountApart) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-streams-per-client", "1", "--trust-forwarded-for",
                                      "127.0.0.1/32"});
-  Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
+  client::Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
   const int port = server.http_port();
 
   // Through the trusted proxy (127.0.0.1): one stream each for two clients.

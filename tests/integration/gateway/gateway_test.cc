@@ -61,11 +61,11 @@ httplib::Client Http(const ServerProcess& server) {
   return http;
 }
 
-Client GrpcClient(const ServerProcess& server) {
-  ClientOptions o;
+client::Client GrpcClient(const ServerProcess& server) {
+  client::ClientOptions o;
   o.target = server.target();
   o.timeout = std::chrono::seconds(30);
-  return Client(o);
+  return client::Client(o);
 }
 
 json Body(const httplib::Result& r) { return json::parse(r->body); }
@@ -140,7 +140,7 @@ class Gateway : public ::testing::Test {
 TEST_F(Gateway, ListAndGetGiveWhatGrpcGives) {
   ServerProcess server(data_.path());
   auto http = Http(server);
-  Client grpc = GrpcClient(server);
+  client::Client grpc = GrpcClient(server);
 
   const auto list = http.Get("/v1/clips");
   ASSERT_TRUE(list);
@@ -181,7 +181,7 @@ TEST_F(Gateway, ListAndGetGiveWhatGrpcGives) {
 TEST_F(Gateway, EvaluateGivesTheSameNumbersAsGrpc) {
   ServerProcess server(data_.path());
   auto http = Http(server);
-  Client grpc = GrpcClient(server);
+  client::Client grpc = GrpcClient(server);
 
   for (const std::string space : {"WORLD", "LOCAL"}) {
     const auto r = http.Post("/v1/clips/demo_walk:evaluate",
@@ -272,7 +272,7 @@ TEST_F(Gateway, LargeImportReachesTheServerInChunks) {
 TEST_F(Gateway, StreamIsServerSentEventsAtTheRequestedRate) {
   ServerProcess server(data_.path());
   auto http = Http(server);
-  Client grpc = GrpcClient(server);
+  client::Client grpc = GrpcClient(server);
   const double fps = 20, speed = 0.5, duration = 1;
   // Repeated fields as repeated parameters, enums by name.
   const std::string path = "/v1/clips/demo_walk:stream?fps=20&speed=0.5&duration=1&startTime=0.25&space=WORLD"

@@ -153,7 +153,7 @@ class GrpcWeb : public ::testing::Test {
 TEST_F(GrpcWeb, EvaluateClipEqualsTheGrpcAnswerInBinaryAndTextModes) {
   ServerProcess server(data_.path());
   auto http = Http(server);
-  Client grpc(OptionsFor(server));
+  client::Client grpc(OptionsFor(server));
   const v1::EvaluateClipRequest req = EvaluateRequest("demo_walk");
   const v1::EvaluateClipResponse expected = grpc.EvaluateClip(req);
   ASSERT_GT(expected.poses_size(), 0);
@@ -176,7 +176,7 @@ TEST_F(GrpcWeb, EvaluateClipEqualsTheGrpcAnswerInBinaryAndTextModes) {
 TEST_F(GrpcWeb, StreamClipSendsEveryFrameTheGrpcStreamSends) {
   ServerProcess server(data_.path());
   auto http = Http(server);
-  Client grpc(OptionsFor(server));
+  client::Client grpc(OptionsFor(server));
   v1::StreamClipRequest req;
   req.set_clip("demo_walk");
   req.set_fps(240);
@@ -326,7 +326,7 @@ TEST_F(GrpcWeb, AuthLimitsAndCorsAreTheGatewayOnes) {
 TEST_F(GrpcWeb, BinaryRestTakesAndGivesProtobuf) {
   ServerProcess server(data_.path());
   auto http = Http(server);
-  Client grpc(OptionsFor(server));
+  client::Client grpc(OptionsFor(server));
   v1::EvaluateClipRequest body = EvaluateRequest("overridden by the path");
   const v1::EvaluateClipResponse expected = grpc.EvaluateClip(EvaluateRequest("demo_walk"));
 

@@ -89,7 +89,7 @@ class MultipartImport : public ::testing::Test {
 // and over gRPC: the same listing, and mesh geometry equal to the bit.
 TEST_F(MultipartImport, MultiFileGltfGivesTheSameAssetAsGrpc) {
   ServerProcess server(data_.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   auto http = Http(server);
   int compared = 0;
   std::string available;  // a sample found, for the checks after the loop
@@ -168,7 +168,7 @@ class MultipartImportErrors : public ::testing::Test {
 
 TEST_F(MultipartImportErrors, EachNamesTheProblem) {
   ServerProcess server(data_.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   auto http = Http(server);
 
   // The demo character split into a .gltf and its buffer imports...
@@ -232,7 +232,7 @@ TEST_F(MultipartImportErrors, TheLimitCountsEveryPartAndNameAndNamesThePart) {
   constexpr int64_t kLimit = 64 << 10;  // --max-upload-mb 0.0625
   // --max-request-kb 1 so the HTTP server's own body cap is the upload limit's (plus the form's framing).
   ServerProcess server(data_.path(), {"--no-demo", "--max-upload-mb", "0.0625", "--max-request-kb", "1"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   auto http = Http(server);
 
   // Each part fits, together they do not: the second is named.

@@ -110,7 +110,7 @@ TEST(UploadMemory, AnUploadOverTheCapIsRefusedAtOnce) {
   }
   // A third is refused without its data being read (waiting until the two have
   // reached the server: a third that got in first is imported and deleted).
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   grpc::Status third;
   ASSERT_TRUE(WaitFor(
       [&] {

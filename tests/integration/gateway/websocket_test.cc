@@ -199,7 +199,7 @@ struct IkDrag {
   std::vector<Eigen::Vector3d> path;
 };
 
-IkDrag MakeIkDrag(Client& client) {
+IkDrag MakeIkDrag(client::Client& client) {
   const Motion m(client, kDemoRig);
   const double t = 0.8;
   const Eigen::Vector3d wrist = m.WorldPosition(t, "LeftWrist"), ankle = m.WorldPosition(t, "RightAnkle");
@@ -231,7 +231,7 @@ class WebSocketSession : public ::testing::Test {
 
 TEST_F(WebSocketSession, IkSessionAnswersEqualTheGrpcSessionInJsonAndBinaryFrames) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const IkDrag drag = MakeIkDrag(client);
 
   for (const bool binary : {false, true}) {
@@ -291,7 +291,7 @@ TEST_F(WebSocketSession, IkSessionAnswersEqualTheGrpcSessionInJsonAndBinaryFrame
 
 TEST_F(WebSocketSession, DeformSessionAnswersEqualTheGrpcSession) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const Grid grid = MakeGrid(17);
   const Edit edit = BumpEdit(grid);
   client.Import({"bump.obj", grid.obj}, "bump");
@@ -378,7 +378,7 @@ TEST_F(WebSocketSession, AFailedCallEndsWithItsStatusThenACloseFrame) {
   WsClient not_a_session(server.http_port(), "/v1/clips/demo_walk:evaluate");
   EXPECT_EQ(not_a_session.status(), 404);
   EXPECT_NE(not_a_session.body().find("ikSession"), std::string::npos) << not_a_session.body();
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   EXPECT_TRUE(client.Healthy());
 }
 

@@ -39,7 +39,7 @@ class IkBodyRoot : public ::testing::Test {
                                           " " + ShellQuote(robot) + " " + ShellQuote(glb));
     ASSERT_EQ(made.exit_code, 0) << made.err;
     server_ = std::make_unique<ServerProcess>(data_.path());
-    client_ = std::make_unique<Client>(OptionsFor(*server_));
+    client_ = std::make_unique<client::Client>(OptionsFor(*server_));
     client_->ImportFile(glb, "mixamo");
     skeleton_ = client_->GetSkeleton("mixamo");
     v1::EvaluateClipRequest idle;
@@ -55,7 +55,7 @@ class IkBodyRoot : public ::testing::Test {
 
   TempDir data_, files_;
   std::unique_ptr<ServerProcess> server_;
-  std::unique_ptr<Client> client_;
+  std::unique_ptr<client::Client> client_;
   v1::Skeleton skeleton_;
   v1::Pose clip_world_;
 };

@@ -48,8 +48,8 @@ void ExpectStopsSoonAfterTheDeadline(v1::IkSolver solver, int joints, int iterat
   SCOPED_TRACE(v1::IkSolver_Name(solver));
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  ClientOptions o = OptionsFor(server);
-  Client setup(o);
+  client::ClientOptions o = OptionsFor(server);
+  client::Client setup(o);
   setup.Import({"chain.bvh", ChainBvh(joints)}, "chain");
   // Allowed: 1 effector × `joints` × `iterations` is within --max-ik-work (5,000,000).
   ASSERT_LE(static_cast<int64_t>(joints) * iterations, 5000000);
@@ -62,7 +62,7 @@ void ExpectStopsSoonAfterTheDeadline(v1::IkSolver solver, int joints, int iterat
   for (double v : {0.6, 0.3, 0.2}) e->add_target_position(v);
 
   o.timeout = std::chrono::milliseconds(300);
-  Client client(o);
+  client::Client client(o);
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(CodeOf([&] { client.SolveIk(r); }), grpc::StatusCode::DEADLINE_EXCEEDED);
   const std::string line = FinishedSolveLine(server);

@@ -28,7 +28,7 @@ v1::SolveIkRequest ArmRequest(int effectors, int iterations) {
 TEST(IkLimits, EffectorsOverTheLimitAreRefusedNamingTheFlag) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-ik-effectors", "8"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   const grpc::Status refused = StatusOf([&] { client.SolveIk(ArmRequest(9, 50)); });
   EXPECT_EQ(refused.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << refused.error_message();
@@ -40,7 +40,7 @@ TEST(IkLimits, EffectorsOverTheLimitAreRefusedNamingTheFlag) {
 TEST(IkLimits, WorkOverTheLimitIsRefusedNamingTheFlag) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-ik-work", "1000"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   // Tip's chain is Tip and Base: 2 effectors × 2 joints × 300 iterations = 1200.
   const grpc::Status refused = StatusOf([&] { client.SolveIk(ArmRequest(2, 300)); });

@@ -41,7 +41,7 @@ inline int JointIndex(const v1::Skeleton& skeleton, const std::string& name) {
 // The skeleton and poses of one rig, read over the API.
 class Motion {
  public:
-  Motion(Client& client, const Rig& rig) : client_(client), rig_(rig), skeleton_(client.GetSkeleton(rig.clip)) {
+  Motion(client::Client& client, const Rig& rig) : client_(client), rig_(rig), skeleton_(client.GetSkeleton(rig.clip)) {
     for (int j = 0; j < skeleton_.joints_size(); ++j) index_[skeleton_.joints(j).name()] = j;
   }
 
@@ -81,7 +81,7 @@ class Motion {
   }
 
  private:
-  Client& client_;
+  client::Client& client_;
   const Rig& rig_;
   v1::Skeleton skeleton_;
   std::map<std::string, int> index_;

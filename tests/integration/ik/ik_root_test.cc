@@ -37,7 +37,7 @@ class IkRoot : public ::testing::Test {
  protected:
   void SetUp() override {
     server_ = std::make_unique<ServerProcess>(data_.path());
-    client_ = std::make_unique<Client>(OptionsFor(*server_));
+    client_ = std::make_unique<client::Client>(OptionsFor(*server_));
     skeleton_ = client_->GetSkeleton("demo_walk");
     v1::EvaluateClipRequest r;
     r.set_clip("demo_walk");
@@ -70,7 +70,7 @@ class IkRoot : public ::testing::Test {
 
   TempDir data_;
   std::unique_ptr<ServerProcess> server_;
-  std::unique_ptr<Client> client_;
+  std::unique_ptr<client::Client> client_;
   v1::Skeleton skeleton_;
   v1::Pose clip_world_;
 };

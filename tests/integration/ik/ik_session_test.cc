@@ -64,9 +64,9 @@ v1::SolveIkRequest EndlessSolve() {
 
 TEST_F(IkApi, DeadlineStopsTheSolve) {
   ServerProcess server(data_.path(), {"--max-ik-iterations", "100000000", "--max-ik-work", "1000000000000000"});
-  ClientOptions o = OptionsFor(server);
+  client::ClientOptions o = OptionsFor(server);
   o.timeout = std::chrono::milliseconds(300);
-  Client client(o);
+  client::Client client(o);
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(CodeOf([&] { client.SolveIk(EndlessSolve()); }), grpc::StatusCode::DEADLINE_EXCEEDED);
   const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -114,7 +114,7 @@ TEST_F(IkApi, DeadlineStopsTheSolve) {
 
 TEST_F(IkApi, SessionFollowsADraggedHand) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const Motion m(client, kDemoRig);
   const double t = 0.8;
   const Eigen::Vector3d wrist = m.WorldPosition(t, "LeftWrist"), ankle = m.WorldPosition(t, "RightAnkle");
@@ -177,7 +177,7 @@ TEST_F(IkApi, SessionFollowsADraggedHand) {
 
 TEST_F(IkApi, SessionErrorsAndTheSessionLimit) {
   ServerProcess server(data_.path(), {"--max-ik-sessions", "1", "--shutdown-grace", "1"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const Motion m(client, kDemoRig);
   v1::SolveIkRequest start;
   start.set_skeleton("demo_walk");
@@ -235,7 +235,7 @@ double OpenSessionsGauge(const ServerProcess& server) {
 
 TEST_F(IkApi, SessionsPerClientAndTheGauge) {
   ServerProcess server(data_.path(), {"--max-sessions-per-client", "2"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   v1::SolveIkRequest start;
   start.set_skeleton("demo_walk");
   *start.add_effectors() = Effector("LeftWrist", {20, 30, 20});  // within reach of the rest pose

@@ -58,7 +58,7 @@ void ExpectReached(const Motion& motion, const v1::SolveIkRequest& request, cons
 
 // The solves for one rig: DLS with one and two effectors from another
 // frame and from the rest pose, two-bone on a leg, CCD and FABRIK on an arm.
-void SolveMocapTargets(Client& client, const Rig& rig) {
+void SolveMocapTargets(client::Client& client, const Rig& rig) {
   const Motion m(client, rig);
   const int root = 0;
   const int hand = m.Joint(rig.hand), foot = m.Joint(rig.foot);
@@ -119,7 +119,7 @@ void SolveMocapTargets(Client& client, const Rig& rig) {
 
 TEST_F(IkApi, DemoWalkTargetsAreReached) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   SolveMocapTargets(client, kDemoRig);
 }
 
@@ -127,14 +127,14 @@ TEST_F(IkApi, CmuCaptureTargetsAreReached) {
   const std::string cmu = SharedData("bvh/cmu_01_01.bvh");
   if (cmu.empty()) GTEST_SKIP() << "../shared/data/bvh/cmu_01_01.bvh not present";
   ServerProcess server(data_.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.ImportFile(cmu, "cmu");
   SolveMocapTargets(client, kCmuRig);
 }
 
 TEST_F(IkApi, FromClipStartAndUnreachableTarget) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const Motion m(client, kDemoRig);
   // Start from the clip itself: the wrist where it is 0.1 s later.
   v1::SolveIkRequest r;
@@ -165,7 +165,7 @@ TEST_F(IkApi, FromClipStartAndUnreachableTarget) {
 
 TEST_F(IkApi, ThroughTheCli) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const Motion m(client, kDemoRig);
   const Eigen::Vector3d wrist = m.WorldPosition(1.1, "LeftWrist"), ankle = m.WorldPosition(1.1, "RightAnkle");
   auto arg = [](const std::string& joint, const Eigen::Vector3d& p) {
@@ -241,7 +241,7 @@ void ExpectSamePose(const json& rest, const v1::Pose& grpc, const std::string& w
 
 TEST_F(IkApi, ThroughTheGateway) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   httplib::Client http("127.0.0.1", server.http_port());
   http.set_read_timeout(60);
   const Motion m(client, kDemoRig);
@@ -328,7 +328,7 @@ TEST_F(IkApi, ThroughTheGateway) {
 
 TEST_F(IkApi, BadInputNamesTheField) {
   ServerProcess server(data_.path(), {"--max-ik-iterations", "5000"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   // A bone of zero length: Tip sits on Knuckle, which sits on Base.
   client.Import({"stub.bvh", R"(HIERARCHY
 ROOT Base

@@ -34,7 +34,7 @@ class ClipByName : public ::testing::Test {
 
 TEST_F(ClipByName, DemoWalkSkinsTheDemoCharacter) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   for (const double t : {0.0, 0.5, 1.3, 2.9}) {
     v1::SkinMeshRequest by_clip;
     by_clip.set_mesh("demo_character.body");
@@ -94,7 +94,7 @@ TEST_F(ClipByName, DemoWalkSkinsTheDemoCharacter) {
 // that clip lacks.
 TEST_F(ClipByName, AClipLackingJointsIsRefusedNamingThem) {
   ServerProcess server(data_.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   std::string bvh = client.ExportClip("demo_walk").data();
   for (const std::string side : {"Left", "Right"}) {
     const std::string from = "JOINT " + side + "Wrist", to = "JOINT " + side + "Hand";

@@ -28,7 +28,7 @@ class Materials : public ::testing::Test {
   void SetUp() override {
     if (SharedData("gltf/cesium_man.gltf").empty()) GTEST_SKIP() << "shared glTF data not found (ARMATURE_SHARED_DATA)";
     server_ = std::make_unique<ServerProcess>(data_.path(), std::vector<std::string>{"--no-demo"});
-    client_ = std::make_unique<Client>(OptionsFor(*server_));
+    client_ = std::make_unique<client::Client>(OptionsFor(*server_));
     mesh_ = client_->ImportFile(SharedData("gltf/cesium_man.gltf"), "cesium_man").asset().meshes(0).name();
     auto parsed = test_util::LoadGltfFile(SharedData("gltf/cesium_man.gltf"), "cesium_man");
     ASSERT_TRUE(parsed.ok()) << parsed.status().message();
@@ -37,7 +37,7 @@ class Materials : public ::testing::Test {
 
   TempDir data_;
   std::unique_ptr<ServerProcess> server_;
-  std::unique_ptr<Client> client_;
+  std::unique_ptr<client::Client> client_;
   std::string mesh_;
   std::shared_ptr<const Mesh> engine_;  // the same file parsed in this process
 };

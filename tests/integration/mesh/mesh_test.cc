@@ -75,7 +75,7 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
   const fs::path file = SharedData("gltf/cesium_man.gltf");
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const auto imported = client.ImportFile(file, "cesium_man");
   ASSERT_EQ(imported.asset().meshes_size(), 1);
   ASSERT_GE(imported.asset().clips_size(), 1);
@@ -226,7 +226,7 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
 TEST_F(Meshes, MorphTargetsAnimatedByTheClipThroughTheCli) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   for (const std::string relative : {"gltf/AnimatedMorphCube/AnimatedMorphCube.gltf", "gltf/SimpleMorph/SimpleMorph.gltf"}) {
     const fs::path file = SharedData(relative);
     if (file.empty()) GTEST_SKIP() << relative << " not found";
@@ -277,7 +277,7 @@ TEST_F(Meshes, MeshVertexLimitRefusesTheImport) {
   const fs::path file = SharedData("gltf/rigged_simple.gltf");
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-mesh-vertices", "100"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   auto import = [&] { client.ImportFile(file, "rigged_simple"); };
   const grpc::Status status = StatusOf(import);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
@@ -291,7 +291,7 @@ TEST_F(Meshes, BindComputesWeightsForASkeleton) {
   const fs::path file = SharedData("gltf/rigged_simple.gltf");
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const auto imported = client.ImportFile(file, "rigged_simple");
   ASSERT_EQ(imported.asset().meshes_size(), 1);
   ASSERT_EQ(imported.asset().skeletons_size(), 1);

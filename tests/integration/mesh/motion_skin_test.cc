@@ -23,7 +23,7 @@ class MotionSkin : public ServerSuite {
  protected:
   static v1::SkinMeshResponse Skin(v1::SkinMeshRequest r) {
     r.set_mesh(kMesh);
-    return Client(OptionsFor(*server_)).SkinMesh(r);
+    return client::Client(OptionsFor(*server_)).SkinMesh(r);
   }
   static void ExpectSame(const v1::SkinMeshResponse& a, const v1::SkinMeshResponse& b, float tolerance) {
     ASSERT_EQ(a.positions_size(), b.positions_size());
@@ -76,7 +76,7 @@ TEST_F(MotionSkin, StreamedFrameIsSkinMeshAtItsTime) {
   r.set_duration(0.1);
   r.set_loop(true);
   std::vector<v1::SkinnedMeshFrame> frames;
-  Client(OptionsFor(*server_)).StreamSkinnedMesh(r, [&](const v1::SkinnedMeshFrame& f) {
+  client::Client(OptionsFor(*server_)).StreamSkinnedMesh(r, [&](const v1::SkinnedMeshFrame& f) {
     frames.push_back(f);
     return true;
   });
@@ -110,7 +110,7 @@ TEST_F(MotionSkin, SourcesAreExclusiveAndErrorsNameTheField) {
   with_pose.mutable_pose()->add_rotations(1);
   EXPECT_NE(message(with_pose, grpc::StatusCode::INVALID_ARGUMENT).find("motion and pose"), std::string::npos);
   // The first layer must animate the mesh's skeleton; other layers map by joint name.
-  Client(OptionsFor(*server_)).ImportFile(WriteTemp(*data_, "arm.bvh", kArmBvh), "arm");
+  client::Client(OptionsFor(*server_)).ImportFile(WriteTemp(*data_, "arm.bvh", kArmBvh), "arm");
   v1::SkinMeshRequest other;
   other.mutable_motion()->add_layers()->set_clip("arm");
   const std::string m = message(other, grpc::StatusCode::INVALID_ARGUMENT);
@@ -125,7 +125,7 @@ TEST_F(MotionSkin, SourcesAreExclusiveAndErrorsNameTheField) {
   stream.set_clip("demo_character.walk");
   stream.mutable_motion()->add_layers()->set_clip("demo_character.walk");
   const grpc::Status st = StatusOf([&] {
-    Client(OptionsFor(*server_)).StreamSkinnedMesh(stream, [](const v1::SkinnedMeshFrame&) { return true; });
+    client::Client(OptionsFor(*server_)).StreamSkinnedMesh(stream, [](const v1::SkinnedMeshFrame&) { return true; });
   });
   EXPECT_EQ(st.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(st.error_message().find("clip and motion"), std::string::npos) << st.error_message();

@@ -23,7 +23,7 @@ void ExpectRefusedNamingTheFlag(const grpc::Status& status, const std::string& r
 TEST(ReplySize, EvaluateClipCountsTimesAndRepeatedJoints) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-message-mb", "1"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   // 2000 times × 100 joints (one joint repeated) × 28 bytes = 5.6 MB from a 16 KB request.
   v1::EvaluateClipRequest r;
@@ -42,7 +42,7 @@ TEST(ReplySize, EvaluateClipCountsTimesAndRepeatedJoints) {
 TEST(ReplySize, ExportClipIsRefusedBeforeWritingFrames) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-message-mb", "0.01"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"long.bvh", ArmBvhWithFrames(400)});  // 400 frames × 2 joints × 27 bytes ≈ 21 KB of BVH
   ExpectRefusedNamingTheFlag(StatusOf([&] { client.ExportClip("long"); }), "ExportClip");
   client.Import({"short.bvh", kArmBvh});
@@ -53,9 +53,9 @@ TEST(ReplySize, MeshRepliesAreCheckedAgainstTheCap) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-message-mb", "0.05"});
   // The upload itself must respect the message cap: 16 KB chunks of the ~600 KB OBJ.
-  ClientOptions options = OptionsFor(server);
+  client::ClientOptions options = OptionsFor(server);
   options.upload_chunk_bytes = 16 << 10;
-  Client client(options);
+  client::Client client(options);
   // 100 × 100 vertices: 10000 × 12 bytes of positions alone is 120 KB, over 51 KB.
   client.Import({"grid.obj", fixtures::ToObj(fixtures::MakeGrid(100, 100, 1, 1))}, "grid");
   ExpectRefusedNamingTheFlag(StatusOf([&] { client.GetMeshGeometry("grid"); }), "GetMeshGeometry");

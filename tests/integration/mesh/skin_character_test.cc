@@ -23,7 +23,7 @@ constexpr char kRobot[] = "gltf/RobotExpressive/RobotExpressive.glb";
 // The answer of MeshService/SkinCharacter (the client library has no wrapper).
 grpc::Status SkinCharacter(const ServerProcess& server, const v1::SkinCharacterRequest& request,
                            v1::SkinCharacterResponse* response) {
-  auto stub = v1::MeshService::NewStub(Client(OptionsFor(server)).channel());
+  auto stub = v1::MeshService::NewStub(client::Client(OptionsFor(server)).channel());
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
   return stub->SkinCharacter(&context, request, response);
@@ -33,7 +33,7 @@ class SkinCharacterSuite : public ServerSuite {
  protected:
   static void SetUpTestSuite() {
     ServerSuite::SetUpTestSuite();
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     client.ImportFile(WriteTemp(*data_, "arm.bvh", kArmBvh), "arm");
     const std::string glb = SharedData(kRobot);
     if (glb.empty()) return;
@@ -48,7 +48,7 @@ class SkinCharacterSuite : public ServerSuite {
   }
   // Expects `got` to equal SkinMesh of the same mesh posed by `request`, exactly.
   static void ExpectEqualsSkinMesh(const v1::SkinMeshResponse& got, v1::SkinMeshRequest request) {
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     request.set_mesh(got.mesh());
     const v1::SkinMeshResponse alone = client.SkinMesh(request);
     EXPECT_EQ(got.vertex_count(), alone.vertex_count()) << got.mesh();
@@ -115,7 +115,7 @@ TEST_F(SkinCharacterSuite, AMotionAndALocalPoseAreAppliedToEveryMeshAsSkinMeshAp
   for (const auto& mesh : by_motion.meshes()) ExpectEqualsSkinMesh(mesh, alone);
 
   // A local pose sent by the client: Running's at 0.5 s, from EvaluateClip.
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   v1::EvaluateClipRequest evaluate;
   evaluate.set_clip(running_);
   evaluate.add_times(0.5);
@@ -144,7 +144,7 @@ TEST_F(SkinCharacterSuite, TheRestRouteAnswersEveryMeshAsJson) {
   const json body = json::parse(r->body);
   EXPECT_EQ(body["skeleton"], skeleton_);
   ASSERT_EQ(body["meshes"].size(), 19u);
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   for (const json& mesh : body["meshes"]) {
     v1::SkinMeshRequest alone;
     alone.set_mesh(mesh["mesh"].get<std::string>());
@@ -194,9 +194,9 @@ TEST(SkinCharacterReply, TheCapCountsEveryMeshOfTheCharacter) {
   // normals); all 19 together are over it (checked below from the import's own counts).
   const double cap_mib = 0.1;
   ServerProcess server(data.path(), {"--no-demo", "--max-message-mb", "0.1"});
-  ClientOptions options = OptionsFor(server);
+  client::ClientOptions options = OptionsFor(server);
   options.upload_chunk_bytes = 16 << 10;
-  Client client(options);
+  client::Client client(options);
   const auto imported = client.ImportFile(glb, "robot");
   std::string skeleton, clip;
   for (const auto& c : imported.asset().clips())

@@ -68,7 +68,7 @@ class ScopedEnv {
 struct WideServer {
   explicit WideServer(std::vector<std::pair<std::string, std::string>> env = {})
       : server((ScopedEnv(std::move(env)), data.path())) {  // set while the server starts
-    Client(OptionsFor(server)).Import({"wide.bvh", WideBvh(10)}, "wide");
+    client::Client(OptionsFor(server)).Import({"wide.bvh", WideBvh(10)}, "wide");
   }
   TempDir data;
   ServerProcess server;
@@ -102,9 +102,9 @@ std::vector<std::future<grpc::Status>> StartMotions(const ServerProcess& server,
   std::vector<std::future<grpc::Status>> calls;
   for (int k = 0; k < n; ++k)
     calls.push_back(std::async(std::launch::async, [&server, r, deadline] {
-      ClientOptions o = OptionsFor(server);
+      client::ClientOptions o = OptionsFor(server);
       o.timeout = deadline;
-      Client client(o);
+      client::Client client(o);
       return StatusOf([&] { client.EvaluateMotion(r); });
     }));
   return calls;
@@ -115,9 +115,9 @@ const std::string kInFlight = "armature_rpc_in_flight{method=\"armature.v1.PoseS
 TEST(WorkBudget, DemoMotionOverTheBudgetIsRefusedBeforeAnyWork) {
   TempDir data;
   ServerProcess server(data.path());
-  ClientOptions o = OptionsFor(server);
+  client::ClientOptions o = OptionsFor(server);
   o.timeout = std::chrono::seconds(120);
-  Client client(o);
+  client::Client client(o);
   // The request: 32 layers of demo_walk at 100,000 times (about 9 s of CPU each before).
   const v1::EvaluateMotionRequest r = LayeredMotion("demo_walk", 32, 100000);
   const double cpu0 = CpuSeconds(server.pid());
@@ -136,7 +136,7 @@ TEST(WorkBudget, DemoMotionOverTheBudgetIsRefusedBeforeAnyWork) {
 
 TEST(WorkBudget, WideMotionAndClipOverTheBudgetAreRefused) {
   WideServer wide;
-  Client client(OptionsFor(wide.server));
+  client::Client client(OptionsFor(wide.server));
   const std::string motion = MessageOf([&] { client.EvaluateMotion(LayeredMotion("wide", 32, 3000)); });
   EXPECT_NE(motion.find("EvaluateMotion: 32 layers x 3000 times x 2001 joints = 192096000 joint samples, over the "
                         "budget of 20000000 per request (--max-request-work)"),
@@ -165,9 +165,9 @@ TEST(HeavyWork, HealthAndCheapCallsAnswerWithinASecondWhileHeavyMotionsRun) {
   // Two running at least (all four once they sit on the pool; two held gRPC's threads before).
   ASSERT_TRUE(WaitFor([&] { return ScrapeSample(server, kInFlight) >= 2; }, 30)) << kInFlight;
   auto health = grpc::health::v1::Health::NewStub(grpc::CreateChannel(server.target(), grpc::InsecureChannelCredentials()));
-  ClientOptions o = OptionsFor(server);
+  client::ClientOptions o = OptionsFor(server);
   o.timeout = std::chrono::seconds(60);
-  Client client(o);
+  client::Client client(o);
   for (int round = 0; round < 3; ++round) {
     const double check = SecondsTaken([&] {
       grpc::ClientContext context;
@@ -206,7 +206,7 @@ TEST(HeavyWork, TheServerStopsWorkingAtTheCallersDeadline) {
   std::printf("  server CPU in the 2 s after the callers' deadline: %.2f s\n", kept);
   // Well under a core: before, two cores stayed busy (on a loaded machine the share measured was 0.48 s).
   EXPECT_LT(kept, 0.2) << "the server kept working for callers that had given up";
-  EXPECT_TRUE(Client(OptionsFor(server)).Healthy());
+  EXPECT_TRUE(client::Client(OptionsFor(server)).Healthy());
 }
 
 TEST(HeavyWork, HeavyCallsBeyondThePoolAndItsQueueAreRefusedAtOnce) {
@@ -270,7 +270,7 @@ TEST(WorkBudget, PlaybackOverTheStreamBudgetEndsBeforeAnyFrameOfIt) {
 
 TEST(WorkBudget, MotionStreamOverTheStreamBudgetIsRefused) {
   WideServer wide;
-  Client client(OptionsFor(wide.server));
+  client::Client client(OptionsFor(wide.server));
   v1::StreamClipRequest r;
   for (int l = 0; l < 32; ++l) r.mutable_motion()->add_layers()->set_clip("wide");
   r.set_fps(240);

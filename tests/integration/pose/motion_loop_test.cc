@@ -28,7 +28,7 @@ class MotionLoop : public ServerSuite {
   static void SetUpTestSuite() {
     ServerSuite::SetUpTestSuite();
     const std::string robot = SharedData("gltf/RobotExpressive/RobotExpressive.glb");
-    if (!robot.empty()) Client(OptionsFor(*server_)).ImportFile(robot, "robot");
+    if (!robot.empty()) client::Client(OptionsFor(*server_)).ImportFile(robot, "robot");
   }
   // World positions of `joint` under a one-layer motion of `clip` at `times`.
   static std::vector<Point> RootPath(const std::string& clip, const std::string& joint, v1::Motion::RootMotion mode,
@@ -39,7 +39,7 @@ class MotionLoop : public ServerSuite {
     for (double t : times) r.add_times(t);
     r.set_space(v1::WORLD);
     r.add_joints(joint);
-    const auto got = Client(OptionsFor(*server_)).EvaluateMotion(r);
+    const auto got = client::Client(OptionsFor(*server_)).EvaluateMotion(r);
     std::vector<Point> path;
     for (const v1::Pose& p : got.poses()) path.push_back({p.translations(0), p.translations(1), p.translations(2)});
     EXPECT_EQ(path.size(), times.size());
@@ -52,7 +52,7 @@ class MotionLoop : public ServerSuite {
   // Per loop point k·d (k = 1..3): the root's step from half a frame before to
   // half a frame after, against the largest step between frames in the loop before.
   static void ExpectNoJumpAtLoopPoints(const std::string& clip, const std::string& joint, double jump_factor) {
-    const v1::ClipInfo info = Client(OptionsFor(*server_)).GetClip(clip);
+    const v1::ClipInfo info = client::Client(OptionsFor(*server_)).GetClip(clip);
     const double d = info.duration(), h = FrameStep(info);
     ASSERT_GT(d, 4 * h);
     for (int loop = 1; loop <= 3; ++loop) {

@@ -31,7 +31,7 @@ class MotionStream : public ServerSuite {
   }
   static std::vector<v1::PoseFrame> Stream(const v1::StreamClipRequest& r) {
     std::vector<v1::PoseFrame> frames;
-    Client(OptionsFor(*server_)).StreamClip(r, [&](const v1::PoseFrame& f) {
+    client::Client(OptionsFor(*server_)).StreamClip(r, [&](const v1::PoseFrame& f) {
       frames.push_back(f);
       return true;
     });
@@ -59,7 +59,7 @@ TEST_F(MotionStream, EachFrameIsEvaluateMotionAtItsTime) {
   *e.mutable_motion() = r.motion();
   e.set_space(v1::WORLD);
   for (const auto& f : frames) e.add_times(f.time());
-  const auto want = Client(OptionsFor(*server_)).EvaluateMotion(e);
+  const auto want = client::Client(OptionsFor(*server_)).EvaluateMotion(e);
   ASSERT_EQ(want.poses_size(), static_cast<int>(frames.size()));
   for (size_t k = 0; k < frames.size(); ++k) {
     EXPECT_NEAR(frames[k].time(), 2.5 + 8.0 * static_cast<double>(k) / 240, 1e-9) << k;
@@ -88,7 +88,7 @@ TEST_F(MotionStream, ExtractFramesCarryTheRootDeltaSinceThePreviousFrame) {
   v1::EvaluateMotionRequest e;
   *e.mutable_motion() = r.motion();
   for (const auto& f : frames) e.add_times(f.time());
-  const auto want = Client(OptionsFor(*server_)).EvaluateMotion(e);
+  const auto want = client::Client(OptionsFor(*server_)).EvaluateMotion(e);
   ASSERT_EQ(want.root_motion_size(), static_cast<int>(frames.size()));
   double sum[3] = {0, 0, 0};
   for (size_t k = 0; k < frames.size(); ++k) {

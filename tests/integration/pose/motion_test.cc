@@ -26,7 +26,7 @@ class Motion : public ServerSuite {
  protected:
   static void SetUpTestSuite() {
     ServerSuite::SetUpTestSuite();
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     client.ImportFile(WriteTemp(*data_, "arm.bvh", kArmBvh), "arm");
   }
   static v1::MotionLayer* AddLayer(v1::Motion& m, const std::string& clip) {
@@ -36,7 +36,7 @@ class Motion : public ServerSuite {
   }
   static v1::EvaluateMotionResponse Evaluate(const v1::Motion& m, std::vector<double> times,
                                              v1::Space space = v1::LOCAL) {
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     v1::EvaluateMotionRequest r;
     *r.mutable_motion() = m;
     for (double t : times) r.add_times(t);
@@ -45,7 +45,7 @@ class Motion : public ServerSuite {
   }
   static v1::EvaluateClipResponse EvaluateClip(const std::string& clip, std::vector<double> times,
                                                v1::Space space = v1::LOCAL) {
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     v1::EvaluateClipRequest r;
     r.set_clip(clip);
     for (double t : times) r.add_times(t);

@@ -27,7 +27,7 @@ constexpr double kFps = 30;
 
 // One open session over the generated stub.
 struct Session {
-  explicit Session(Client& client) : stub(v1::PoseService::NewStub(client.channel())) {
+  explicit Session(client::Client& client) : stub(v1::PoseService::NewStub(client.channel())) {
     stream = stub->PlaybackSession(&context);
   }
   bool Send(const v1::PlaybackCommand& c) { return stream->Write(c); }
@@ -95,10 +95,10 @@ class Playback : public ServerSuite {
  protected:
   static void SetUpTestSuite() {
     ServerSuite::SetUpTestSuite();
-    Client(OptionsFor(*server_)).ImportFile(WriteTemp(*data_, "arm.bvh", kArmBvh), "arm");
+    client::Client(OptionsFor(*server_)).ImportFile(WriteTemp(*data_, "arm.bvh", kArmBvh), "arm");
     const std::string glb = SharedData("gltf/RobotExpressive/RobotExpressive.glb");
     if (glb.empty()) return;
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     const auto imported = client.ImportFile(glb, "robot");
     for (const auto& clip : imported.asset().clips()) {
       const std::string& n = clip.name();
@@ -111,7 +111,7 @@ class Playback : public ServerSuite {
       GTEST_SKIP() << "RobotExpressive.glb (Walking, Running) not found in the shared data (ARMATURE_SHARED_DATA)";
   }
   static v1::Pose Evaluate(v1::EvaluateMotionRequest r) {
-    Client client(OptionsFor(*server_));
+    client::Client client(OptionsFor(*server_));
     r.add_times(0);
     r.set_space(v1::LOCAL);
     return client.EvaluateMotion(r).poses(0);
@@ -121,7 +121,7 @@ class Playback : public ServerSuite {
 
 TEST_F(Playback, CrossfadeFromWalkingToRunningIsTheRampedTwoLayerBlendAtEveryFrame) {
   RequireRobot();
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   Session s(client);
   ASSERT_TRUE(s.Send(Start(skeleton_, walking_)));
   std::vector<v1::PlaybackFrame> frames;
@@ -192,7 +192,7 @@ TEST_F(Playback, CrossfadeFromWalkingToRunningIsTheRampedTwoLayerBlendAtEveryFra
 
 TEST_F(Playback, PauseHoldsThePoseSeekJumpsResumeGoesOn) {
   RequireRobot();
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   Session s(client);
   ASSERT_TRUE(s.Send(Start(skeleton_, walking_)));
   for (int i = 0; i < 3; ++i) s.Next();
@@ -241,7 +241,7 @@ TEST_F(Playback, PauseHoldsThePoseSeekJumpsResumeGoesOn) {
 // Layer weight and speed on the demo walk (always there): applied at the
 // next frame, the speed without a jump in the layer's time.
 TEST_F(Playback, LayerWeightAndSpeedApplyAtTheNextFrame) {
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   Session s(client);
   ASSERT_TRUE(s.Send(Start("demo_walk", "demo_walk")));
   for (int i = 0; i < 3; ++i) s.Next();
@@ -271,7 +271,7 @@ TEST_F(Playback, LayerWeightAndSpeedApplyAtTheNextFrame) {
 }
 
 TEST_F(Playback, BadCommandsEndTheStreamNamingTheField) {
-  Client client(OptionsFor(*server_));
+  client::Client client(OptionsFor(*server_));
   auto expect = [&](std::vector<v1::PlaybackCommand> commands, grpc::StatusCode code,
                     std::vector<std::string> parts) {
     Session s(client);
@@ -313,7 +313,7 @@ TEST_F(Playback, BadCommandsEndTheStreamNamingTheField) {
 TEST_F(Playback, SessionsCountAgainstTheSessionLimits) {
   TempDir data;
   ServerProcess server(data.path(), {"--max-sessions-per-client", "1"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   Session first(client);
   ASSERT_TRUE(first.Send(Start("demo_walk", "demo_walk")));
   first.Next();

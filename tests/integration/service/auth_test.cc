@@ -23,10 +23,10 @@ class Auth : public ::testing::Test {
       : token_file_(WriteTemp(files_, "tokens", std::string("\n  ") + kToken + "  \n" + kRotatedToken + "\n")),
         server_(data_.path(), {"--auth-token-file", token_file_.string()}) {}
 
-  Client ClientWith(const std::string& token) {
-    ClientOptions o = OptionsFor(server_);
+  client::Client ClientWith(const std::string& token) {
+    client::ClientOptions o = OptionsFor(server_);
     o.token = token;
-    return Client(o);
+    return client::Client(o);
   }
   std::string Url(const std::string& path) const { return "http://127.0.0.1:" + std::to_string(server_.http_port()) + path; }
 
@@ -36,7 +36,7 @@ class Auth : public ::testing::Test {
 };
 
 TEST_F(Auth, CallsWithoutTheTokenAreUnauthenticated) {
-  Client none = ClientWith(""), wrong = ClientWith("s3cret-token-on"), good = ClientWith(kToken);
+  client::Client none = ClientWith(""), wrong = ClientWith("s3cret-token-on"), good = ClientWith(kToken);
   const grpc::Status without = StatusOf([&] { none.ListClips(); });
   EXPECT_EQ(without.error_code(), grpc::StatusCode::UNAUTHENTICATED);
   EXPECT_NE(without.error_message().find("Bearer"), std::string::npos);
@@ -55,7 +55,7 @@ TEST_F(Auth, CallsWithoutTheTokenAreUnauthenticated) {
 }
 
 TEST_F(Auth, RefusedCallsChangeNothing) {
-  Client none = ClientWith(""), good = ClientWith(kToken);
+  client::Client none = ClientWith(""), good = ClientWith(kToken);
   // Unary: the delete never runs.
   EXPECT_EQ(CodeOf([&] { none.DeleteAsset("demo_walk"); }), grpc::StatusCode::UNAUTHENTICATED);
   EXPECT_EQ(good.GetClip("demo_walk").name(), "demo_walk");
@@ -78,7 +78,7 @@ TEST_F(Auth, RefusedCallsChangeNothing) {
 }
 
 TEST_F(Auth, HealthStaysOpenAndRefusalsAreCounted) {
-  Client none = ClientWith("");
+  client::Client none = ClientWith("");
   EXPECT_TRUE(none.Healthy());
   EXPECT_EQ(HttpGet(Url("/healthz")).status, 200);
   EXPECT_EQ(HttpGet(Url("/readyz")).status, 200);

@@ -26,7 +26,7 @@ long long VirtualBytes(pid_t pid) {
 TEST(CallBoundary, OutOfMemoryInAnImportIsAnsweredAndTheServerGoesOn) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-upload-mb", "4096", "--max-message-mb", "8"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   const long long base = VirtualBytes(server.pid());
   ASSERT_GT(base, 0);
@@ -34,11 +34,11 @@ TEST(CallBoundary, OutOfMemoryInAnImportIsAnsweredAndTheServerGoesOn) {
   const rlimit cap{static_cast<rlim_t>(base + (384ll << 20)), static_cast<rlim_t>(base + (384ll << 20))};
   ASSERT_EQ(::prlimit(server.pid(), RLIMIT_AS, &cap, nullptr), 0);
 
-  ClientOptions options = OptionsFor(server);
+  client::ClientOptions options = OptionsFor(server);
   options.timeout = std::chrono::seconds(60);
   const auto started = std::chrono::steady_clock::now();
   const grpc::Status status =
-      StatusOf([&] { Client(options).Import({"huge.bvh", std::string(600u << 20, ' ')}); });
+      StatusOf([&] { client::Client(options).Import({"huge.bvh", std::string(600u << 20, ' ')}); });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
   EXPECT_NE(status.error_message().find("out of memory"), std::string::npos) << status.error_message();

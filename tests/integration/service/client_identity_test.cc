@@ -67,7 +67,7 @@ std::string RefusalOf(AuthorizedStream& stream) {
 TEST(ClientIdentity, UncheckedTokensDoNotMakeNewClients) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-streams-per-client", "2"});
-  Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
+  client::Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
   auto stub = PoseStub(server);
   std::vector<std::unique_ptr<AuthorizedStream>> open;
   for (const char* token : {"Bearer made-up-1", "Bearer made-up-2"}) {
@@ -85,9 +85,9 @@ TEST(ClientIdentity, OneTokenIsOneClientHoweverTheSchemeIsSpelled) {
   const auto token_file = WriteTemp(files, "tokens", "tok-a\ntok-b\n");
   ServerProcess server(data.path(), {"--no-demo", "--auth-token-file", token_file.string(),
                                      "--max-streams-per-client", "1"});
-  ClientOptions options = OptionsFor(server);
+  client::ClientOptions options = OptionsFor(server);
   options.token = "tok-a";
-  Client(options).Import({"arm.bvh", kArmBvh});
+  client::Client(options).Import({"arm.bvh", kArmBvh});
   auto stub = PoseStub(server);
   AuthorizedStream first(*stub, "Bearer tok-a");
   ASSERT_TRUE(first.open()) << first.Close().error_message();
@@ -105,9 +105,9 @@ TEST(ClientIdentity, StreamsOfAllClientsHaveACap) {
   TempDir data, files;
   const auto token_file = WriteTemp(files, "tokens", "tok-a\ntok-b\ntok-c\n");
   ServerProcess server(data.path(), {"--no-demo", "--auth-token-file", token_file.string(), "--max-streams", "2"});
-  ClientOptions options = OptionsFor(server);
+  client::ClientOptions options = OptionsFor(server);
   options.token = "tok-a";
-  Client(options).Import({"arm.bvh", kArmBvh});
+  client::Client(options).Import({"arm.bvh", kArmBvh});
   auto stub = PoseStub(server);
   AuthorizedStream a(*stub, "Bearer tok-a");
   AuthorizedStream b(*stub, "Bearer tok-b");

@@ -13,7 +13,7 @@ namespace {
 TEST(EnumValidation, UnknownNumbersAreInvalidArgumentListingTheAllowedValues) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   auto evaluate = [&](auto set) {
     v1::EvaluateClipRequest r;

@@ -14,7 +14,7 @@ namespace {
 TEST(HelpfulErrors, NamesJointsAndEnumsOverGrpcAndRest) {
   TempDir data;
   ServerProcess server(data.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   httplib::Client http("127.0.0.1", server.http_port());
 
   v1::EvaluateClipRequest typo;

@@ -14,7 +14,7 @@ namespace fs = std::filesystem;
 TEST(Limits, ClipFramesOverTheLimitAreRefusedAtImport) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-clip-frames", "40"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const grpc::Status status = StatusOf([&] { client.Import({"long.bvh", ArmBvhWithFrames(41)}); });
   const std::string& message = status.error_message();
   EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
@@ -28,7 +28,7 @@ TEST(Limits, ClipFramesOverTheLimitAreRefusedAtImport) {
 TEST(Limits, MessageSizeIsEnforcedBothWays) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-message-mb", "0.25"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   // 20000 world poses of 2 joints: about 20000 × 2 × 7 floats × 4 bytes = 1.1 MB, over 0.25 MiB.
   v1::EvaluateClipRequest r;
@@ -41,11 +41,11 @@ TEST(Limits, MessageSizeIsEnforcedBothWays) {
   for (int i = 0; i < 40000; ++i) big.add_times(0);
   EXPECT_EQ(CodeOf([&] { client.EvaluateClip(big); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
   // The client's own receive limit.
-  ClientOptions small = OptionsFor(server);
+  client::ClientOptions small = OptionsFor(server);
   small.max_message_bytes = 1000;
   r.clear_times();
   for (int i = 0; i < 100; ++i) r.add_times(0);
-  EXPECT_EQ(CodeOf([&] { Client(small).EvaluateClip(r); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_EQ(CodeOf([&] { client::Client(small).EvaluateClip(r); }), grpc::StatusCode::RESOURCE_EXHAUSTED);
 }
 
 TEST(Limits, EveryLimitIsAFlagAndAnEnvironmentVariable) {
@@ -72,7 +72,7 @@ TEST(AssetNames, NothingEscapesTheDataDir) {
   TempDir root;
   const fs::path data = root.path() / "data";
   ServerProcess server(data, {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   for (const std::string& name : std::vector<std::string>{"../evil", "/etc/passwd", "a/b", std::string("nul\0byte", 8), ".hidden", ".."}) {
     const grpc::Status status = StatusOf([&] { client.Import({"arm.bvh", kArmBvh}, name); });
     const std::string& message = status.error_message();
@@ -82,7 +82,7 @@ TEST(AssetNames, NothingEscapesTheDataDir) {
   // A file name with a path: only its stem names the asset.
   EXPECT_EQ(client.Import({"../../up/arm.bvh", kArmBvh}).asset().name(), "arm");
   // Resource uris that look like paths are stored under files/ with a safe name.
-  const std::vector<UploadFile> resources = {
+  const std::vector<client::UploadFile> resources = {
       {"../../escape.bin", "A"}, {"/tmp/absolute.bin", "B"}, {std::string("nul\0.bin", 8), "C"}, {"..", "D"}};
   const auto imported = client.Import({"res.bvh", kArmBvh}, "", "", false, resources);
   EXPECT_EQ(imported.asset().name(), "res");

@@ -30,7 +30,7 @@ std::string Bucket(const std::string& method, const std::string& le) {
 TEST(Metrics, HistogramsCountsAndAssetGauges) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   v1::EvaluateClipRequest r;
   r.set_clip("arm");
@@ -76,7 +76,7 @@ TEST(Metrics, HistogramsCountsAndAssetGauges) {
 TEST(Metrics, ImportedMeshesCountInAssetMemory) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const double before = Scrape(server).at("armature_assets_memory_bytes");
   const fixtures::GeneratedMesh grid = fixtures::MakeGrid(100, 100, 1, 1);
   const auto imported = client.Import({"grid.obj", fixtures::ToObj(grid)}, "grid");
@@ -95,7 +95,7 @@ TEST(Metrics, ImportedMeshesCountInAssetMemory) {
 }
 
 // A call to a method the server does not have, through gRPC's generic stub.
-grpc::StatusCode CallUnknownMethod(Client& client, const std::string& method) {
+grpc::StatusCode CallUnknownMethod(client::Client& client, const std::string& method) {
   grpc::GenericStub stub(client.channel());
   grpc::CompletionQueue cq;
   grpc::ClientContext context;
@@ -114,7 +114,7 @@ grpc::StatusCode CallUnknownMethod(Client& client, const std::string& method) {
 TEST(Metrics, MadeUpMethodsShareOneLabel) {
   TempDir data;
   ServerProcess server(data.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   for (int i = 0; i < 3; ++i)
     EXPECT_EQ(CallUnknownMethod(client, "/made.Up/Method" + std::to_string(i)), grpc::StatusCode::UNIMPLEMENTED);
   const HttpResponse r = HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/metrics");
@@ -125,7 +125,7 @@ TEST(Metrics, MadeUpMethodsShareOneLabel) {
 TEST(Metrics, StreamsInFlightGauge) {
   TempDir data;
   ServerProcess server(data.path());
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   std::atomic<int> frames{0};
   std::atomic<bool> stop{false};
   std::thread streamer([&] {
@@ -152,7 +152,7 @@ TEST(Metrics, StreamsInFlightGauge) {
 TEST(Metrics, OneJsonLogLinePerCallWithItsRequestId) {
   TempDir data;
   ServerProcess server(data.path(), {"--log-format", "json"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   // A caller's request id is used, and sent back.
   v1::EvaluateClipRequest r;
   r.set_clip("demo_walk");

@@ -20,7 +20,7 @@ CommandResult StartSecondServer(const TempDir& data, int grpc_port, int http_por
 TEST(PortInUse, ASecondServerOnTheSamePortsExitsAndTheFirstKeepsServing) {
   TempDir first_data, second_data;
   ServerProcess first(first_data.path());
-  Client client(OptionsFor(first));
+  client::Client client(OptionsFor(first));
   ASSERT_TRUE(AssetNames(client).count("demo_walk"));
 
   const CommandResult grpc_taken = StartSecondServer(second_data, first.grpc_port(), 0);
@@ -41,7 +41,7 @@ TEST(PortInUse, ASecondServerOnTheSamePortsExitsAndTheFirstKeepsServing) {
 
   // Every call still reaches the first server (the demo assets it seeded), none an empty one.
   for (int i = 0; i < 10; ++i) {
-    Client fresh(OptionsFor(first));
+    client::Client fresh(OptionsFor(first));
     EXPECT_TRUE(AssetNames(fresh).count("demo_walk")) << "call " << i;
     const HttpResponse rest = HttpGet("http://127.0.0.1:" + std::to_string(first.http_port()) + "/v1/assets");
     EXPECT_EQ(rest.status, 200) << rest.error;

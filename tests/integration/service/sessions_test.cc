@@ -41,7 +41,7 @@ class Sessions : public ::testing::Test {
   static constexpr uint32_t kHandle = (kSide - 1) * kSide + kSide / 2;
   TempDir data_;
   std::optional<ServerProcess> server_;
-  std::optional<Client> client_;
+  std::optional<client::Client> client_;
   v1::SolveIkRequest ik_start_;
   v1::DeformSessionStart deform_start_;
 };

@@ -26,7 +26,7 @@ TEST(Shutdown, CallsInFlightAreCancelledAfterTheGraceAndTheProcessExitsZero) {
   constexpr double kGrace = 2;
   TempDir data;
   ServerProcess server(data.path(), {"--shutdown-grace", "2"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
 
   // A stream that would run forever.
   std::atomic<int> frames{0};

@@ -50,7 +50,7 @@ TEST(StreamLimits, OneStreamOverTheLimitIsRefusedUntilOneCloses) {
   constexpr int kLimit = 3;
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-streams-per-client", std::to_string(kLimit)});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   auto stub = v1::PoseService::NewStub(client.channel());
 
@@ -109,7 +109,7 @@ std::string CurlStream(const std::string& source, const std::string& url, int se
 TEST(StreamLimits, RestClientsCountApartByAddress) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-streams-per-client", "1"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
   const std::string url = "http://127.0.0.1:" + std::to_string(server.http_port()) + "/v1/clips/arm:stream?loop=true&fps=10";
 

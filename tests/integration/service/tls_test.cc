@@ -38,20 +38,20 @@ class Tls : public ::testing::Test {
 };
 
 TEST_F(Tls, GrpcOverTlsTrustingTheCertificate) {
-  ClientOptions o = OptionsFor(server_);
+  client::ClientOptions o = OptionsFor(server_);
   o.ca_file = kp_.cert.string();
-  Client client(o);
+  client::Client client(o);
   EXPECT_TRUE(client.Healthy());
   EXPECT_EQ(client.GetClip("demo_walk").name(), "demo_walk");
   // A plaintext client gets no answer.
-  ClientOptions plain = OptionsFor(server_);
+  client::ClientOptions plain = OptionsFor(server_);
   plain.timeout = std::chrono::seconds(20);  // the refusal is prompt; the bound only guards a hang
-  EXPECT_EQ(CodeOf([&] { Client(plain).ListClips(); }), grpc::StatusCode::UNAVAILABLE);
+  EXPECT_EQ(CodeOf([&] { client::Client(plain).ListClips(); }), grpc::StatusCode::UNAVAILABLE);
   // Nor does one trusting another certificate.
-  ClientOptions other = o;
+  client::ClientOptions other = o;
   other.ca_file = MakeSelfSigned(files_, "other").cert.string();
   other.timeout = std::chrono::seconds(20);
-  EXPECT_EQ(CodeOf([&] { Client(other).ListClips(); }), grpc::StatusCode::UNAVAILABLE);
+  EXPECT_EQ(CodeOf([&] { client::Client(other).ListClips(); }), grpc::StatusCode::UNAVAILABLE);
   // The CLI's --ca-file.
   const auto cli = RunCli(server_.target(), {"--ca-file", kp_.cert.string(), "list"});
   EXPECT_EQ(cli.exit_code, 0) << cli.err;

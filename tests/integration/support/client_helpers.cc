@@ -13,8 +13,8 @@ std::string ArmBvhWithFrames(int frames) {
   return bvh;
 }
 
-ClientOptions OptionsFor(const ServerProcess& server) {
-  ClientOptions o;
+client::ClientOptions OptionsFor(const ServerProcess& server) {
+  client::ClientOptions o;
   o.target = server.target();
   o.timeout = std::chrono::seconds(30);
   return o;
@@ -29,7 +29,7 @@ std::filesystem::path WriteTemp(const TempDir& dir, const std::string& name, con
 grpc::Status StatusOf(const std::function<void()>& call) {
   try {
     call();
-  } catch (const ClientError& e) {
+  } catch (const client::ClientError& e) {
     return grpc::Status(e.code(), e.what());
   }
   return grpc::Status::OK;
@@ -48,7 +48,7 @@ bool WaitFor(const std::function<bool()>& condition, double seconds) {
   return true;
 }
 
-std::set<std::string> AssetNames(Client& client) {
+std::set<std::string> AssetNames(client::Client& client) {
   std::set<std::string> names;
   const auto listed = client.ListAssets();
   for (const auto& a : listed.assets()) names.insert(a.name());

@@ -41,7 +41,7 @@ Frame Time: 0.5
 // The same arm with `frames` frames, turning 1° about Z per frame.
 std::string ArmBvhWithFrames(int frames);
 
-ClientOptions OptionsFor(const ServerProcess& server);
+client::ClientOptions OptionsFor(const ServerProcess& server);
 std::filesystem::path WriteTemp(const TempDir& dir, const std::string& name, const std::string& content);
 
 // The status a call throws (OK if none), its code and its message ("" if none).
@@ -58,6 +58,6 @@ bool WaitFor(const std::function<bool()>& condition, double seconds);
 inline constexpr double kPropagationTimeoutSeconds = 30.0;
 
 // The names of the assets `client`'s server lists.
-std::set<std::string> AssetNames(Client& client);
+std::set<std::string> AssetNames(client::Client& client);
 
 }  // namespace armature::testing

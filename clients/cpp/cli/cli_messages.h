@@ -20,7 +20,7 @@ std::string UnknownWordMessage(const CLI::App& app, const std::vector<std::strin
 // What a failed call prints after "error: ": the code and the server's
 // message, and for an unreachable server its address and how to start one;
 // an existing asset names `--replace` when `command` has it.
-std::string CallErrorMessage(const ClientError& error, const std::string& target, const CLI::App* command);
+std::string CallErrorMessage(const client::ClientError& error, const std::string& target, const CLI::App* command);
 
 // Validators with short messages (CLI11's PositiveNumber prints its range as
 // 300-digit numbers): "must be greater than 0, got 0".

@@ -81,8 +81,8 @@ std::string UnknownWordMessage(const CLI::App& app, const std::vector<std::strin
   return "";
 }
 
-std::string CallErrorMessage(const ClientError& error, const std::string& target, const CLI::App* command) {
-  std::string message = std::string(StatusCodeName(error.code())) + ": " + error.what();
+std::string CallErrorMessage(const client::ClientError& error, const std::string& target, const CLI::App* command) {
+  std::string message = std::string(client::StatusCodeName(error.code())) + ": " + error.what();
   if (error.code() == grpc::StatusCode::UNAVAILABLE && IsConnectionFailure(error.what())) {
     return "no armature-server answers at " + target + " (" + message +
            ").\nStart one in the repository with `make run` (or build/bin/armature-server), or name another with "

@@ -9,7 +9,7 @@
 #include "armature/v1/poses.grpc.pb.h"
 #include "cli_context.h"
 #include "cli_messages.h"
-#include "pose_output.h"
+#include "files/pose_output.h"
 
 namespace armature::cli {
 namespace {
@@ -29,7 +29,7 @@ nlohmann::json MotionsJson(const v1::PlaybackFrame& frame) {
 }
 
 int Play(CliContext& ctx, const PlayFlags& f) {
-  Client client = ctx.MakeClient();
+  client::Client client = ctx.MakeClient();
   auto stub = v1::PoseService::NewStub(client.channel());
   grpc::ClientContext context;
   client.Prepare(context, true);  // credentials; the session ends at its --duration
@@ -76,7 +76,7 @@ int Play(CliContext& ctx, const PlayFlags& f) {
     }
   }
   const grpc::Status status = stream->Finish();
-  if (!status.ok()) throw ClientError(status);
+  if (!status.ok()) throw client::ClientError(status);
   return 0;
 }
 

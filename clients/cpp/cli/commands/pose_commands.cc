@@ -5,8 +5,8 @@
 
 #include "cli_context.h"
 #include "cli_messages.h"
-#include "motion_file.h"
-#include "pose_output.h"
+#include "files/motion_file.h"
+#include "files/pose_output.h"
 
 namespace armature::cli {
 namespace {
@@ -45,7 +45,7 @@ void FillPoseRequest(const PoseFlags& f, Request& r) {
 
 // `pose --motion FILE.json`: the same output as `pose CLIP`, with "motion"
 // (the file) and "skeleton" in place of "clip", and EXTRACT's "rootMotion".
-int PrintMotionPose(Client& client, const PoseFlags& f, double time, bool json) {
+int PrintMotionPose(client::Client& client, const PoseFlags& f, double time, bool json) {
   v1::EvaluateMotionRequest request;
   *request.mutable_motion() = ReadMotionFile(f.motion);
   request.add_times(time);
@@ -82,7 +82,7 @@ void AddPoseCommand(CLI::App& app, CliContext& ctx) {
   cmd->callback([&ctx, cmd, flags, time, loop] {
     if (cmd->count("CLIP") + cmd->count("--motion") == 0) throw CLI::RequiredError("CLIP or --motion");
     ctx.run = [&ctx, flags, time, loop] {
-      Client client = ctx.MakeClient();
+      client::Client client = ctx.MakeClient();
       if (!flags->motion.empty()) return PrintMotionPose(client, *flags, *time, ctx.json);
       v1::EvaluateClipRequest request;
       FillPoseRequest(*flags, request);
@@ -119,7 +119,7 @@ void AddStreamCommand(CLI::App& app, CliContext& ctx) {
   cmd->callback([&ctx, cmd, flags, fps, duration, speed, loop] {
     if (cmd->count("CLIP") + cmd->count("--motion") == 0) throw CLI::RequiredError("CLIP or --motion");
     ctx.run = [&ctx, flags, fps, duration, speed, loop] {
-      Client client = ctx.MakeClient();
+      client::Client client = ctx.MakeClient();
       v1::StreamClipRequest r;
       FillPoseRequest(*flags, r);
       if (!flags->motion.empty()) *r.mutable_motion() = ReadMotionFile(flags->motion);

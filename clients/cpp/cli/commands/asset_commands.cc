@@ -81,7 +81,7 @@ void AddInfoCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_flag("--skeleton", *skeleton, "NAME is a skeleton: print its joint hierarchy");
   cmd->callback([&ctx, name, skeleton] {
     ctx.run = [&ctx, name, skeleton] {
-      Client client = ctx.MakeClient();
+      client::Client client = ctx.MakeClient();
       PrintJson(*skeleton ? ToJson(client.GetSkeleton(*name)) : ToJson(client.GetClip(*name)));
       return 0;
     };

@@ -7,7 +7,7 @@
 
 #include "cli_context.h"
 #include "cli_messages.h"
-#include "pose_output.h"
+#include "files/pose_output.h"
 
 namespace armature::cli {
 namespace {
@@ -102,7 +102,7 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
       if (free_root == kFreeRoots.end())
         throw std::runtime_error("--free-root='" + f->free_root + "': expected rotation, translation or both");
       request.set_free_root(free_root->second);
-      Client client = ctx.MakeClient();
+      client::Client client = ctx.MakeClient();
       const v1::SolveIkResponse response = client.SolveIk(request);
       const v1::Skeleton skeleton = client.GetSkeleton(response.skeleton());
       const v1::Pose& pose = f->space == "world" ? response.world() : response.local();

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace armature::detail {
+namespace armature::client::detail {
 namespace fs = std::filesystem;
 namespace {
 
@@ -102,4 +102,4 @@ std::vector<UploadFile> GltfResources(const fs::path& gltf_path, const std::stri
   return resources;
 }
 
-}  // namespace armature::detail
+}  // namespace armature::client::detail

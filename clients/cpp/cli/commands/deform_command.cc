@@ -72,7 +72,7 @@ void AddDeformCommand(CLI::App& app, CliContext& ctx) {
       request.set_method(f->method == "arap" ? v1::ARAP : v1::LAPLACIAN);
       for (uint32_t v : f->fixed) request.add_fixed(v);
       for (const auto& h : f->handles) *request.add_handles() = ParseHandle(h);
-      Client client = ctx.MakeClient();
+      client::Client client = ctx.MakeClient();
       const auto response = client.Deform(request);
       if (ctx.json) {
         PrintJson({{"mesh", response.mesh()},

@@ -4,7 +4,7 @@
 
 #include "cli_context.h"
 #include "cli_messages.h"
-#include "output_file.h"
+#include "files/output_file.h"
 
 namespace armature::cli {
 namespace {

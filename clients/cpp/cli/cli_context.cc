@@ -6,16 +6,16 @@
 
 namespace armature::cli {
 
-Client CliContext::MakeClient() const {
-  ClientOptions o = ClientOptions::FromEnvironment();
+client::Client CliContext::MakeClient() const {
+  client::ClientOptions o = client::ClientOptions::FromEnvironment();
   if (!server.empty()) o.target = server;
   if (!token.empty()) o.token = token;
   if (!ca_file.empty()) o.ca_file = ca_file;
   o.timeout = std::chrono::milliseconds(static_cast<int64_t>(timeout_seconds * 1000));
-  return Client(o);
+  return client::Client(o);
 }
 
-std::string CliContext::Target() const { return server.empty() ? ClientOptions::FromEnvironment().target : server; }
+std::string CliContext::Target() const { return server.empty() ? client::ClientOptions::FromEnvironment().target : server; }
 
 nlohmann::json ToJson(const google::protobuf::Message& message) {
   std::string out;

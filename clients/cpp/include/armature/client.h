@@ -1,5 +1,5 @@
 // libarmature-client: every Armature RPC from C++, with a deadline on every
-// call. Failures throw armature::ClientError carrying the gRPC status.
+// call. Failures throw armature::client::ClientError carrying the gRPC status.
 #pragma once
 
 #include <chrono>
@@ -13,12 +13,13 @@
 #include <grpcpp/grpcpp.h>
 
 #include "armature/v1/assets.grpc.pb.h"
+#include "armature/v1/authoring.grpc.pb.h"
 #include "armature/v1/deform.grpc.pb.h"
 #include "armature/v1/ik.grpc.pb.h"
 #include "armature/v1/meshes.grpc.pb.h"
 #include "armature/v1/poses.grpc.pb.h"
 
-namespace armature {
+namespace armature::client {
 
 class ClientError : public std::runtime_error {
  public:
@@ -167,6 +168,12 @@ class Client {
   v1::EvaluateBlendshapesResponse EvaluateBlendshapes(const v1::EvaluateBlendshapesRequest& request);
   v1::BindMeshResponse BindMesh(const v1::BindMeshRequest& request);
 
+  // AuthoringService. A clip from keys per joint, stored as a new asset.
+  v1::CreateClipResponse CreateClip(const v1::CreateClipRequest& request);
+  // A clip moved onto another skeleton and stored as a new asset; the answer
+  // holds the new clip, its asset, the joint pairs used and the unmapped joints.
+  v1::RetargetClipResponse RetargetClip(const v1::RetargetClipRequest& request);
+
   // grpc.health.v1: true when the server reports SERVING.
   bool Healthy();
 
@@ -190,6 +197,7 @@ class Client {
   std::unique_ptr<v1::IkService::Stub> ik_;
   std::unique_ptr<v1::MeshService::Stub> meshes_;
   std::unique_ptr<v1::DeformService::Stub> deform_;
+  std::unique_ptr<v1::AuthoringService::Stub> authoring_;
 
   // Opens `stream` on `session` with this client's stream deadline and sends `first`.
   template <class S, class Open>
@@ -212,4 +220,4 @@ Response Client::Call(grpc::Status (Stub::*method)(grpc::ClientContext*, const R
   return response;
 }
 
-}  // namespace armature
+}  // namespace armature::client

@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "armature/retarget_client.h"
 #include "cli_context.h"
 
 namespace armature::cli {
@@ -65,7 +64,7 @@ void AddRetargetCommand(CLI::App& app, CliContext& ctx) {
       request.set_feet(*feet);
       request.set_replace(*replace);
       for (const std::string& p : *pairs) *request.add_map() = ParsePair(p);
-      const v1::RetargetClipResponse r = RetargetClip(ctx.MakeClient(), request);
+      const v1::RetargetClipResponse r = ctx.MakeClient().RetargetClip(request);
       if (!ctx.json) {
         PrintText(r);
         return 0;

@@ -3,9 +3,8 @@
 #include <string>
 #include <vector>
 
-#include "armature/create_clip.h"
 #include "cli_context.h"
-#include "motion_file.h"
+#include "files/motion_file.h"
 
 namespace armature::cli {
 namespace {
@@ -46,7 +45,7 @@ void AddCreateClipCommand(CLI::App& app, CliContext& ctx) {
       if (!name->empty()) request.set_name(*name);
       if (*replace) request.set_replace(true);
       if (*merge) request.set_merge(true);
-      const auto response = CreateClip(ctx.MakeClient(), request);
+      const auto response = ctx.MakeClient().CreateClip(request);
       auto summary = ImportSummary(response.asset());
       summary["clip"] = ToJson(response.clip());
       summary["warnings"] = std::vector<std::string>(response.warnings().begin(), response.warnings().end());

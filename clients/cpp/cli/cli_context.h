@@ -20,7 +20,7 @@ struct CliContext {
   bool json = false;        // --json: print JSON instead of text
   std::function<int()> run;  // set by the chosen subcommand
 
-  Client MakeClient() const;
+  client::Client MakeClient() const;
   // The server's address: --server, else $ARMATURE_SERVER, else localhost:50051.
   std::string Target() const;
 };

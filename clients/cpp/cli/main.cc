@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   }
   try {
     return ctx.run ? ctx.run() : 0;
-  } catch (const armature::ClientError& e) {
+  } catch (const armature::client::ClientError& e) {
     const auto parsed = app.get_subcommands();
     std::cerr << "error: " << CallErrorMessage(e, ctx.Target(), parsed.empty() ? nullptr : parsed[0]) << "\n";
     return 1;

@@ -9,7 +9,7 @@
 #include "gltf_resources.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 
-namespace armature {
+namespace armature::client {
 namespace {
 
 std::string ReadFileOrThrow(const std::filesystem::path& path) {
@@ -75,7 +75,8 @@ Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
     : options_(std::move(options)), channel_(std::move(channel)),
       assets_(v1::AssetService::NewStub(channel_)), poses_(v1::PoseService::NewStub(channel_)),
       ik_(v1::IkService::NewStub(channel_)),
-      meshes_(v1::MeshService::NewStub(channel_)), deform_(v1::DeformService::NewStub(channel_)) {}
+      meshes_(v1::MeshService::NewStub(channel_)), deform_(v1::DeformService::NewStub(channel_)),
+      authoring_(v1::AuthoringService::NewStub(channel_)) {}
 
 void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
   const auto timeout = streaming ? options_.stream_timeout : options_.timeout;
@@ -325,6 +326,13 @@ v1::BindMeshResponse Client::BindMesh(const v1::BindMeshRequest& r) {
   return Call(&v1::MeshService::Stub::BindMesh, *meshes_, r);
 }
 
+v1::CreateClipResponse Client::CreateClip(const v1::CreateClipRequest& r) {
+  return Call(&v1::AuthoringService::Stub::CreateClip, *authoring_, r);
+}
+v1::RetargetClipResponse Client::RetargetClip(const v1::RetargetClipRequest& r) {
+  return Call(&v1::AuthoringService::Stub::RetargetClip, *authoring_, r);
+}
+
 bool Client::Healthy() {
   auto stub = grpc::health::v1::Health::NewStub(channel_);
   grpc::ClientContext context;
@@ -335,4 +343,4 @@ bool Client::Healthy() {
   return status.ok() && response.status() == grpc::health::v1::HealthCheckResponse::SERVING;
 }
 
-}  // namespace armature
+}  // namespace armature::client

@@ -11,9 +11,9 @@
 
 #include "cli_context.h"
 #include "cli_messages.h"
-#include "motion_file.h"
-#include "obj_text.h"
-#include "output_file.h"
+#include "files/motion_file.h"
+#include "files/obj_text.h"
+#include "files/output_file.h"
 
 namespace armature::cli {
 namespace {
@@ -65,7 +65,7 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
       if (!f->out.empty() && ExtensionFormat(f->out) != "obj")
         throw std::runtime_error("cannot tell the format from the file name " + f->out +
                                  ": skin -o writes OBJ, name a .obj file");
-      Client client = ctx.MakeClient();
+      client::Client client = ctx.MakeClient();
       v1::SkinMeshRequest request;
       request.set_mesh(f->mesh);
       if (f->motion.empty()) request.set_clip(f->clip);

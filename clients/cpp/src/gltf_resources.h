@@ -9,7 +9,7 @@
 
 #include "armature/client.h"
 
-namespace armature::detail {
+namespace armature::client::detail {
 
 // The external buffers of the .gltf at `gltf_path` (text `gltf_text`), read
 // from disk, keyed by their uri as written. data: uris are embedded and need
@@ -21,4 +21,4 @@ namespace armature::detail {
 std::vector<UploadFile> GltfResources(const std::filesystem::path& gltf_path, const std::string& gltf_text,
                                       bool allow_outside);
 
-}  // namespace armature::detail
+}  // namespace armature::client::detail
