@@ -11,7 +11,7 @@
 #include <assimp/scene.h>
 #include <benchmark/benchmark.h>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "bvh_bench_texts.h"
 
 namespace {

@@ -8,7 +8,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_walk.h"
 #include "armature/engine/kinematics/fk.h"
 #include "bvh_bench_texts.h"

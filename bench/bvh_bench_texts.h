@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_walk.h"
 
 namespace armature_bench {

@@ -12,7 +12,7 @@
 #include <benchmark/benchmark.h>
 
 #include "armature/engine/anim/motion.h"
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 
 namespace armature {
 namespace {

@@ -17,7 +17,7 @@
 
 #include "armature/engine/anim/compiled_clip.h"
 #include "armature/engine/io/asset.h"
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/kinematics/fk.h"
 
 namespace armature {

@@ -31,7 +31,7 @@
 
 #include "armature/engine/anim/clip.h"
 #include "armature/engine/anim/compiled_clip.h"
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/mesh/skinning.h"
 #include "cylinder_rig.h"

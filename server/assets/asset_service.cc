@@ -5,8 +5,8 @@
 #include <utility>
 #include <vector>
 
-#include "armature/engine/io/bvh.h"
-#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/io/bvh/bvh.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 #include "armature/engine/mesh/mesh.h"
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"

@@ -4,7 +4,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_character.h"
 #include "armature/engine/io/demo_walk.h"
 

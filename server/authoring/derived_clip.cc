@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 
 namespace armature::server {
 

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "armature/engine/anim/joint_name_map.h"
-#include "armature/engine/kinematics/retarget.h"
+#include "armature/engine/anim/body_part_map.h"
+#include "armature/engine/kinematics/retarget/retarget.h"
 #include "server/assets/asset_convert.h"
 #include "server/authoring/derived_clip.h"
 

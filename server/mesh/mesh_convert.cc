@@ -19,33 +19,33 @@ StatusOr<SkinningMethod> FromProto(v1::SkinningMethod method) {
 }
 
 StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name) {
-  auto clip = catalog.FindClip(name);
-  if (!clip.ok()) return clip.status().WithContext("clip: ");
+  auto clip_ref = catalog.FindClip(name);
+  if (!clip_ref.ok()) return clip_ref.status().WithContext("clip: ");
   MeshClip out;
-  out.clip = std::move(*clip);
-  if (mesh.skeleton.empty() || out.clip.part->skeleton == mesh.skeleton) return out;
-  auto skeleton = catalog.FindSkeleton(mesh.skeleton);
-  if (!skeleton.ok()) return skeleton.status().WithContext("mesh '" + mesh.name + "': ");
-  out.skeleton = std::move(*skeleton);
-  const Status mapped = MapJointsByName(*out.skeleton.part->skeleton, *out.clip.part->clip->skeleton,
+  out.clip_ref = std::move(*clip_ref);
+  if (mesh.skeleton.empty() || out.clip_ref.part->skeleton == mesh.skeleton) return out;
+  auto skeleton_ref = catalog.FindSkeleton(mesh.skeleton);
+  if (!skeleton_ref.ok()) return skeleton_ref.status().WithContext("mesh '" + mesh.name + "': ");
+  out.skeleton_ref = std::move(*skeleton_ref);
+  const Status mapped = MapJointsByName(*out.skeleton_ref.part->skeleton, *out.clip_ref.part->clip->skeleton,
                                         "the mesh's skeleton '" + mesh.skeleton + "'", out.joint_map);
   if (!mapped.ok())
-    return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + out.clip.part->skeleton +
+    return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + out.clip_ref.part->skeleton +
                                    "', which " + mapped.message());
   return out;
 }
 
-Status SkinByClip(const Mesh& mesh, const MeshClip& clip, double time, const SampleOptions& sample,
+Status SkinByClip(const Mesh& mesh, const MeshClip& mesh_clip, double time, const SampleOptions& sample,
                   const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                   SkinningWorkspace& workspace) {
-  const Clip& c = *clip.clip.part->clip;
-  if (clip.skeleton.part == nullptr) {
-    if (const CompiledClip* compiled = RuntimeForm(*clip.clip.part))
+  const Clip& clip = *mesh_clip.clip_ref.part->clip;
+  if (mesh_clip.skeleton_ref.part == nullptr) {
+    if (const CompiledClip* compiled = RuntimeForm(*mesh_clip.clip_ref.part))
       return SkinClip(mesh, *compiled, time, sample, options, positions, normals, workspace);
-    return SkinClip(mesh, c, time, sample, options, positions, normals, workspace);
+    return SkinClip(mesh, clip, time, sample, options, positions, normals, workspace);
   }
-  return SkinClipOnto(mesh, *clip.skeleton.part->skeleton, clip.joint_map, c, time, sample, options, positions,
-                      normals, workspace);
+  return SkinClipOnto(mesh, *mesh_clip.skeleton_ref.part->skeleton, mesh_clip.joint_map, clip, time, sample, options,
+                      positions, normals, workspace);
 }
 
 StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, const v1::Motion& motion,

@@ -23,9 +23,9 @@ StatusOr<SkinningMethod> FromProto(v1::SkinningMethod method);
 // A clip posing a mesh: a clip of the mesh's skeleton, or of another
 // skeleton with the mesh skeleton's joint names (mapped by name).
 struct MeshClip {
-  PartRef<NamedClip> clip;
-  PartRef<NamedSkeleton> skeleton;  // the mesh's, when the clip animates another (else part is null)
-  std::vector<int> joint_map;       // then: per joint of the mesh's skeleton, the clip's joint
+  PartRef<NamedClip> clip_ref;
+  PartRef<NamedSkeleton> skeleton_ref;  // the mesh's, when the clip animates another (else part is null)
+  std::vector<int> joint_map;           // then: per joint of the mesh's skeleton, the clip's joint
 };
 
 // The clip `name` for `mesh` (any clip for an unbound mesh, which only its
@@ -34,7 +34,7 @@ struct MeshClip {
 StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name);
 
 // Skins `mesh` by `clip` at `time` (SkinClip, or SkinClipOnto the mesh's skeleton).
-Status SkinByClip(const Mesh& mesh, const MeshClip& clip, double time, const SampleOptions& sample,
+Status SkinByClip(const Mesh& mesh, const MeshClip& mesh_clip, double time, const SampleOptions& sample,
                   const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                   SkinningWorkspace& workspace);
 

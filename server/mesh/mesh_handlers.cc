@@ -81,14 +81,13 @@ Status SkinMesh(const Catalog& catalog, const v1::SkinMeshRequest& request, v1::
     auto [positions, normals] = OutputsOf(mesh, response);
     ARMATURE_RETURN_IF_ERROR(SkinPose(mesh, skeleton, ws.local, options, positions, normals, ws.skin));
   } else if (!request.clip().empty()) {
-    auto clip = ClipFor(catalog, named, request.clip());
-    if (!clip.ok()) return clip.status();
+    ARMATURE_ASSIGN_OR_RETURN(const MeshClip mesh_clip, ClipFor(catalog, named, request.clip()));
     ARMATURE_RETURN_IF_ERROR(ValidateClipTime(request.time(), "time"));
     SampleOptions sample;
     sample.interpolation = server::FromProto(request.interpolation());
     sample.wrap = server::FromProto(request.wrap());
     auto [positions, normals] = OutputsOf(mesh, response);
-    ARMATURE_RETURN_IF_ERROR(SkinByClip(mesh, *clip, request.time(), sample, options, positions, normals, ws.skin));
+    ARMATURE_RETURN_IF_ERROR(SkinByClip(mesh, mesh_clip, request.time(), sample, options, positions, normals, ws.skin));
   } else {
     if (named.skeleton.empty())
       return Status::InvalidArgument("pose: mesh '" + named.name + "' has no skeleton to pose; give a clip");

@@ -40,9 +40,9 @@ grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMe
       reactor->HoldUntilDone(std::move(*stream));
       return reactor;
     }
-    auto clip = ClipFor(*catalog, *mesh->part, request->clip());
-    if (!clip.ok()) return new Failed(clip.status());
-    auto* reactor = new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*clip), *method,
+    auto mesh_clip = ClipFor(*catalog, *mesh->part, request->clip());
+    if (!mesh_clip.ok()) return new Failed(mesh_clip.status());
+    auto* reactor = new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*mesh_clip), *method,
                                                  request->interpolation());
     reactor->HoldUntilDone(std::move(*stream));
     return reactor;

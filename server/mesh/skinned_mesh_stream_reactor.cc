@@ -8,10 +8,10 @@
 namespace armature::server {
 
 StreamSkinnedMeshReactor::StreamSkinnedMeshReactor(FrameScheduler& scheduler, StreamPacing pacing,
-                                                   PartRef<NamedMesh> mesh, MeshClip clip,
+                                                   PartRef<NamedMesh> mesh, MeshClip mesh_clip,
                                                    SkinningMethod method, v1::Interpolation interpolation)
-    : PacedStreamReactor(scheduler, pacing, clip.clip.part->clip->duration), mesh_(std::move(mesh)),
-      clip_(std::move(clip)), interpolation_(interpolation) {
+    : PacedStreamReactor(scheduler, pacing, mesh_clip.clip_ref.part->clip->duration), mesh_(std::move(mesh)),
+      mesh_clip_(std::move(mesh_clip)), interpolation_(interpolation) {
   options_.method = method;
   Start();
 }
@@ -22,14 +22,15 @@ Status StreamSkinnedMeshReactor::Fill(uint64_t index, double t, WrapMode wrap, v
   sample.wrap = wrap;
   const Mesh& mesh = *mesh_.part->mesh;
   auto [positions, normals] = OutputsOf(mesh, &frame);
-  ARMATURE_RETURN_IF_ERROR(SkinByClip(mesh, clip_, t, sample, options_, positions, normals, ws_));
+  ARMATURE_RETURN_IF_ERROR(SkinByClip(mesh, mesh_clip_, t, sample, options_, positions, normals, ws_));
   frame.set_index(index);
   frame.set_time(t);
   return Status::Ok();
 }
 
 void StreamSkinnedMeshReactor::OnStreamDone(uint64_t frames) {
-  spdlog::debug("skinned stream of '{}' by '{}' done after {} frames", mesh_.part->name, clip_.clip.part->name, frames);
+  spdlog::debug("skinned stream of '{}' by '{}' done after {} frames", mesh_.part->name,
+                mesh_clip_.clip_ref.part->name, frames);
 }
 
 }  // namespace armature::server

@@ -15,14 +15,14 @@ namespace armature::server {
 class StreamSkinnedMeshReactor final : public PacedStreamReactor<v1::SkinnedMeshFrame> {
  public:
   StreamSkinnedMeshReactor(FrameScheduler& scheduler, StreamPacing pacing, PartRef<NamedMesh> mesh,
-                           MeshClip clip, SkinningMethod method, v1::Interpolation interpolation);
+                           MeshClip mesh_clip, SkinningMethod method, v1::Interpolation interpolation);
 
  private:
   Status Fill(uint64_t index, double t, WrapMode wrap, v1::SkinnedMeshFrame& frame) override;
   void OnStreamDone(uint64_t frames) override;
 
   PartRef<NamedMesh> mesh_;
-  MeshClip clip_;
+  MeshClip mesh_clip_;
   v1::Interpolation interpolation_;
   SkinningOptions options_;
   SkinningWorkspace ws_;

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/base/utf8.h"
 #include "fuzz_limits.h"
 

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/mesh/mesh.h"
 #include "armature/base/utf8.h"
 #include "fuzz_limits.h"

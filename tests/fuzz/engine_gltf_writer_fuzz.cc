@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 #include "round_trip.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -5,7 +5,7 @@
 #include <string_view>
 #include <vector>
 
-#include "armature/engine/io/obj.h"
+#include "armature/engine/io/obj/obj.h"
 #include "armature/base/utf8.h"
 #include "fuzz_limits.h"
 

@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "armature/engine/io/asset.h"
-#include "armature/engine/io/bvh.h"
-#include "armature/engine/io/gltf.h"
-#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/io/bvh/bvh.h"
+#include "armature/engine/io/gltf/gltf.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 #include "armature/engine/mesh/mesh.h"
 #include "fuzz_limits.h"
 

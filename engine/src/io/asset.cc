@@ -5,9 +5,9 @@
 #include <memory>
 #include <string>
 
-#include "armature/engine/io/bvh.h"
-#include "armature/engine/io/gltf.h"
-#include "armature/engine/io/obj.h"
+#include "armature/engine/io/bvh/bvh.h"
+#include "armature/engine/io/gltf/gltf.h"
+#include "armature/engine/io/obj/obj.h"
 #include "armature/base/utf8.h"
 
 namespace armature {

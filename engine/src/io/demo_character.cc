@@ -16,7 +16,7 @@
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/mesh/mesh.h"
 #include "armature/engine/math/rotation.h"
-#include "gltf_export.h"
+#include "io/gltf/gltf_export.h"
 
 namespace armature {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "armature/engine/anim/joint_name_map.h"
+#include "armature/engine/anim/body_part_map.h"
 
 namespace armature {
 namespace {

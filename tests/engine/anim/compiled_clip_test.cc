@@ -13,8 +13,8 @@
 #include <gtest/gtest.h>
 
 #include "armature/engine/anim/compiled_clip.h"
-#include "armature/engine/io/bvh.h"
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/bvh/bvh.h"
+#include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/math/rotation.h"
 #include "../testing/test_files.h"
 

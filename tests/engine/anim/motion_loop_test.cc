@@ -14,7 +14,7 @@
 
 #include "armature/engine/anim/motion.h"
 #include "armature/engine/io/demo_walk.h"
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/kinematics/fk.h"
 
 namespace armature {

@@ -15,7 +15,7 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/math/rotation.h"
 
 namespace armature {
@@ -77,7 +77,7 @@ TEST(BvhFrameValues, EveryNumberSpellingReadsAsStrtodReadsIt) {
   EXPECT_EQ(mismatches, 0u);
 }
 
-// The reader's inline sine and cosine (engine/src/io/euler_degrees.h) are
+// The reader's inline sine and cosine (engine/src/io/bvh/euler_degrees.h) are
 // within 1 ulp of libm's: the quaternions within 1e-15 of EulerToQuaternion's,
 // also near quarter turns (where the range reduction switches quadrant) and
 // for angles of many turns.

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "armature/engine/io/asset.h"
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/base/utf8.h"
 
 namespace armature {

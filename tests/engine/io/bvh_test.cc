@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "../testing/bvh_reference.h"
 #include "../testing/test_files.h"
 

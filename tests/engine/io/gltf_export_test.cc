@@ -11,10 +11,10 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_walk.h"
-#include "armature/engine/io/gltf.h"
-#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/io/gltf/gltf.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 #include "armature/engine/mesh/mesh.h"
 #include "../testing/mesh_test_util.h"
 

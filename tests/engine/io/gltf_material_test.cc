@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "armature/engine/io/gltf.h"
-#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/io/gltf/gltf.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 #include "armature/engine/mesh/mesh.h"
 #include "../testing/mesh_test_util.h"
 

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "armature/engine/io/demo_character.h"
-#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 #include "armature/engine/mesh/skinning.h"
 #include "../testing/mesh_test_util.h"
 

@@ -1,4 +1,4 @@
-#include "armature/engine/io/obj.h"
+#include "armature/engine/io/obj/obj.h"
 
 #include <gtest/gtest.h>
 

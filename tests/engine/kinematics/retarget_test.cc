@@ -14,12 +14,12 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/anim/joint_name_map.h"
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/anim/body_part_map.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_walk.h"
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/kinematics/fk.h"
-#include "armature/engine/kinematics/retarget.h"
+#include "armature/engine/kinematics/retarget/retarget.h"
 
 namespace armature {
 namespace {
@@ -47,7 +47,7 @@ std::vector<Vector3d> RestPositions(const Skeleton& s) {
 }
 
 // The yaw turning the source's left−right thigh line onto the target's, from the rest poses.
-Quaterniond ThighYaw(const Skeleton& s, const Skeleton& t, const JointNameMap& map) {
+Quaterniond ThighYaw(const Skeleton& s, const Skeleton& t, const BodyPartMap& map) {
   const auto ps = RestPositions(s), pt = RestPositions(t);
   Vector3d a = ps[static_cast<size_t>(map.source_parts.legs[0].upper)] - ps[static_cast<size_t>(map.source_parts.legs[1].upper)];
   Vector3d b = pt[static_cast<size_t>(map.target_parts.legs[0].upper)] - pt[static_cast<size_t>(map.target_parts.legs[1].upper)];
@@ -60,7 +60,7 @@ struct Bone {
 };
 
 // The limb bones (upper arm, forearm, thigh, shin) and the spine to the head, by body part.
-std::vector<Bone> LimbAndSpineBones(const JointNameMap& map) {
+std::vector<Bone> LimbAndSpineBones(const BodyPartMap& map) {
   const BodyParts& s = map.source_parts;
   const BodyParts& t = map.target_parts;
   std::vector<Bone> bones;
@@ -231,7 +231,7 @@ double LegLength(const std::vector<Vector3d>& p, const LimbJoints& leg) {
 // stretches where the source's foot is planted: within 5 % of the leg length
 // of its lowest and slower than 15 % of the leg length per second, for at
 // least 5 of the 120 Hz frames.
-double MaxPlantedFootDrift(const Clip& source, const Clip& target, const JointNameMap& map, size_t* stretches) {
+double MaxPlantedFootDrift(const Clip& source, const Clip& target, const BodyPartMap& map, size_t* stretches) {
   const double dt = source.frame_time;
   const size_t n = static_cast<size_t>(source.duration / dt) + 1;
   double worst = 0;

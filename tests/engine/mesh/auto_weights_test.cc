@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/io/obj.h"
+#include "armature/engine/io/obj/obj.h"
 #include "armature/engine/math/rotation.h"
 #include "armature/engine/mesh/skinning.h"
 #include "../testing/mesh_test_util.h"

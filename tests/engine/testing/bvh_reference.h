@@ -19,7 +19,7 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/anim/skeleton.h"
 

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "armature/engine/io/asset.h"
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/mesh/mesh.h"
 #include "armature/engine/anim/skeleton.h"
 #include "test_files.h"

@@ -7,7 +7,7 @@
 
 // The engine first: a system header included later defines a macro Eigen's
 // headers trip on.
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/mesh/mesh.h"
 
 #include <gtest/gtest.h>

@@ -14,7 +14,7 @@
 #include <vector>
 
 // The engine first: a system header included later defines a macro Eigen's headers trip on.
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_character.h"
 #include "armature/engine/io/demo_walk.h"
 #include "support/client_helpers.h"

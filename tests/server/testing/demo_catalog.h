@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_character.h"
 #include "armature/engine/io/demo_walk.h"
 #include "server/assets/catalog.h"

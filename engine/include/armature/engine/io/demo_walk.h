@@ -2,7 +2,7 @@
 // data), so a fresh install has something to play.
 #pragma once
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 
 namespace armature {
 

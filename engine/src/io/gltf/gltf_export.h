@@ -1,7 +1,7 @@
 // The glTF writer's shared pieces: the model under construction with its one
 // buffer (gltf_writer.cc, also used by demo_character.cc), the animation
 // (gltf_export_animation.cc) and the meshes with their skins
-// (gltf_export_mesh.cc). Private to engine/src/io.
+// (gltf_export_mesh.cc). Private to engine/src/io (io/gltf and the demo character).
 #pragma once
 
 #include <cstdint>

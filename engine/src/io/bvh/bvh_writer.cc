@@ -6,7 +6,7 @@
 #include <unordered_set>
 #include <vector>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/math/rotation.h"
 
 namespace armature {

@@ -1,4 +1,4 @@
-// Retargeting's automatic joint map (anim/joint_name_map.h): names read as
+// Retargeting's automatic joint map (anim/body_part_map.h): names read as
 // body parts across naming schemes (CMU, RobotExpressive, the demo
 // character, mixamo, Character Creator), explicit pairs overriding it, and
 // bad explicit pairs named.
@@ -12,10 +12,10 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/anim/joint_name_map.h"
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/anim/body_part_map.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_walk.h"
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 
 namespace armature {
 namespace {
@@ -37,7 +37,7 @@ std::shared_ptr<Skeleton> Tree(const std::vector<std::pair<std::string, std::str
 }
 
 // target joint name → source joint name
-std::map<std::string, std::string> Pairs(const Skeleton& source, const Skeleton& target, const JointNameMap& map) {
+std::map<std::string, std::string> Pairs(const Skeleton& source, const Skeleton& target, const BodyPartMap& map) {
   std::map<std::string, std::string> out;
   for (const JointPairIndex& p : map.pairs)
     out[target.names[static_cast<size_t>(p.target)]] = source.names[static_cast<size_t>(p.source)];
@@ -58,7 +58,7 @@ std::shared_ptr<const Skeleton> LoadShared(const std::string& relative) {
   return asset.ok() ? asset->skeletons.at(0).skeleton : nullptr;
 }
 
-TEST(JointNameMap, NormalizesPrefixesSeparatorsSidesAndNumbers) {
+TEST(BodyPartMap, NormalizesPrefixesSeparatorsSidesAndNumbers) {
   struct Case {
     const char* name;
     BodySide side;
@@ -144,7 +144,7 @@ std::shared_ptr<Skeleton> CharacterCreator(bool fingers = false) {
   return Tree(j);
 }
 
-TEST(JointNameMap, MapsMixamoFingersOntoCharacterCreatorsAndBack) {
+TEST(BodyPartMap, MapsMixamoFingersOntoCharacterCreatorsAndBack) {
   const auto mixamo = Mixamo(true), cc = CharacterCreator(true);
   for (bool cc_is_target : {true, false}) {
     const Skeleton& source = cc_is_target ? *mixamo : *cc;
@@ -167,7 +167,7 @@ TEST(JointNameMap, MapsMixamoFingersOntoCharacterCreatorsAndBack) {
   EXPECT_EQ(NormalizeJointName("CC_Base_R_Mid3").base, "middle");
 }
 
-TEST(JointNameMap, MapsMixamoOntoCharacterCreator) {
+TEST(BodyPartMap, MapsMixamoOntoCharacterCreator) {
   const auto source = Mixamo();
   const auto target = CharacterCreator();
   auto map = MapJointsByBodyParts(*source, *target, {});
@@ -190,7 +190,7 @@ TEST(JointNameMap, MapsMixamoOntoCharacterCreator) {
   EXPECT_EQ(map->pairs.size() + map->unmapped_source.size(), source->size());
 }
 
-TEST(JointNameMap, MapsCmuOntoTheDemoCharacterByTopologyWhereNamesDisagree) {
+TEST(BodyPartMap, MapsCmuOntoTheDemoCharacterByTopologyWhereNamesDisagree) {
   const auto source = LoadShared("bvh/cmu_01_01.bvh");
   if (!source) GTEST_SKIP() << "../shared/data/bvh/cmu_01_01.bvh is absent";
   const auto target = MakeDemoWalk().clip->skeleton;
@@ -212,7 +212,7 @@ TEST(JointNameMap, MapsCmuOntoTheDemoCharacterByTopologyWhereNamesDisagree) {
   EXPECT_NE(std::find(unmapped.begin(), unmapped.end(), "LHipJoint"), unmapped.end());
 }
 
-TEST(JointNameMap, MapsCmuOntoRobotExpressive) {
+TEST(BodyPartMap, MapsCmuOntoRobotExpressive) {
   const auto source = LoadShared("bvh/cmu_01_01.bvh");
   const auto target = LoadShared("gltf/RobotExpressive/RobotExpressive.glb");
   if (!source || !target) GTEST_SKIP() << "../shared/data (CMU 01_01, RobotExpressive) is absent";
@@ -233,7 +233,7 @@ TEST(JointNameMap, MapsCmuOntoRobotExpressive) {
   EXPECT_EQ(pairs.count(hand) ? pairs.at(hand) : "", "LeftHand");
 }
 
-TEST(JointNameMap, ExplicitPairsOverrideAndBadOnesAreNamed) {
+TEST(BodyPartMap, ExplicitPairsOverrideAndBadOnesAreNamed) {
   const auto source = Mixamo();
   const auto target = CharacterCreator();
   const std::vector<JointNamePair> explicit_pairs = {{"mixamorig:Spine1", "CC_Base_NeckTwist02"}};

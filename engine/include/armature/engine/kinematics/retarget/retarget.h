@@ -1,7 +1,7 @@
 // Retargeting: a clip moved onto another skeleton whose joints have other
 // names, frames, proportions and rest pose (T-pose or A-pose). In kinematics/
 // because it needs world transforms (fk) and two-bone IK (feet); the joint map
-// it takes is anim/joint_name_map's.
+// it takes is anim/body_part_map's.
 //
 // For each mapped pair the target's bone points where the source's bone
 // points in world space. With Y the yaw that turns the source's facing onto
@@ -26,7 +26,7 @@
 
 #include "armature/base/status.h"
 #include "armature/engine/anim/clip.h"
-#include "armature/engine/anim/joint_name_map.h"
+#include "armature/engine/anim/body_part_map.h"
 #include "armature/engine/anim/skeleton.h"
 
 namespace armature {
@@ -55,7 +55,7 @@ struct RetargetResult {
 // INVALID_ARGUMENT for a clip that fails Clip::Validate, pairs out of range or
 // repeating a joint, or `feet` without a hip–knee–ankle chain in the target
 // (naming the leg and the joint that breaks it).
-StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target, const JointNameMap& map,
+StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target, const BodyPartMap& map,
                                       const RetargetOptions& options = {});
 
 }  // namespace armature

@@ -1,7 +1,7 @@
 // glTF 2.0 import: the Importer's orchestration and its skeleton (nodes and
 // skins). Meshes are read in gltf_mesh.cc, animations in gltf_animation.cc,
 // bytes through tinygltf in gltf_load.cc.
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/gltf/gltf.h"
 
 #include <algorithm>
 #include <cctype>

@@ -64,7 +64,9 @@ struct JointNamePair {
   std::string target;
 };
 
-struct JointNameMap {
+// Retargeting's joint map, read through body parts (anim/joint_map's
+// MapJointsByName is the other one: the same names, joint by joint).
+struct BodyPartMap {
   std::vector<JointPairIndex> pairs;  // in target joint order
   std::vector<int> unmapped_source;   // ascending
   std::vector<int> unmapped_target;
@@ -78,7 +80,7 @@ struct JointNameMap {
 // one target joint. INVALID_ARGUMENT naming the entry ("map[1].target:
 // unknown joint 'Foo' …", "map[2]: target joint 'Head' is already mapped
 // from 'Head' by map[0]") for unknown or repeated joints.
-StatusOr<JointNameMap> MapJointsByBodyParts(const Skeleton& source, const Skeleton& target,
-                                            std::span<const JointNamePair> explicit_pairs);
+StatusOr<BodyPartMap> MapJointsByBodyParts(const Skeleton& source, const Skeleton& target,
+                                           std::span<const JointNamePair> explicit_pairs);
 
 }  // namespace armature

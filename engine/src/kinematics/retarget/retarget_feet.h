@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "armature/base/status.h"
-#include "armature/engine/anim/joint_name_map.h"
+#include "armature/engine/anim/body_part_map.h"
 #include "armature/engine/kinematics/ik_types.h"
 #include "armature/engine/kinematics/ik_workspace.h"
 #include "armature/engine/math/transform.h"

@@ -1,4 +1,4 @@
-#include "armature/engine/anim/joint_name_map.h"
+#include "armature/engine/anim/body_part_map.h"
 
 #include <algorithm>
 #include <cctype>
@@ -276,9 +276,9 @@ BodyParts FindBodyParts(const Skeleton& skeleton) {
   return parts;
 }
 
-StatusOr<JointNameMap> MapJointsByBodyParts(const Skeleton& source, const Skeleton& target,
-                                            std::span<const JointNamePair> explicit_pairs) {
-  JointNameMap map;
+StatusOr<BodyPartMap> MapJointsByBodyParts(const Skeleton& source, const Skeleton& target,
+                                           std::span<const JointNamePair> explicit_pairs) {
+  BodyPartMap map;
   map.source_parts = FindBodyParts(source);
   map.target_parts = FindBodyParts(target);
   const BodyParts& s = map.source_parts;

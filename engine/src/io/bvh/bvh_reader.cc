@@ -14,7 +14,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/math/rotation.h"
 #include "armature/base/utf8.h"
 #include "euler_degrees.h"

@@ -1,4 +1,4 @@
-#include "kinematics/retarget_feet.h"
+#include "retarget_feet.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "armature/engine/kinematics/retarget.h"
+#include "armature/engine/kinematics/retarget/retarget.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/kinematics/ik.h"
 #include "armature/engine/math/rotation.h"
-#include "kinematics/retarget_feet.h"
+#include "retarget_feet.h"
 
 namespace armature {
 namespace {
@@ -80,7 +80,7 @@ struct Plan {
   int moved_root = -1;                         // the target root that is translated
 };
 
-Status ValidatePairs(const Clip& source, const Skeleton& target, const JointNameMap& map, Plan& plan) {
+Status ValidatePairs(const Clip& source, const Skeleton& target, const BodyPartMap& map, Plan& plan) {
   const Skeleton& s = *source.skeleton;
   plan.source_of.assign(target.size(), -1);
   plan.target_of.assign(s.size(), -1);
@@ -195,7 +195,7 @@ void PlaceCarried(const Skeleton& t, const WorldPose& t0, const Plan& plan, Fram
 
 }  // namespace
 
-StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target, const JointNameMap& map,
+StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target, const BodyPartMap& map,
                                       const RetargetOptions& options) {
   if (!source.skeleton) return Status::InvalidArgument("source clip has no skeleton");
   ARMATURE_RETURN_IF_ERROR(source.Validate());

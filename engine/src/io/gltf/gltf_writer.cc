@@ -1,7 +1,7 @@
 // glTF export: the orchestration, the model's buffer, the skeleton's nodes
 // and the size estimate. The animation is written in gltf_export_animation.cc,
 // meshes and skins in gltf_export_mesh.cc.
-#include "armature/engine/io/gltf_writer.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 
 #include <cmath>
 #include <exception>
