@@ -183,9 +183,9 @@ class BvhParser {
     ARMATURE_RETURN_IF_ERROR(ParseMotion());
     skeleton_->channels.reserve(joints_.size());
     for (JointDef& j : joints_) skeleton_->channels.push_back(j.channels);
-    if (Status st = skeleton_->Validate(); !st.ok()) return st;
+    ARMATURE_RETURN_IF_ERROR(skeleton_->Validate());
     clip_->skeleton = skeleton_;
-    if (Status st = clip_->Validate(); !st.ok()) return st;
+    ARMATURE_RETURN_IF_ERROR(clip_->Validate());
     return BvhData{skeleton_, clip_, std::move(warnings_)};
   }
 
@@ -339,102 +339,74 @@ class BvhParser {
     return Status::Ok();
   }
 
-  Status ParseMotion() {
+  // The MOTION header: "Frames: n" and "Frame Time: seconds".
+  struct MotionHeader {
+    long long frames = 0;
+    int frames_line = 0;  // the line of "Frames:", for messages
+    double dt = 0;
+  };
+
+  StatusOr<MotionHeader> ReadMotionHeader() {
+    MotionHeader header;
     std::string_view value;
     ARMATURE_RETURN_IF_ERROR(ReadLabeledLine({"Frames"}, &value));
-    long long frames = 0;
-    if (!ParseCount(value, &frames) || frames < 0) return Error("frame count " + Quoted(value) + " is not a whole number >= 0");
-    const int frames_line = scan_.token_line();
-    const auto frame_count = static_cast<uint64_t>(frames);
+    if (!ParseCount(value, &header.frames) || header.frames < 0)
+      return Error("frame count " + Quoted(value) + " is not a whole number >= 0");
+    header.frames_line = scan_.token_line();
+    const auto frame_count = static_cast<uint64_t>(header.frames);
     if (frame_count > limits_.max_clip_frames)
-      return Status::ResourceExhausted("line " + std::to_string(frames_line) + ": " +
+      return Status::ResourceExhausted("line " + std::to_string(header.frames_line) + ": " +
                                        OverImportLimitCount(frame_count, "frames (Frames:)", "max_clip_frames",
                                                             limits_.max_clip_frames));
     ARMATURE_RETURN_IF_ERROR(ReadLabeledLine({"Frame", "Time"}, &value));
-    double dt = 0;
-    if (!ParseDouble(value, &dt) || !std::isfinite(dt) || !(dt > 0))
+    if (!ParseDouble(value, &header.dt) || !std::isfinite(header.dt) || !(header.dt > 0))
       return Error("frame time " + Quoted(value) + " is not a positive number of seconds");
+    return header;
+  }
 
+  // The clip, its tracks' keys bounded by max_clip_keys and reserved; returns
+  // the frames reserved.
+  StatusOr<size_t> StartClip(const MotionHeader& header) {
     // Tracks only for joints with channels: a joint without any stays at its
     // rest pose, and no key is stored that no bytes of the file pay for.
-    const size_t n_joints = joints_.size();
-    const size_t columns = static_cast<size_t>(total_channels_);
+    const auto frame_count = static_cast<uint64_t>(header.frames);
     size_t tracks = 0;
     for (const JointDef& def : joints_) tracks += (def.rotation_axes.empty() ? 0 : 1) + (def.has_position ? 1 : 0);
     uint64_t keys = 0;
     if (__builtin_mul_overflow(frame_count, tracks, &keys)) keys = UINT64_MAX;
     if (keys > limits_.max_clip_keys)
       return Status::ResourceExhausted(
-          "line " + std::to_string(frames_line) + ": " +
+          "line " + std::to_string(header.frames_line) + ": " +
           OverImportLimit(std::to_string(frame_count) + " frames × " + std::to_string(tracks) + " tracks =", keys,
                           "max_clip_keys", limits_.max_clip_keys));
     clip_ = std::make_shared<Clip>();
-    clip_->joints.resize(n_joints);
-    clip_->frame_time = dt;
-    clip_->frame_count = static_cast<size_t>(frames);
-    clip_->duration = frames > 0 ? static_cast<double>(frames - 1) * dt : 0.0;
+    clip_->joints.resize(joints_.size());
+    clip_->frame_time = header.dt;
+    clip_->frame_count = static_cast<size_t>(header.frames);
+    clip_->duration = header.frames > 0 ? static_cast<double>(header.frames - 1) * header.dt : 0.0;
     clip_->default_interpolation = Interpolation::kLinear;
 
     // Reserve no more frames than the rest of the file can hold (each value
     // takes two bytes at least), so a lying frame count cannot make us
     // allocate gigabytes.
-    const size_t capacity =
-        std::min<size_t>(static_cast<size_t>(frames), scan_.remaining() / (2 * std::max<size_t>(columns, 1)) + 1);
-    std::vector<double> times;
-    times.reserve(capacity);
-    for (size_t j = 0; j < n_joints; ++j) {
+    const size_t columns = static_cast<size_t>(total_channels_);
+    const size_t capacity = std::min<size_t>(static_cast<size_t>(header.frames),
+                                             scan_.remaining() / (2 * std::max<size_t>(columns, 1)) + 1);
+    for (size_t j = 0; j < joints_.size(); ++j) {
       if (!joints_[j].rotation_axes.empty()) clip_->joints[j].rotation.values.reserve(capacity);
       if (joints_[j].has_position) clip_->joints[j].translation.values.reserve(capacity);
     }
+    return capacity;
+  }
 
-    // Frame lines in one pass over the bytes: no line is scanned twice, and
-    // plain decimals take plain_decimal.h's fast path.
-    std::vector<double> row(columns);
-    const std::string_view text = scan_.text();
-    const char* p = LineEnd(text.data() + scan_.pos(), text.data() + text.size());  // past "Frame Time:"
-    const char* const end = text.data() + text.size();
-    int line = scan_.line();
-    for (long long f = 0; f < frames; ++f) {
-      size_t count = 0;
-      while (count == 0) {  // blank lines hold no frame
-        if (p >= end) {
-          scan_.Seek(text.size(), line);
-          return Error("file ends after " + std::to_string(f) + " of the " + std::to_string(frames) +
-                       " frames that 'Frames:' on line " + std::to_string(frames_line) + " declares");
-        }
-        ++p;  // the line break
-        ++line;
-        ARMATURE_RETURN_IF_ERROR(ReadFrameValues(&p, end, line, f, &row, &count));
-      }
-      if (count != columns)
-        return ErrorAt(line, "frame " + std::to_string(f) + " has " + std::to_string(count) + " values, expected " +
-                                 std::to_string(columns));
-      times.push_back(static_cast<double>(f) * dt);
-      for (size_t j = 0; j < n_joints; ++j) {
-        const JointDef& def = joints_[j];
-        JointTrack& track = clip_->joints[j];
-        if (!def.rotation_axes.empty()) track.rotation.values.push_back(bvh_detail::EulerDegreesToQuaternion(
-              def.rotation_axes.data(), def.rotation_columns.data(), def.rotation_axes.size(), row.data()));
-        if (def.has_position) {
-          Eigen::Vector3d t = def.offset;
-          for (int k = 0; k < 3; ++k)
-            if (def.position_columns[k] >= 0) t[k] += row[static_cast<size_t>(def.position_columns[k])];
-          track.translation.values.push_back(t);
-        }
-      }
-    }
-    scan_.Seek(static_cast<size_t>(p - text.data()), line);
-    // Lines beyond the declared count are ignored, as three.js, assimp and
-    // Blender do (real exporters write one too many).
-    if (std::string_view extra = scan_.NextLine(); !extra.empty()) {
-      const int first_extra = scan_.token_line();
-      size_t count = 0;
-      for (; !extra.empty(); extra = scan_.NextLine()) ++count;
-      warnings_.push_back("line " + std::to_string(first_extra) + ": " + std::to_string(count) + " frame line" +
-                          (count == 1 ? "" : "s") + " beyond Frames: " + std::to_string(frames) + " ignored");
-    }
-
-    for (size_t j = 0; j < n_joints; ++j) {
+  Status ParseMotion() {
+    ARMATURE_ASSIGN_OR_RETURN(const MotionHeader header, ReadMotionHeader());
+    ARMATURE_ASSIGN_OR_RETURN(const size_t capacity, StartClip(header));
+    std::vector<double> times;
+    times.reserve(capacity);
+    ARMATURE_RETURN_IF_ERROR(ReadFrames(header, times));
+    WarnExtraLines(header.frames);
+    for (size_t j = 0; j < joints_.size(); ++j) {
       JointTrack& track = clip_->joints[j];
       if (!joints_[j].rotation_axes.empty()) {
         track.rotation.times = times;
@@ -446,6 +418,65 @@ class BvhParser {
       }
     }
     return Status::Ok();
+  }
+
+  // Frame lines in one pass over the bytes: no line is scanned twice, and
+  // plain decimals take plain_decimal.h's fast path.
+  Status ReadFrames(const MotionHeader& header, std::vector<double>& times) {
+    const size_t columns = static_cast<size_t>(total_channels_);
+    std::vector<double> row(columns);
+    const std::string_view text = scan_.text();
+    const char* p = LineEnd(text.data() + scan_.pos(), text.data() + text.size());  // past "Frame Time:"
+    const char* const end = text.data() + text.size();
+    int line = scan_.line();
+    for (long long f = 0; f < header.frames; ++f) {
+      size_t count = 0;
+      while (count == 0) {  // blank lines hold no frame
+        if (p >= end) {
+          scan_.Seek(text.size(), line);
+          return Error("file ends after " + std::to_string(f) + " of the " + std::to_string(header.frames) +
+                       " frames that 'Frames:' on line " + std::to_string(header.frames_line) + " declares");
+        }
+        ++p;  // the line break
+        ++line;
+        ARMATURE_RETURN_IF_ERROR(ReadFrameValues(&p, end, line, f, &row, &count));
+      }
+      if (count != columns)
+        return ErrorAt(line, "frame " + std::to_string(f) + " has " + std::to_string(count) + " values, expected " +
+                                 std::to_string(columns));
+      times.push_back(static_cast<double>(f) * header.dt);
+      AppendFrame(row);
+    }
+    scan_.Seek(static_cast<size_t>(p - text.data()), line);
+    return Status::Ok();
+  }
+
+  // One frame's values (`row`, by column) as each joint's keys.
+  void AppendFrame(const std::vector<double>& row) {
+    for (size_t j = 0; j < joints_.size(); ++j) {
+      const JointDef& def = joints_[j];
+      JointTrack& track = clip_->joints[j];
+      if (!def.rotation_axes.empty()) track.rotation.values.push_back(bvh_detail::EulerDegreesToQuaternion(
+            def.rotation_axes.data(), def.rotation_columns.data(), def.rotation_axes.size(), row.data()));
+      if (def.has_position) {
+        Eigen::Vector3d t = def.offset;
+        for (int k = 0; k < 3; ++k)
+          if (def.position_columns[k] >= 0) t[k] += row[static_cast<size_t>(def.position_columns[k])];
+        track.translation.values.push_back(t);
+      }
+    }
+  }
+
+  // Lines beyond the declared count are ignored, as three.js, assimp and
+  // Blender do (real exporters write one too many).
+  void WarnExtraLines(long long frames) {
+    std::string_view extra = scan_.NextLine();
+    if (extra.empty()) return;
+    const int first_extra = scan_.token_line();
+    size_t count = 0;
+    for (; !extra.empty(); extra = scan_.NextLine()) ++count;
+    warnings_.push_back("line " + std::to_string(first_extra) + ": " + std::to_string(count) + " frame line" +
+                        (count == 1 ? "" : "s") + " beyond Frames: " + std::to_string(frames) + " ignored");
   }
 
   // The values of the frame line that starts at `*p`, up to its line break

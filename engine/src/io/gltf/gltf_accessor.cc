@@ -130,6 +130,68 @@ StatusOr<const unsigned char*> ViewBytes(const tinygltf::Model& model, int view_
   return buffer.data.data() + view.byteOffset + offset;
 }
 
+// The accessor's type and componentType are those the caller reads.
+Status CheckAccessorKind(const tinygltf::Accessor& a, const std::string& who, AccessorType type,
+                         std::initializer_list<int> component_types, bool float_allowed, bool normalize) {
+  if (a.type != static_cast<int>(type))
+    return Status::InvalidArgument(who + " has type " + AccessorTypeName(a.type) + ", expected " +
+                                   AccessorTypeName(static_cast<int>(type)));
+  const bool is_float = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
+  const bool listed = std::find(component_types.begin(), component_types.end(), a.componentType) !=
+                      component_types.end();
+  if (!(is_float && float_allowed) && !listed) {
+    std::string expected = float_allowed ? "FLOAT" : "";
+    for (int t : component_types) expected += (expected.empty() ? "" : " or ") + ComponentTypeName(t);
+    return Status::InvalidArgument(who + " has componentType " + ComponentTypeName(a.componentType) + ", expected " +
+                                   expected);
+  }
+  if (normalize && !is_float && !a.normalized)
+    return Status::InvalidArgument(who + " has integer componentType " + ComponentTypeName(a.componentType) +
+                                   " but is not normalized");
+  if (a.count == 0) return Status::InvalidArgument(who + " has no elements");
+  return Status::Ok();
+}
+
+// Sparse substitution: the listed elements replaced by the sparse values.
+template <class T>
+Status ApplySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, const std::string& who,
+                   size_t components, size_t bytes, bool convert, std::vector<T>& result) {
+  const std::string swho = who + " sparse";
+  const auto& s = a.sparse;
+  const uint64_t element = components * bytes;
+  if (s.count <= 0 || static_cast<size_t>(s.count) > a.count)
+    return Status::InvalidArgument(swho + " count " + std::to_string(s.count) + " is not in [1, " +
+                                   std::to_string(a.count) + "]");
+  const int it = s.indices.componentType;
+  if (it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    return Status::InvalidArgument(swho + " indices have componentType " + ComponentTypeName(it) +
+                                   ", expected UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+  if (s.indices.byteOffset < 0 || s.values.byteOffset < 0)
+    return Status::InvalidArgument(swho + " has a negative byteOffset");
+  const uint64_t ib = ComponentBytes(it);
+  ARMATURE_ASSIGN_OR_RETURN(const unsigned char* indices,
+                            ViewBytes(model, s.indices.bufferView, static_cast<uint64_t>(s.indices.byteOffset),
+                                      static_cast<uint64_t>(s.count), ib, ib, swho + " indices", "byteOffset"));
+  ARMATURE_ASSIGN_OR_RETURN(const unsigned char* vals,
+                            ViewBytes(model, s.values.bufferView, static_cast<uint64_t>(s.values.byteOffset),
+                                      static_cast<uint64_t>(s.count), element, element, swho + " values",
+                                      "byteOffset"));
+  double previous = -1;
+  for (int k = 0; k < s.count; ++k) {
+    const double target = Component(indices + static_cast<size_t>(k) * ib, it, false);
+    if (target >= static_cast<double>(a.count) || target <= previous)
+      return Status::InvalidArgument(swho + " index " + std::to_string(static_cast<uint64_t>(target)) + " at " +
+                                     std::to_string(k) + " is out of range or not increasing");
+    previous = target;
+    const size_t i = static_cast<size_t>(target);
+    for (size_t c = 0; c < components; ++c)
+      result[i * components + c] =
+          static_cast<T>(Component(vals + static_cast<size_t>(k) * element + c * bytes, a.componentType, convert));
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 std::string AccessorTypeName(int type) {
@@ -152,35 +214,9 @@ StatusOr<size_t> AccessorReader::Count(int index, const std::string& where) cons
   return model_.accessors[static_cast<size_t>(index)].count;
 }
 
-template <class T>
-StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where, AccessorType type,
-                                            std::initializer_list<int> component_types, bool float_allowed,
-                                            bool normalize, std::vector<T>* out) const {
-  if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
-    return Status::InvalidArgument(where + ": accessor " + std::to_string(index) + " does not exist (file has " +
-                                   std::to_string(model_.accessors.size()) + ")");
-  const tinygltf::Accessor& a = model_.accessors[static_cast<size_t>(index)];
-  const std::string who = where + ": accessor " + std::to_string(index);
-  if (a.type != static_cast<int>(type))
-    return Status::InvalidArgument(who + " has type " + AccessorTypeName(a.type) + ", expected " +
-                                   AccessorTypeName(static_cast<int>(type)));
-  const bool is_float = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
-  const bool listed = std::find(component_types.begin(), component_types.end(), a.componentType) !=
-                      component_types.end();
-  if (!(is_float && float_allowed) && !listed) {
-    std::string expected = float_allowed ? "FLOAT" : "";
-    for (int t : component_types) expected += (expected.empty() ? "" : " or ") + ComponentTypeName(t);
-    return Status::InvalidArgument(who + " has componentType " + ComponentTypeName(a.componentType) + ", expected " +
-                                   expected);
-  }
-  if (normalize && !is_float && !a.normalized)
-    return Status::InvalidArgument(who + " has integer componentType " + ComponentTypeName(a.componentType) +
-                                   " but is not normalized");
-  if (a.count == 0) return Status::InvalidArgument(who + " has no elements");
+StatusOr<uint64_t> AccessorReader::ChargeValues(const tinygltf::Accessor& a, const std::string& who) const {
   const size_t components = Components(a.type);
-  const size_t bytes = ComponentBytes(a.componentType);
-  const uint64_t element = components * bytes;
-  const std::optional<uint64_t> values = MulAdd(a.count, components, 0);
+  const uint64_t element = components * ComponentBytes(a.componentType);
   if (a.bufferView < 0) {
     // No bufferView: zeros, unless sparse says otherwise. No bytes of the file
     // pay for these, so they have a cap of their own.
@@ -192,6 +228,7 @@ StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where,
                                                        unbacked.value_or(UINT64_MAX), "max_unbacked_accessor_bytes",
                                                        limits_.max_unbacked_accessor_bytes));
   }
+  const std::optional<uint64_t> values = MulAdd(a.count, components, 0);
   const std::optional<uint64_t> total = values ? MulAdd(1, *values, values_read_) : std::nullopt;
   if (!total || *total > limits_.max_accessor_values)
     return Status::ResourceExhausted(who + ": " +
@@ -200,7 +237,25 @@ StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where,
                                                          std::to_string(values_read_) + " values read before,",
                                                      total.value_or(UINT64_MAX), "max_accessor_values",
                                                      limits_.max_accessor_values));
-  const bool convert = normalize && !is_float;
+  return *total;
+}
+
+template <class T>
+StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where, AccessorType type,
+                                            std::initializer_list<int> component_types, bool float_allowed,
+                                            bool normalize, std::vector<T>* out) const {
+  if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
+    return Status::InvalidArgument(where + ": accessor " + std::to_string(index) + " does not exist (file has " +
+                                   std::to_string(model_.accessors.size()) + ")");
+  const tinygltf::Accessor& a = model_.accessors[static_cast<size_t>(index)];
+  const std::string who = where + ": accessor " + std::to_string(index);
+  ARMATURE_RETURN_IF_ERROR(CheckAccessorKind(a, who, type, component_types, float_allowed, normalize));
+  const size_t components = Components(a.type);
+  const size_t bytes = ComponentBytes(a.componentType);
+  const uint64_t element = components * bytes;
+  ARMATURE_ASSIGN_OR_RETURN(const uint64_t total, ChargeValues(a, who));
+  const bool convert = normalize && a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT;
+  const size_t values = a.count * components;  // fits: ChargeValues checked it
 
   std::vector<T> result;
   if (a.bufferView >= 0) {
@@ -208,51 +263,18 @@ StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where,
                                     model_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride
                                 ? model_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride
                                 : element;
-    auto data = ViewBytes(model_, a.bufferView, a.byteOffset, a.count, element, stride, who, "byteOffset");
-    if (!data.ok()) return data.status();
-    result.resize(*values);
+    ARMATURE_ASSIGN_OR_RETURN(const unsigned char* data, ViewBytes(model_, a.bufferView, a.byteOffset, a.count,
+                                                                   element, stride, who, "byteOffset"));
+    result.resize(values);
     for (size_t i = 0; i < a.count; ++i)
       for (size_t c = 0; c < components; ++c)
-        result[i * components + c] =
-            static_cast<T>(Component(*data + i * stride + c * bytes, a.componentType, convert));
+        result[i * components + c] = static_cast<T>(Component(data + i * stride + c * bytes, a.componentType, convert));
   } else {
-    result.assign(*values, T{});
+    result.assign(values, T{});
   }
-  values_read_ = *total;
-
-  if (a.sparse.isSparse) {
-    const std::string swho = who + " sparse";
-    const auto& s = a.sparse;
-    if (s.count <= 0 || static_cast<size_t>(s.count) > a.count)
-      return Status::InvalidArgument(swho + " count " + std::to_string(s.count) + " is not in [1, " +
-                                     std::to_string(a.count) + "]");
-    const int it = s.indices.componentType;
-    if (it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-        it != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-      return Status::InvalidArgument(swho + " indices have componentType " + ComponentTypeName(it) +
-                                     ", expected UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
-    if (s.indices.byteOffset < 0 || s.values.byteOffset < 0)
-      return Status::InvalidArgument(swho + " has a negative byteOffset");
-    const uint64_t ib = ComponentBytes(it);
-    auto indices = ViewBytes(model_, s.indices.bufferView, static_cast<uint64_t>(s.indices.byteOffset),
-                             static_cast<uint64_t>(s.count), ib, ib, swho + " indices", "byteOffset");
-    if (!indices.ok()) return indices.status();
-    auto vals = ViewBytes(model_, s.values.bufferView, static_cast<uint64_t>(s.values.byteOffset),
-                          static_cast<uint64_t>(s.count), element, element, swho + " values", "byteOffset");
-    if (!vals.ok()) return vals.status();
-    double previous = -1;
-    for (int k = 0; k < s.count; ++k) {
-      const double target = Component(*indices + static_cast<size_t>(k) * ib, it, false);
-      if (target >= static_cast<double>(a.count) || target <= previous)
-        return Status::InvalidArgument(swho + " index " + std::to_string(static_cast<uint64_t>(target)) +
-                                       " at " + std::to_string(k) + " is out of range or not increasing");
-      previous = target;
-      const size_t i = static_cast<size_t>(target);
-      for (size_t c = 0; c < components; ++c)
-        result[i * components + c] = static_cast<T>(
-            Component(*vals + static_cast<size_t>(k) * element + c * bytes, a.componentType, convert));
-    }
-  }
+  values_read_ = total;
+  if (a.sparse.isSparse)
+    ARMATURE_RETURN_IF_ERROR(ApplySparse(model_, a, who, components, bytes, convert, result));
   if constexpr (std::is_floating_point_v<T>) {
     for (size_t i = 0; i < result.size(); ++i)
       if (!std::isfinite(result[i]))

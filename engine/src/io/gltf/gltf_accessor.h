@@ -13,6 +13,7 @@
 
 namespace tinygltf {
 class Model;
+struct Accessor;
 }
 
 namespace armature::gltf_internal {
@@ -53,6 +54,11 @@ class AccessorReader {
   StatusOr<AccessorData> Read(int index, const std::string& where, AccessorType type,
                               std::initializer_list<int> component_types, bool float_allowed, bool normalize,
                               std::vector<T>* out) const;
+
+  // The values read so far with accessor `a`'s: RESOURCE_EXHAUSTED past
+  // max_accessor_values, or for an accessor without a bufferView past
+  // max_unbacked_accessor_bytes.
+  StatusOr<uint64_t> ChargeValues(const tinygltf::Accessor& a, const std::string& who) const;
 
   const tinygltf::Model& model_;
   const ImportLimits& limits_;

@@ -1,7 +1,7 @@
 // The glTF importer's state, shared by the files that read its parts:
 // gltf_import.cc (nodes, skins → skeleton), gltf_mesh.cc (meshes, skin
 // influences, morph targets) and gltf_animation.cc (samplers → clip tracks).
-// Private to engine/src/io.
+// Private to engine/src/io/gltf.
 #pragma once
 
 #include <set>
@@ -59,10 +59,39 @@ class Importer {
   StatusOr<Trs> NodeTrs(const tinygltf::Node& node, const std::string& where);
   StatusOr<SkinBinding> ReadSkin(int s);
   Status ImportMesh(size_t m);
+  // What a mesh's primitives gather while appended, for ImportMesh to finish.
+  struct MeshInProgress {
+    std::vector<SparseTarget> targets;
+    bool any_normals = false;
+    std::vector<std::pair<size_t, size_t>> missing_normals;  // vertex ranges of primitives without NORMAL
+    size_t zero_weight_vertices = 0;
+  };
+  // The primitive being appended: its vertices are the mesh's [base, base + count).
+  struct PrimitiveSlot {
+    const tinygltf::Primitive& prim;
+    std::string where;  // "meshes[m].primitives[p]"
+    std::string attrs;  // where + ".attributes."
+    size_t base = 0;
+    size_t count = 0;
+  };
+  // A skinned primitive's JOINTS_n and WEIGHTS_n, four per vertex per set.
+  struct InfluenceSets {
+    std::vector<std::vector<uint32_t>> joints;
+    std::vector<std::vector<float>> weights;
+  };
   Status AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin, Mesh& mesh,
-                         std::vector<SparseTarget>& targets, bool& any_normals,
-                         std::vector<std::pair<size_t, size_t>>& missing_normals,
-                         size_t& zero_weight_vertices);
+                         MeshInProgress& progress);
+  // Checks the sizes against the limits, charges the primitive and appends its
+  // positions; sets slot.count.
+  Status AppendPositions(PrimitiveSlot& slot, int skin, Mesh& mesh);
+  Status AppendTriangles(const PrimitiveSlot& slot, Mesh& mesh);
+  Status AppendNormals(const PrimitiveSlot& slot, Mesh& mesh, MeshInProgress& progress);
+  StatusOr<InfluenceSets> ReadInfluenceSets(const PrimitiveSlot& slot, int skin);
+  Status AppendInfluences(const PrimitiveSlot& slot, int skin, Mesh& mesh, size_t& zero_weight_vertices);
+  Status AppendMorphTargets(const PrimitiveSlot& slot, bool first, std::vector<SparseTarget>& targets);
+  // The gathered targets into `mesh`, named, with their default weights.
+  Status AddMorphTargets(const tinygltf::Mesh& gm, int node, const std::string& where, MeshInProgress& progress,
+                         Mesh& mesh);
   // glTF mesh `m` as imported: ImportMesh appends one entry per mesh, in
   // order, or fails the import, and all meshes are imported before animations.
   const Mesh& ImportedMesh(int m) const { return *contents_.meshes[static_cast<size_t>(m)].mesh; }
@@ -85,6 +114,7 @@ class Importer {
   Status AddMaterialGroup(const tinygltf::Primitive& prim, const std::string& where, size_t first_triangle,
                           Mesh& mesh);
   Status ImportAnimation(size_t a);
+  StatusOr<std::vector<double>> ReadKeyTimes(const tinygltf::AnimationSampler& sampler, const std::string& swhere);
   Status ImportChannel(const tinygltf::Animation& anim, const tinygltf::AnimationChannel& channel,
                        const std::string& swhere, Clip& clip);
 

@@ -38,34 +38,41 @@ Status Importer::ImportMesh(size_t m) {
   }
   if (gm.primitives.empty()) return Status::InvalidArgument(where + ".primitives is empty");
 
-  std::vector<SparseTarget> targets;
-  bool any_normals = false;
-  std::vector<std::pair<size_t, size_t>> missing_normals;  // vertex ranges of primitives without NORMAL
-  size_t zero_weight_vertices = 0;
+  MeshInProgress progress;
   for (size_t p = 0; p < gm.primitives.size(); ++p) {
     const size_t triangles_before = mesh->triangle_count();
     ARMATURE_RETURN_IF_ERROR(AppendPrimitive(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
-                                             p == 0, skin, *mesh, targets, any_normals, missing_normals,
-                                             zero_weight_vertices));
+                                             p == 0, skin, *mesh, progress));
     ARMATURE_RETURN_IF_ERROR(AddMaterialGroup(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
                                               triangles_before, *mesh));
   }
-  if (!any_normals) std::vector<Eigen::Vector3f>().swap(mesh->normals);  // the zeros' memory too
-  if (any_normals && !missing_normals.empty()) {
+  if (!progress.any_normals) std::vector<Eigen::Vector3f>().swap(mesh->normals);  // the zeros' memory too
+  if (progress.any_normals && !progress.missing_normals.empty()) {
     // A primitive's triangles only reference its own vertices, so the whole
     // mesh's vertex normals are each primitive's own.
     const auto computed = ComputeVertexNormals(mesh->positions, mesh->triangles);
-    for (const auto& [begin, end] : missing_normals)
+    for (const auto& [begin, end] : progress.missing_normals)
       std::copy(computed.begin() + static_cast<ptrdiff_t>(begin), computed.begin() + static_cast<ptrdiff_t>(end),
                 mesh->normals.begin() + static_cast<ptrdiff_t>(begin));
     warnings_.push_back(where + ": some primitives have no NORMAL; computed from their triangles");
   }
   FinishUvsAndMaterials(gm, where, *mesh);
-  if (zero_weight_vertices > 0)
-    warnings_.push_back(where + ": " + std::to_string(zero_weight_vertices) +
+  if (progress.zero_weight_vertices > 0)
+    warnings_.push_back(where + ": " + std::to_string(progress.zero_weight_vertices) +
                         " vertices have all-zero weights; bound to their first listed joint");
+  ARMATURE_RETURN_IF_ERROR(AddMorphTargets(gm, node, where, progress, *mesh));
 
-  // Morph targets: sparse deltas, names, default weights (the node's override the mesh's).
+  std::vector<std::string> mesh_warnings;
+  ARMATURE_RETURN_IF_ERROR(FinalizeMesh(*mesh, &mesh_warnings).WithContext(where + ": "));
+  for (const std::string& w : mesh_warnings) warnings_.push_back(where + ": " + w);
+  contents_.meshes.push_back({name_ + "." + mesh->name, node >= 0 ? name_ : "", mesh});
+  return Status::Ok();
+}
+
+// Morph targets: sparse deltas, names, default weights (the node's override the mesh's).
+Status Importer::AddMorphTargets(const tinygltf::Mesh& gm, int node, const std::string& where,
+                                 MeshInProgress& progress, Mesh& mesh) {
+  std::vector<SparseTarget>& targets = progress.targets;
   std::vector<std::string> names(targets.size());
   for (size_t t = 0; t < targets.size(); ++t) names[t] = std::to_string(t);
   if (gm.extras.Has("targetNames")) {
@@ -85,8 +92,8 @@ Status Importer::ImportMesh(size_t m) {
     target.name = names[t];
     target.vertices = std::move(targets[t].vertices);
     target.position_deltas = std::move(targets[t].positions);
-    if (targets[t].has_normals && any_normals) target.normal_deltas = std::move(targets[t].normals);
-    mesh->targets.push_back(std::move(target));
+    if (targets[t].has_normals && progress.any_normals) target.normal_deltas = std::move(targets[t].normals);
+    mesh.targets.push_back(std::move(target));
   }
   std::vector<double> weights = gm.weights;
   if (node >= 0 && !model_.nodes[static_cast<size_t>(node)].weights.empty())
@@ -94,16 +101,11 @@ Status Importer::ImportMesh(size_t m) {
   if (!weights.empty() && weights.size() != targets.size())
     return Status::InvalidArgument(where + ".weights: " + std::to_string(weights.size()) + " weights for " +
                                    std::to_string(targets.size()) + " morph targets");
-  mesh->default_weights.assign(targets.size(), 0.f);
+  mesh.default_weights.assign(targets.size(), 0.f);
   for (size_t t = 0; t < weights.size(); ++t) {
     if (!std::isfinite(weights[t])) return Status::InvalidArgument(where + ".weights is not finite");
-    mesh->default_weights[t] = static_cast<float>(weights[t]);
+    mesh.default_weights[t] = static_cast<float>(weights[t]);
   }
-
-  std::vector<std::string> mesh_warnings;
-  ARMATURE_RETURN_IF_ERROR(FinalizeMesh(*mesh, &mesh_warnings).WithContext(where + ": "));
-  for (const std::string& w : mesh_warnings) warnings_.push_back(where + ": " + w);
-  contents_.meshes.push_back({name_ + "." + mesh->name, node >= 0 ? name_ : "", mesh});
   return Status::Ok();
 }
 
@@ -148,9 +150,8 @@ Status Importer::ChargePrimitive(const tinygltf::Primitive& prim, const std::str
                                  int skin) {
   uint64_t indices = vertices;
   if (prim.indices >= 0) {
-    auto declared = reader_.Count(prim.indices, where + ".indices");
-    if (!declared.ok()) return declared.status();
-    indices = *declared;
+    ARMATURE_ASSIGN_OR_RETURN(auto declared, reader_.Count(prim.indices, where + ".indices"));
+    indices = declared;
   }
   uint64_t influence_sets = 0;
   if (skin >= 0)
@@ -164,25 +165,47 @@ Status Importer::ChargePrimitive(const tinygltf::Primitive& prim, const std::str
                        where);
 }
 
-Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin, Mesh& mesh,
-                                 std::vector<SparseTarget>& targets, bool& any_normals,
-                                 std::vector<std::pair<size_t, size_t>>& missing_normals,
-                                 size_t& zero_weight_vertices) {
-  const size_t base = mesh.positions.size();
-  auto attribute = [&](const char* semantic) {
-    auto it = prim.attributes.find(semantic);
-    return it == prim.attributes.end() ? -1 : it->second;
-  };
-  const std::string attrs = where + ".attributes.";
-  const int position_accessor = attribute("POSITION");
+namespace {
+
+// The accessor of a primitive's attribute `semantic`, or -1.
+int AttributeAccessor(const tinygltf::Primitive& prim, const char* semantic) {
+  auto it = prim.attributes.find(semantic);
+  return it == prim.attributes.end() ? -1 : it->second;
+}
+
+// Every attribute of a primitive has as many elements as POSITION.
+Status CheckCount(const AccessorData& d, const std::string& field, int accessor, size_t count) {
+  if (d.count != count)
+    return Status::InvalidArgument(field + ": accessor " + std::to_string(accessor) + " has " +
+                                   std::to_string(d.count) + " elements, POSITION has " + std::to_string(count));
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::string& where, bool first, int skin,
+                                 Mesh& mesh, MeshInProgress& progress) {
+  PrimitiveSlot slot{prim, where, where + ".attributes.", mesh.positions.size(), 0};
+  ARMATURE_RETURN_IF_ERROR(AppendPositions(slot, skin, mesh));
+  ARMATURE_RETURN_IF_ERROR(AppendTriangles(slot, mesh));
+  ARMATURE_RETURN_IF_ERROR(AppendNormals(slot, mesh, progress));
+  ARMATURE_RETURN_IF_ERROR(AppendTexcoords(prim, slot.attrs, slot.base, slot.count, mesh));
+  ARMATURE_RETURN_IF_ERROR(AppendInfluences(slot, skin, mesh, progress.zero_weight_vertices));
+  return AppendMorphTargets(slot, first, progress.targets);
+}
+
+Status Importer::AppendPositions(PrimitiveSlot& slot, int skin, Mesh& mesh) {
+  const tinygltf::Primitive& prim = slot.prim;
+  const std::string& where = slot.where;
+  const int position_accessor = AttributeAccessor(prim, "POSITION");
   if (position_accessor < 0) return Status::InvalidArgument(where + ".attributes has no POSITION");
   // Sizes before decoding: the mesh's vertices, and morph targets × vertices.
-  auto declared = reader_.Count(position_accessor, attrs + "POSITION");
-  if (!declared.ok()) return declared.status();
-  const uint64_t vertices = static_cast<uint64_t>(base) + std::min<uint64_t>(*declared, UINT64_MAX / 2);
+  ARMATURE_ASSIGN_OR_RETURN(const uint64_t declared, reader_.Count(position_accessor, slot.attrs + "POSITION"));
+  const uint64_t vertices = static_cast<uint64_t>(slot.base) + std::min<uint64_t>(declared, UINT64_MAX / 2);
   if (vertices > limits_.max_mesh_vertices)
-    return Status::ResourceExhausted(attrs + "POSITION: " + OverImportLimitCount(vertices, "vertices", "max_mesh_vertices",
-                                                                                 limits_.max_mesh_vertices));
+    return Status::ResourceExhausted(slot.attrs + "POSITION: " +
+                                     OverImportLimitCount(vertices, "vertices", "max_mesh_vertices",
+                                                          limits_.max_mesh_vertices));
   uint64_t morph = 0;
   if (__builtin_mul_overflow(vertices, prim.targets.size(), &morph)) morph = UINT64_MAX;
   if (morph > limits_.max_morph_target_vertices)
@@ -191,28 +214,28 @@ Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::str
                                                          std::to_string(vertices) + " vertices =",
                                                      morph, "max_morph_target_vertices",
                                                      limits_.max_morph_target_vertices));
-  ARMATURE_RETURN_IF_ERROR(ChargePrimitive(prim, where, *declared, skin));
+  ARMATURE_RETURN_IF_ERROR(ChargePrimitive(prim, where, declared, skin));
   std::vector<float> positions;
-  auto pos = reader_.ReadFloats(position_accessor, attrs + "POSITION", AccessorType::kVec3, {}, &positions);
-  if (!pos.ok()) return pos.status();
-  const size_t count = pos->count;
-  auto check_count = [&](const gltf_internal::AccessorData& d, const std::string& field, int accessor) -> Status {
-    if (d.count != count)
-      return Status::InvalidArgument(field + ": accessor " + std::to_string(accessor) + " has " +
-                                     std::to_string(d.count) + " elements, POSITION has " + std::to_string(count));
-    return Status::Ok();
-  };
-  mesh.positions.reserve(base + count);  // exactly: doubling growth would hold up to twice the charge
-  for (size_t v = 0; v < count; ++v)
+  ARMATURE_ASSIGN_OR_RETURN(
+      const AccessorData pos,
+      reader_.ReadFloats(position_accessor, slot.attrs + "POSITION", AccessorType::kVec3, {}, &positions));
+  slot.count = pos.count;
+  mesh.positions.reserve(slot.base + slot.count);  // exactly: doubling growth would hold up to twice the charge
+  for (size_t v = 0; v < slot.count; ++v)
     mesh.positions.emplace_back(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
-  std::vector<float>().swap(positions);
+  return Status::Ok();
+}
 
-  // Triangles.
+Status Importer::AppendTriangles(const PrimitiveSlot& slot, Mesh& mesh) {
+  const tinygltf::Primitive& prim = slot.prim;
+  const std::string& where = slot.where;
+  const size_t base = slot.base, count = slot.count;
   std::vector<uint32_t> indices;
   if (prim.indices >= 0) {
-    auto idx = reader_.ReadUints(prim.indices, where + ".indices", AccessorType::kScalar,
-                                 {kUnsignedByte, kUnsignedShort, kUnsignedInt}, &indices);
-    if (!idx.ok()) return idx.status();
+    ARMATURE_RETURN_IF_ERROR(reader_
+                                 .ReadUints(prim.indices, where + ".indices", AccessorType::kScalar,
+                                            {kUnsignedByte, kUnsignedShort, kUnsignedInt}, &indices)
+                                 .status());
     for (size_t i = 0; i < indices.size(); ++i)
       if (indices[i] >= count)
         return Status::InvalidArgument(where + ".indices: accessor " + std::to_string(prim.indices) + " element " +
@@ -238,121 +261,142 @@ Status Importer::AppendPrimitive(const tinygltf::Primitive& prim, const std::str
   } else {
     return Status::InvalidArgument(where + ".mode " + std::to_string(mode) + " is not a glTF primitive mode");
   }
+  return Status::Ok();
+}
 
-  // Normals.
-  const int normal_accessor = attribute("NORMAL");
-  if (normal_accessor >= 0) {
-    std::vector<float> normals;
-    auto nrm = reader_.ReadFloats(normal_accessor, attrs + "NORMAL", AccessorType::kVec3, {}, &normals);
-    if (!nrm.ok()) return nrm.status();
-    ARMATURE_RETURN_IF_ERROR(check_count(*nrm, attrs + "NORMAL", normal_accessor));
-    mesh.normals.resize(base);
-    mesh.normals.reserve(base + count);
-    for (size_t v = 0; v < count; ++v) mesh.normals.emplace_back(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
-    any_normals = true;
-  } else {
+Status Importer::AppendNormals(const PrimitiveSlot& slot, Mesh& mesh, MeshInProgress& progress) {
+  const size_t base = slot.base, count = slot.count;
+  const int normal_accessor = AttributeAccessor(slot.prim, "NORMAL");
+  if (normal_accessor < 0) {
     // Computed from the triangles once all primitives are in, if another
     // primitive has NORMAL.
-    missing_normals.emplace_back(base, base + count);
+    progress.missing_normals.emplace_back(base, base + count);
     mesh.normals.resize(base + count, Eigen::Vector3f::Zero());
+    return Status::Ok();
   }
+  std::vector<float> normals;
+  ARMATURE_ASSIGN_OR_RETURN(
+      const AccessorData nrm,
+      reader_.ReadFloats(normal_accessor, slot.attrs + "NORMAL", AccessorType::kVec3, {}, &normals));
+  ARMATURE_RETURN_IF_ERROR(CheckCount(nrm, slot.attrs + "NORMAL", normal_accessor, count));
+  mesh.normals.resize(base);
+  mesh.normals.reserve(base + count);
+  for (size_t v = 0; v < count; ++v) mesh.normals.emplace_back(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+  progress.any_normals = true;
+  return Status::Ok();
+}
 
-  ARMATURE_RETURN_IF_ERROR(AppendTexcoords(prim, attrs, base, count, mesh));
+// Every JOINTS_n/WEIGHTS_n pair, checked: no negative weight, no joint outside the skin.
+StatusOr<Importer::InfluenceSets> Importer::ReadInfluenceSets(const PrimitiveSlot& slot, int skin) {
+  const std::string& attrs = slot.attrs;
+  const size_t joint_count = model_.skins[static_cast<size_t>(skin)].joints.size();
+  InfluenceSets sets;
+  for (int set = 0;; ++set) {
+    const std::string js = "JOINTS_" + std::to_string(set), ws = "WEIGHTS_" + std::to_string(set);
+    const int ja = AttributeAccessor(slot.prim, js.c_str()), wa = AttributeAccessor(slot.prim, ws.c_str());
+    if (ja < 0 && wa < 0) break;
+    if (ja < 0 || wa < 0)
+      return Status::InvalidArgument(attrs + (ja < 0 ? ws : js) + " has no matching " + (ja < 0 ? js : ws));
+    std::vector<uint32_t>& joints = sets.joints.emplace_back();
+    std::vector<float>& weights = sets.weights.emplace_back();
+    ARMATURE_ASSIGN_OR_RETURN(
+        const AccessorData jd,
+        reader_.ReadUints(ja, attrs + js, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort}, &joints));
+    ARMATURE_RETURN_IF_ERROR(CheckCount(jd, attrs + js, ja, slot.count));
+    ARMATURE_ASSIGN_OR_RETURN(
+        const AccessorData wd,
+        reader_.ReadFloats(wa, attrs + ws, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort}, &weights));
+    ARMATURE_RETURN_IF_ERROR(CheckCount(wd, attrs + ws, wa, slot.count));
+    for (size_t i = 0; i < joints.size(); ++i) {
+      const float w = weights[i];
+      if (w < 0)
+        return Status::InvalidArgument(attrs + ws + ": accessor " + std::to_string(wa) + " element " +
+                                       std::to_string(i / 4) + " has a negative weight");
+      if (w > 0 && joints[i] >= joint_count)
+        return Status::InvalidArgument(attrs + js + ": accessor " + std::to_string(ja) + " element " +
+                                       std::to_string(i / 4) + " uses joint " + std::to_string(joints[i]) +
+                                       " but skin " + std::to_string(skin) + " has " + std::to_string(joint_count) +
+                                       " joints");
+    }
+  }
+  if (sets.joints.empty())
+    return Status::InvalidArgument(slot.where + ": the node's skin " + std::to_string(skin) +
+                                   " needs JOINTS_0 and WEIGHTS_0 attributes");
+  return sets;
+}
 
-  // Skin influences: every JOINTS_n/WEIGHTS_n pair.
-  if (skin >= 0) {
-    const size_t joint_count = model_.skins[static_cast<size_t>(skin)].joints.size();
-    std::vector<std::vector<uint32_t>> joint_sets;
-    std::vector<std::vector<float>> weight_sets;
-    for (int set = 0;; ++set) {
-      const std::string js = "JOINTS_" + std::to_string(set), ws = "WEIGHTS_" + std::to_string(set);
-      const int ja = attribute(js.c_str()), wa = attribute(ws.c_str());
-      if (ja < 0 && wa < 0) break;
-      if (ja < 0 || wa < 0)
-        return Status::InvalidArgument(attrs + (ja < 0 ? ws : js) + " has no matching " + (ja < 0 ? js : ws));
-      joint_sets.emplace_back();
-      weight_sets.emplace_back();
-      auto jd = reader_.ReadUints(ja, attrs + js, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort},
-                                  &joint_sets.back());
-      if (!jd.ok()) return jd.status();
-      ARMATURE_RETURN_IF_ERROR(check_count(*jd, attrs + js, ja));
-      auto wd = reader_.ReadFloats(wa, attrs + ws, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort},
-                                   &weight_sets.back());
-      if (!wd.ok()) return wd.status();
-      ARMATURE_RETURN_IF_ERROR(check_count(*wd, attrs + ws, wa));
-      for (size_t i = 0; i < joint_sets.back().size(); ++i) {
-        const float w = weight_sets.back()[i];
-        if (w < 0)
-          return Status::InvalidArgument(attrs + ws + ": accessor " + std::to_string(wa) + " element " +
-                                         std::to_string(i / 4) + " has a negative weight");
-        if (w > 0 && joint_sets.back()[i] >= joint_count)
-          return Status::InvalidArgument(attrs + js + ": accessor " + std::to_string(ja) + " element " +
-                                         std::to_string(i / 4) + " uses joint " +
-                                         std::to_string(joint_sets.back()[i]) + " but skin " +
-                                         std::to_string(skin) + " has " + std::to_string(joint_count) + " joints");
-      }
-    }
-    if (joint_sets.empty())
-      return Status::InvalidArgument(where + ": the node's skin " + std::to_string(skin) +
-                                     " needs JOINTS_0 and WEIGHTS_0 attributes");
-    if (mesh.influence_offsets.empty()) mesh.influence_offsets.push_back(0);
-    for (size_t v = 0; v < count; ++v) {
-      const size_t before = mesh.influence_joints.size();
-      for (size_t s = 0; s < joint_sets.size(); ++s)
-        for (size_t c = 0; c < 4; ++c)
-          if (weight_sets[s][4 * v + c] > 0) {
-            mesh.influence_joints.push_back(joint_sets[s][4 * v + c]);
-            mesh.influence_weights.push_back(weight_sets[s][4 * v + c]);
-          }
-      if (mesh.influence_joints.size() == before) {
-        // As three.js's normalizeSkinWeights: all weight on the first listed joint.
-        ++zero_weight_vertices;
-        const uint32_t j = joint_sets[0][4 * v];
-        if (j >= joint_count)
-          return Status::InvalidArgument(attrs + "JOINTS_0: element " + std::to_string(v) + " uses joint " +
-                                         std::to_string(j) + " but skin " + std::to_string(skin) + " has " +
-                                         std::to_string(joint_count) + " joints");
-        mesh.influence_joints.push_back(j);
-        mesh.influence_weights.push_back(1.f);
-      }
-      mesh.influence_offsets.push_back(static_cast<uint32_t>(mesh.influence_joints.size()));
-    }
-  } else if (!mesh.joints.empty()) {
-    if (attribute("JOINTS_0") >= 0) warnings_.push_back(where + ": JOINTS_0 without a skin on the node; ignored");
+// Skin influences: a skinned primitive's nonzero weights per vertex; an
+// unskinned primitive of a node-bound mesh, all on the mesh's one joint.
+Status Importer::AppendInfluences(const PrimitiveSlot& slot, int skin, Mesh& mesh, size_t& zero_weight_vertices) {
+  const size_t count = slot.count;
+  if (skin < 0) {
+    if (mesh.joints.empty()) return Status::Ok();
+    if (AttributeAccessor(slot.prim, "JOINTS_0") >= 0)
+      warnings_.push_back(slot.where + ": JOINTS_0 without a skin on the node; ignored");
     if (mesh.influence_offsets.empty()) mesh.influence_offsets.push_back(0);
     for (size_t v = 0; v < count; ++v) {
       mesh.influence_joints.push_back(0);
       mesh.influence_weights.push_back(1.f);
       mesh.influence_offsets.push_back(static_cast<uint32_t>(mesh.influence_joints.size()));
     }
+    return Status::Ok();
   }
+  ARMATURE_ASSIGN_OR_RETURN(const InfluenceSets sets, ReadInfluenceSets(slot, skin));
+  const size_t joint_count = model_.skins[static_cast<size_t>(skin)].joints.size();
+  if (mesh.influence_offsets.empty()) mesh.influence_offsets.push_back(0);
+  for (size_t v = 0; v < count; ++v) {
+    const size_t before = mesh.influence_joints.size();
+    for (size_t s = 0; s < sets.joints.size(); ++s)
+      for (size_t c = 0; c < 4; ++c)
+        if (sets.weights[s][4 * v + c] > 0) {
+          mesh.influence_joints.push_back(sets.joints[s][4 * v + c]);
+          mesh.influence_weights.push_back(sets.weights[s][4 * v + c]);
+        }
+    if (mesh.influence_joints.size() == before) {
+      // As three.js's normalizeSkinWeights: all weight on the first listed joint.
+      ++zero_weight_vertices;
+      const uint32_t j = sets.joints[0][4 * v];
+      if (j >= joint_count)
+        return Status::InvalidArgument(slot.attrs + "JOINTS_0: element " + std::to_string(v) + " uses joint " +
+                                       std::to_string(j) + " but skin " + std::to_string(skin) + " has " +
+                                       std::to_string(joint_count) + " joints");
+      mesh.influence_joints.push_back(j);
+      mesh.influence_weights.push_back(1.f);
+    }
+    mesh.influence_offsets.push_back(static_cast<uint32_t>(mesh.influence_joints.size()));
+  }
+  return Status::Ok();
+}
 
-  // Morph targets.
+// Morph targets: each target's nonzero POSITION/NORMAL deltas, kept sparse.
+Status Importer::AppendMorphTargets(const PrimitiveSlot& slot, bool first, std::vector<SparseTarget>& targets) {
+  const tinygltf::Primitive& prim = slot.prim;
   if (first) targets.resize(prim.targets.size());
   if (prim.targets.size() != targets.size())
-    return Status::InvalidArgument(where + ".targets: " + std::to_string(prim.targets.size()) +
+    return Status::InvalidArgument(slot.where + ".targets: " + std::to_string(prim.targets.size()) +
                                    " targets, the first primitive has " + std::to_string(targets.size()));
   for (size_t t = 0; t < targets.size(); ++t) {
     SparseTarget& sparse = targets[t];
-    const std::string twhere = where + ".targets[" + std::to_string(t) + "].";
+    const std::string twhere = slot.where + ".targets[" + std::to_string(t) + "].";
     std::vector<float> deltas[2];  // POSITION, NORMAL; empty when the target has none
     for (int k = 0; k < 2; ++k) {
       const char* semantic = k == 0 ? "POSITION" : "NORMAL";
       auto it = prim.targets[t].find(semantic);
       if (it == prim.targets[t].end()) continue;
-      auto d = reader_.ReadFloats(it->second, twhere + semantic, AccessorType::kVec3, {}, &deltas[k]);
-      if (!d.ok()) return d.status();
-      ARMATURE_RETURN_IF_ERROR(check_count(*d, twhere + semantic, it->second));
+      ARMATURE_ASSIGN_OR_RETURN(
+          const AccessorData d,
+          reader_.ReadFloats(it->second, twhere + semantic, AccessorType::kVec3, {}, &deltas[k]));
+      ARMATURE_RETURN_IF_ERROR(CheckCount(d, twhere + semantic, it->second, slot.count));
       if (k == 1) sparse.has_normals = true;
     }
     auto delta = [&](int k, size_t v) {
       return deltas[k].empty() ? Eigen::Vector3f::Zero().eval()
                                : Eigen::Vector3f(deltas[k][3 * v], deltas[k][3 * v + 1], deltas[k][3 * v + 2]);
     };
-    for (size_t v = 0; v < count; ++v) {
+    for (size_t v = 0; v < slot.count; ++v) {
       const Eigen::Vector3f p = delta(0, v), n = delta(1, v);
       if (p.isZero(0) && n.isZero(0)) continue;
-      sparse.vertices.push_back(static_cast<uint32_t>(base + v));
+      sparse.vertices.push_back(static_cast<uint32_t>(slot.base + v));
       sparse.positions.push_back(p);
       sparse.normals.push_back(n);
     }
@@ -369,12 +413,11 @@ Status Importer::AppendTexcoords(const tinygltf::Primitive& prim, const std::str
     return Status::Ok();
   }
   std::vector<float> uv;
-  auto data = reader_.ReadFloats(it->second, attrs + "TEXCOORD_0", AccessorType::kVec2,
-                                 {kUnsignedByte, kUnsignedShort}, &uv);
-  if (!data.ok()) return data.status();
-  if (data->count != count)
+  ARMATURE_ASSIGN_OR_RETURN(auto data, reader_.ReadFloats(it->second, attrs + "TEXCOORD_0", AccessorType::kVec2,
+                                                          {kUnsignedByte, kUnsignedShort}, &uv));
+  if (data.count != count)
     return Status::InvalidArgument(attrs + "TEXCOORD_0: accessor " + std::to_string(it->second) + " has " +
-                                   std::to_string(data->count) + " elements, POSITION has " + std::to_string(count));
+                                   std::to_string(data.count) + " elements, POSITION has " + std::to_string(count));
   for (size_t v = 0; v < count; ++v) mesh.uvs.emplace_back(uv[2 * v], uv[2 * v + 1]);
   return Status::Ok();
 }

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <span>
+#include <string>
+#include <vector>
 
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/kinematics/ik.h"
@@ -193,6 +196,198 @@ void PlaceCarried(const Skeleton& t, const WorldPose& t0, const Plan& plan, Fram
   }
 }
 
+// Facing and scale from the legs, else the arms' facing and no scale (a warning says so).
+void PlanFacingAndScale(const Skeleton& target, const WorldPose& s0, const WorldPose& t0, const BodyParts& sp,
+                        const BodyParts& tp, Plan& plan, std::vector<std::string>& warnings) {
+  if (HasLegs(sp) && HasLegs(tp)) {
+    plan.source_left_thigh = sp.legs[0].upper;
+    plan.source_right_thigh = sp.legs[1].upper;
+    plan.target_left_thigh = tp.legs[0].upper;
+    plan.target_right_thigh = tp.legs[1].upper;
+    plan.yaw = YawBetween(s0.At(plan.source_left_thigh) - s0.At(plan.source_right_thigh),
+                          t0.At(plan.target_left_thigh) - t0.At(plan.target_right_thigh));
+    const double ls = 0.5 * (LegLength(s0, sp.legs[0]) + LegLength(s0, sp.legs[1]));
+    const double lt = 0.5 * (LegLength(t0, tp.legs[0]) + LegLength(t0, tp.legs[1]));
+    if (ls > 1e-9 && lt > 1e-9) plan.scale = lt / ls;
+    plan.moved_root = RootOf(target, plan.target_left_thigh);
+    return;
+  }
+  warnings.push_back("no hip–knee–ankle legs on both skeletons: the root translation is not scaled");
+  if (sp.arms[0].upper >= 0 && sp.arms[1].upper >= 0 && tp.arms[0].upper >= 0 && tp.arms[1].upper >= 0)
+    plan.yaw = YawBetween(s0.At(sp.arms[0].upper) - s0.At(sp.arms[1].upper),
+                          t0.At(tp.arms[0].upper) - t0.At(tp.arms[1].upper));
+  plan.source_pelvis = sp.hips >= 0 ? sp.hips : 0;
+  plan.target_pelvis = plan.target_of[static_cast<size_t>(plan.source_pelvis)];
+  if (plan.target_pelvis >= 0) plan.moved_root = RootOf(target, plan.target_pelvis);
+}
+
+// The output's key times: every `dt` from 0, and the source's end.
+StatusOr<std::vector<double>> FrameTimes(const Clip& source, double dt, size_t max_frames) {
+  const double frames_exact = source.duration / dt;
+  if (frames_exact + 2 > static_cast<double>(max_frames))
+    return Status::ResourceExhausted("retargeting " + std::to_string(source.duration) + " s at " + std::to_string(dt) +
+                                     " s per frame makes more than " + std::to_string(max_frames) + " frames");
+  const size_t frames = static_cast<size_t>(std::floor(frames_exact + 1e-9)) + 1;
+  std::vector<double> times(frames);
+  for (size_t i = 0; i < frames; ++i) times[i] = std::min(static_cast<double>(i) * dt, source.duration);
+  if (frames > 1 && times.back() < source.duration - 1e-9) times.push_back(source.duration);
+  return times;
+}
+
+// Poses the target frame by frame from the sampled source, before the feet.
+class FramePoser {
+ public:
+  FramePoser(const Clip& source, const Skeleton& target, const Plan& plan, const WorldPose& s0, const WorldPose& t0)
+      : source_(source), s_(*source.skeleton), target_(target), plan_(plan), s0_(s0), t0_(t0),
+        yaw_inv_(plan.yaw.conjugate()) {
+    f_.source_local.resize(s_.size());
+    f_.source.world.resize(s_.size());
+    f_.source.rotation.resize(s_.size());
+    f_.local = target.rest;
+    f_.rotation.resize(target.size());
+    f_.world.resize(target.size());
+    f_.dirty.resize(target.size());
+  }
+
+  Frame& frame() { return f_; }
+
+  // The source's local and world pose at `time`.
+  Status SampleSource(double time) {
+    ARMATURE_RETURN_IF_ERROR(SampleClip(source_, time, SampleOptions{}, f_.source_local));
+    ComputeWorld(s_, f_.source_local, f_.source.world, f_.source.rotation);
+    return Status::Ok();
+  }
+
+  // One frame retargeted, before the feet: f.local and f.world.
+  Status Pose(double time) {
+    ARMATURE_RETURN_IF_ERROR(SampleSource(time));
+    SetRotations();
+    ComputeWorld(target_, f_.local, f_.world);
+    PlaceCarried(target_, t0_, plan_, f_);
+    MoveRoot();
+    return Status::Ok();
+  }
+
+ private:
+  // World rotations, parents first, and the local rotations they imply.
+  void SetRotations() {
+    for (size_t j = 0; j < target_.size(); ++j) {
+      const int p = target_.parents[j];
+      const int sj = plan_.source_of[j];
+      Quaterniond r;
+      if (sj < 0) {
+        r = (p < 0 ? Quaterniond::Identity() : f_.rotation[static_cast<size_t>(p)]) * target_.rest[j].rotation;
+      } else {
+        const Quaterniond delta =
+            f_.source.rotation[static_cast<size_t>(sj)] * s0_.rotation[static_cast<size_t>(sj)].conjugate();
+        r = plan_.yaw * delta * yaw_inv_ * plan_.align[j] * t0_.rotation[j];
+        if (const int k = plan_.tail[j]; k >= 0) {
+          const Vector3d predicted = plan_.yaw * (delta * plan_.source_rest_bone[j]);
+          const Vector3d actual =
+              plan_.yaw * (f_.source.At(plan_.source_of[static_cast<size_t>(k)]) - f_.source.At(sj));
+          if (predicted.norm() > 1e-12 && actual.norm() > 1e-12) r = Quaterniond::FromTwoVectors(predicted, actual) * r;
+        }
+      }
+      f_.rotation[j] = r.normalized();
+      f_.local[j].rotation =
+          (p < 0 ? f_.rotation[j] : f_.rotation[static_cast<size_t>(p)].conjugate() * f_.rotation[j]).normalized();
+    }
+  }
+
+  // The root moves the hips onto the scaled, turned source hips.
+  void MoveRoot() {
+    if (plan_.moved_root < 0) return;
+    Vector3d want, have;
+    if (plan_.target_left_thigh >= 0) {
+      want = 0.5 * (f_.source.At(plan_.source_left_thigh) + f_.source.At(plan_.source_right_thigh));
+      have = 0.5 * (f_.world[static_cast<size_t>(plan_.target_left_thigh)].translation() +
+                    f_.world[static_cast<size_t>(plan_.target_right_thigh)].translation());
+    } else {
+      want = f_.source.At(plan_.source_pelvis);
+      have = f_.world[static_cast<size_t>(plan_.target_pelvis)].translation();
+    }
+    const Vector3d shift = plan_.scale * (plan_.yaw * want) - have;
+    f_.local[static_cast<size_t>(plan_.moved_root)].translation += shift;
+    UpdateWorldFrom(target_, plan_.moved_root, f_);
+  }
+
+  const Clip& source_;
+  const Skeleton& s_;
+  const Skeleton& target_;
+  const Plan& plan_;
+  const WorldPose& s0_;
+  const WorldPose& t0_;
+  const Quaterniond yaw_inv_;
+  Frame f_;
+};
+
+// The output clip's frame fields and skeleton; which joints get rotation keys
+// (`keyed`). RESOURCE_EXHAUSTED when the keys would pass options.max_keys.
+Status StartOutput(const Skeleton& target, const Plan& plan, const FeetPlan& feet, const RetargetOptions& options,
+                   std::span<const double> times, double dt, Clip& out, std::vector<unsigned char>& keyed) {
+  out.skeleton = std::make_shared<Skeleton>(target);
+  out.joints.resize(target.size());
+  out.duration = times.back();
+  out.frame_time = dt;
+  out.frame_count = times.size();
+  keyed.assign(target.size(), 0);
+  for (size_t j = 0; j < target.size(); ++j)
+    keyed[j] = plan.source_of[j] >= 0 || (options.feet && feet.Moves(static_cast<int>(j)));
+  const size_t animated = static_cast<size_t>(std::count(keyed.begin(), keyed.end(), 1)) + plan.carried.size() + 1;
+  if (animated * times.size() > options.max_keys)
+    return Status::ResourceExhausted("retargeting makes " + std::to_string(times.size()) + " frames × " +
+                                     std::to_string(animated) + " animated joints, over " +
+                                     std::to_string(options.max_keys) + " keys");
+  for (int j : plan.carried) out.joints[static_cast<size_t>(j)].translation.times.reserve(times.size());
+  return Status::Ok();
+}
+
+// Frame `f`'s keys at `time`: rotations of the keyed joints (each in the
+// previous key's hemisphere), translations of the moved root and carried joints.
+void KeyFrame(const Plan& plan, const std::vector<unsigned char>& keyed, const Frame& f, double time, Clip& out) {
+  for (size_t j = 0; j < keyed.size(); ++j) {
+    if (!keyed[j]) continue;
+    QuatTrack& track = out.joints[j].rotation;
+    Quaterniond q = f.local[j].rotation;
+    if (!track.values.empty()) q = SameHemisphere(q, track.values.back());
+    track.times.push_back(time);
+    track.values.push_back(q);
+  }
+  auto key_translation = [&](int j) {
+    Vec3Track& track = out.joints[static_cast<size_t>(j)].translation;
+    track.times.push_back(time);
+    track.values.push_back(f.local[static_cast<size_t>(j)].translation);
+  };
+  if (plan.moved_root >= 0) key_translation(plan.moved_root);
+  for (int j : plan.carried)
+    if (j != plan.moved_root) key_translation(j);
+}
+
+// The planted feet's pins: each planted stretch's mean of where the
+// retargeted motion puts the foot.
+Status SetFootPins(const FeetPlan& feet, std::span<const double> times, FramePoser& poser,
+                   std::vector<FootPins>& pins) {
+  std::vector<std::vector<Vector3d>> natural(2);
+  for (double time : times) {
+    ARMATURE_RETURN_IF_ERROR(poser.Pose(time));
+    for (size_t side = 0; side < 2; ++side)
+      natural[side].push_back(poser.frame().world[static_cast<size_t>(feet.legs[side].effector)] *
+                              feet.legs[side].offset);
+  }
+  SetPins(natural, pins);
+  return Status::Ok();
+}
+
+// After PinFeet moved the legs: world transforms and rotations again, carried joints after them.
+void AfterPinnedFeet(const Skeleton& target, const WorldPose& t0, const Plan& plan, Frame& f) {
+  ComputeWorld(target, f.local, f.world);
+  for (size_t j = 0; j < target.size(); ++j) {
+    const int p = target.parents[j];
+    f.rotation[j] = p < 0 ? f.local[j].rotation : f.rotation[static_cast<size_t>(p)] * f.local[j].rotation;
+  }
+  PlaceCarried(target, t0, plan, f);
+}
+
 }  // namespace
 
 StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target, const BodyPartMap& map,
@@ -209,163 +404,37 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
   const BodyParts& sp = map.source_parts;
   const BodyParts& tp = map.target_parts;
   RetargetResult result;
-
-  // Facing and scale from the legs, else the arms' facing and no scale.
-  if (HasLegs(sp) && HasLegs(tp)) {
-    plan.source_left_thigh = sp.legs[0].upper;
-    plan.source_right_thigh = sp.legs[1].upper;
-    plan.target_left_thigh = tp.legs[0].upper;
-    plan.target_right_thigh = tp.legs[1].upper;
-    plan.yaw = YawBetween(s0.At(plan.source_left_thigh) - s0.At(plan.source_right_thigh),
-                          t0.At(plan.target_left_thigh) - t0.At(plan.target_right_thigh));
-    const double ls = 0.5 * (LegLength(s0, sp.legs[0]) + LegLength(s0, sp.legs[1]));
-    const double lt = 0.5 * (LegLength(t0, tp.legs[0]) + LegLength(t0, tp.legs[1]));
-    if (ls > 1e-9 && lt > 1e-9) plan.scale = lt / ls;
-    plan.moved_root = RootOf(target, plan.target_left_thigh);
-  } else {
-    result.warnings.push_back("no hip–knee–ankle legs on both skeletons: the root translation is not scaled");
-    if (sp.arms[0].upper >= 0 && sp.arms[1].upper >= 0 && tp.arms[0].upper >= 0 && tp.arms[1].upper >= 0)
-      plan.yaw = YawBetween(s0.At(sp.arms[0].upper) - s0.At(sp.arms[1].upper),
-                            t0.At(tp.arms[0].upper) - t0.At(tp.arms[1].upper));
-    plan.source_pelvis = sp.hips >= 0 ? sp.hips : 0;
-    plan.target_pelvis = plan.target_of[static_cast<size_t>(plan.source_pelvis)];
-    if (plan.target_pelvis >= 0) plan.moved_root = RootOf(target, plan.target_pelvis);
-  }
+  PlanFacingAndScale(target, s0, t0, sp, tp, plan, result.warnings);
   PlanBones(s, target, s0, t0, plan);
 
   FeetPlan feet;
   if (options.feet) ARMATURE_RETURN_IF_ERROR(PlanFeet(target, tp, t0.world, feet));
-
   const double dt = options.frame_time > 0 ? options.frame_time : (source.frame_time > 0 ? source.frame_time : 1.0 / 30);
-  const double frames_exact = source.duration / dt;
-  if (frames_exact + 2 > static_cast<double>(options.max_frames))
-    return Status::ResourceExhausted("retargeting " + std::to_string(source.duration) + " s at " + std::to_string(dt) +
-                                     " s per frame makes more than " + std::to_string(options.max_frames) + " frames");
-  const size_t frames = static_cast<size_t>(std::floor(frames_exact + 1e-9)) + 1;
-  std::vector<double> times(frames);
-  for (size_t i = 0; i < frames; ++i) times[i] = std::min(static_cast<double>(i) * dt, source.duration);
-  if (frames > 1 && times.back() < source.duration - 1e-9) times.push_back(source.duration);
+  ARMATURE_ASSIGN_OR_RETURN(const std::vector<double> times, FrameTimes(source, dt, options.max_frames));
 
-  Frame f;
-  f.source_local.resize(s.size());
-  f.source.world.resize(s.size());
-  f.source.rotation.resize(s.size());
-  f.local = target.rest;
-  f.rotation.resize(target.size());
-  f.world.resize(target.size());
-  f.dirty.resize(target.size());
-  const SampleOptions sample;
-  auto sample_source = [&](double time) -> Status {
-    ARMATURE_RETURN_IF_ERROR(SampleClip(source, time, sample, f.source_local));
-    ComputeWorld(s, f.source_local, f.source.world, f.source.rotation);
-    return Status::Ok();
-  };
-
+  FramePoser poser(source, target, plan, s0, t0);
+  Frame& f = poser.frame();
   std::vector<FootPins> pins;
   if (options.feet) {
-    ARMATURE_RETURN_IF_ERROR(FindPlantedFeet(times, sp, sample_source, f.source.world, pins));
+    ARMATURE_RETURN_IF_ERROR(
+        FindPlantedFeet(times, sp, [&](double time) { return poser.SampleSource(time); }, f.source.world, pins));
     for (const FootPins& p : pins)
       result.planted_frames += static_cast<size_t>(std::count_if(p.stretch.begin(), p.stretch.end(), [](int s) { return s >= 0; }));
   }
 
   Clip& out = result.clip;
-  auto skeleton = std::make_shared<Skeleton>(target);
-  out.skeleton = skeleton;
-  out.joints.resize(target.size());
-  out.duration = times.back();
-  out.frame_time = dt;
-  out.frame_count = times.size();
-  std::vector<unsigned char> keyed(target.size(), 0);
-  for (size_t j = 0; j < target.size(); ++j)
-    keyed[j] = plan.source_of[j] >= 0 || (options.feet && feet.Moves(static_cast<int>(j)));
-  const size_t animated = static_cast<size_t>(std::count(keyed.begin(), keyed.end(), 1)) + plan.carried.size() + 1;
-  if (animated * times.size() > options.max_keys)
-    return Status::ResourceExhausted("retargeting makes " + std::to_string(times.size()) + " frames × " +
-                                     std::to_string(animated) + " animated joints, over " +
-                                     std::to_string(options.max_keys) + " keys");
-  for (int j : plan.carried) out.joints[static_cast<size_t>(j)].translation.times.reserve(times.size());
-
-  const Quaterniond yaw_inv = plan.yaw.conjugate();
+  std::vector<unsigned char> keyed;
+  ARMATURE_RETURN_IF_ERROR(StartOutput(target, plan, feet, options, times, dt, out, keyed));
   IkWorkspace ik_workspace;
   IkResult ik_result;
-  // One frame retargeted, before the feet: f.local and f.world.
-  auto pose_frame = [&](size_t fi) -> Status {
-    ARMATURE_RETURN_IF_ERROR(sample_source(times[fi]));
-    // World rotations, parents first.
-    for (size_t j = 0; j < target.size(); ++j) {
-      const int p = target.parents[j];
-      const int sj = plan.source_of[j];
-      Quaterniond r;
-      if (sj < 0) {
-        r = (p < 0 ? Quaterniond::Identity() : f.rotation[static_cast<size_t>(p)]) * target.rest[j].rotation;
-      } else {
-        const Quaterniond delta = f.source.rotation[static_cast<size_t>(sj)] * s0.rotation[static_cast<size_t>(sj)].conjugate();
-        r = plan.yaw * delta * yaw_inv * plan.align[j] * t0.rotation[j];
-        if (const int k = plan.tail[j]; k >= 0) {
-          const Vector3d predicted = plan.yaw * (delta * plan.source_rest_bone[j]);
-          const Vector3d actual = plan.yaw * (f.source.At(plan.source_of[static_cast<size_t>(k)]) - f.source.At(sj));
-          if (predicted.norm() > 1e-12 && actual.norm() > 1e-12) r = Quaterniond::FromTwoVectors(predicted, actual) * r;
-        }
-      }
-      f.rotation[j] = r.normalized();
-      f.local[j].rotation = (p < 0 ? f.rotation[j] : f.rotation[static_cast<size_t>(p)].conjugate() * f.rotation[j]).normalized();
-    }
-    ComputeWorld(target, f.local, f.world);
-    PlaceCarried(target, t0, plan, f);
-    // The root moves the hips onto the scaled, turned source hips.
-    if (plan.moved_root >= 0) {
-      Vector3d want, have;
-      if (plan.target_left_thigh >= 0) {
-        want = 0.5 * (f.source.At(plan.source_left_thigh) + f.source.At(plan.source_right_thigh));
-        have = 0.5 * (f.world[static_cast<size_t>(plan.target_left_thigh)].translation() +
-                      f.world[static_cast<size_t>(plan.target_right_thigh)].translation());
-      } else {
-        want = f.source.At(plan.source_pelvis);
-        have = f.world[static_cast<size_t>(plan.target_pelvis)].translation();
-      }
-      const Vector3d shift = plan.scale * (plan.yaw * want) - have;
-      f.local[static_cast<size_t>(plan.moved_root)].translation += shift;
-      UpdateWorldFrom(target, plan.moved_root, f);
-    }
-    return Status::Ok();
-  };
-  if (options.feet) {
-    // The pins: each planted stretch's mean of where the retargeted motion puts the foot.
-    std::vector<std::vector<Vector3d>> natural(2);
-    for (size_t fi = 0; fi < times.size(); ++fi) {
-      ARMATURE_RETURN_IF_ERROR(pose_frame(fi));
-      for (size_t side = 0; side < 2; ++side)
-        natural[side].push_back(f.world[static_cast<size_t>(feet.legs[side].effector)] * feet.legs[side].offset);
-    }
-    SetPins(natural, pins);
-  }
+  if (options.feet) ARMATURE_RETURN_IF_ERROR(SetFootPins(feet, times, poser, pins));
   for (size_t fi = 0; fi < times.size(); ++fi) {
-    ARMATURE_RETURN_IF_ERROR(pose_frame(fi));
+    ARMATURE_RETURN_IF_ERROR(poser.Pose(times[fi]));
     if (options.feet) {
       ARMATURE_RETURN_IF_ERROR(PinFeet(target, feet, pins, fi, plan.moved_root, f.local, f.world, f.rotation, ik_workspace, ik_result));
-      ComputeWorld(target, f.local, f.world);
-      for (size_t j = 0; j < target.size(); ++j) {
-        const int p = target.parents[j];
-        f.rotation[j] = p < 0 ? f.local[j].rotation : f.rotation[static_cast<size_t>(p)] * f.local[j].rotation;
-      }
-      PlaceCarried(target, t0, plan, f);
+      AfterPinnedFeet(target, t0, plan, f);
     }
-    for (size_t j = 0; j < target.size(); ++j) {
-      if (!keyed[j]) continue;
-      QuatTrack& track = out.joints[j].rotation;
-      Quaterniond q = f.local[j].rotation;
-      if (!track.values.empty()) q = SameHemisphere(q, track.values.back());
-      track.times.push_back(times[fi]);
-      track.values.push_back(q);
-    }
-    auto key_translation = [&](int j) {
-      Vec3Track& track = out.joints[static_cast<size_t>(j)].translation;
-      track.times.push_back(times[fi]);
-      track.values.push_back(f.local[static_cast<size_t>(j)].translation);
-    };
-    if (plan.moved_root >= 0) key_translation(plan.moved_root);
-    for (int j : plan.carried)
-      if (j != plan.moved_root) key_translation(j);
+    KeyFrame(plan, keyed, f, times[fi], out);
   }
   result.scale = plan.scale;
   result.yaw = plan.yaw;
