@@ -28,9 +28,8 @@ Playback::Playback(std::shared_ptr<const Skeleton> skeleton) : skeleton_(std::mo
 Status Playback::Play(const Motion& motion, double crossfade, uint64_t id) {
   if (!std::isfinite(crossfade) || crossfade < 0)
     return Status::InvalidArgument("crossfade: " + std::to_string(crossfade) + " is not a finite time >= 0");
-  auto plan = BindMotion(motion);
-  if (!plan.ok()) return plan.status();
-  const Skeleton& sk = *plan->skeleton;
+  ARMATURE_ASSIGN_OR_RETURN(auto plan, BindMotion(motion));
+  const Skeleton& sk = *plan.skeleton;
   if (sk.names != skeleton_->names) {
     size_t j = 0;
     while (j < sk.size() && j < skeleton_->size() && sk.names[j] == skeleton_->names[j]) ++j;
@@ -51,7 +50,7 @@ Status Playback::Play(const Motion& motion, double crossfade, uint64_t id) {
   Entry next;
   next.id = id;
   next.motion = motion;
-  next.plan = std::move(*plan);
+  next.plan = std::move(plan);
   next.weight_from = crossfade == 0 ? 1 : 0;
   next.fade_duration = crossfade;
   motions_.push_back(std::move(next));
@@ -129,9 +128,8 @@ Status Playback::Rebind() {
   if (motions_.empty()) return Status::Ok();
   Motion all = Describe();
   for (MotionLayer& l : all.layers) l.weight = 1, l.time_offset = 0;
-  auto plan = BindMotion(all);
-  if (!plan.ok()) return plan.status();
-  blend_ = std::move(*plan);
+  ARMATURE_ASSIGN_OR_RETURN(auto plan, BindMotion(all));
+  blend_ = std::move(plan);
   for (size_t e = 0; e < motions_.size(); ++e)
     for (size_t i = 0; i < motions_[e].motion.layers.size(); ++i) source_.emplace_back(e, i);
   for (const BoundLayer& l : blend_.layers) mask_weights_.push_back(l.joint_weight);

@@ -159,10 +159,9 @@ Status ReducedSystem::Factor(SparseMatrix m, const VertexPartition& partition, s
 Status InitSolverCore(std::shared_ptr<const LaplacianModel> model, const DeformationConstraints& constraints,
                       SolverCore& core) {
   if (!model) return Status::InvalidArgument("model is null");
-  auto partition = PartitionVertices(*model, constraints);
-  if (!partition.ok()) return partition.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto partition, PartitionVertices(*model, constraints));
   core.model = std::move(model);
-  core.partition = std::move(*partition);
+  core.partition = std::move(partition);
   return Status::Ok();
 }
 

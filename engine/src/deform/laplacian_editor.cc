@@ -172,10 +172,9 @@ StatusOr<Eigen::MatrixX3d> DeformLaplacian(std::shared_ptr<const LaplacianModel>
   DeformationSolverOptions options;
   options.max_factorization_bytes = max_factorization_bytes;
   options.drag_update = DragUpdate::kBackSubstitution;
-  auto solver = DeformationSolver::Create(std::move(model), constraints, options);
-  if (!solver.ok()) return solver.status();
-  std::vector<double> out(3 * solver->model().vertex_count());
-  ARMATURE_RETURN_IF_ERROR(solver->Solve(handle_positions, out));
+  ARMATURE_ASSIGN_OR_RETURN(auto solver, DeformationSolver::Create(std::move(model), constraints, options));
+  std::vector<double> out(3 * solver.model().vertex_count());
+  ARMATURE_RETURN_IF_ERROR(solver.Solve(handle_positions, out));
   return Eigen::MatrixX3d(
       deformation_internal::ConstPositionMap(out.data(), static_cast<Eigen::Index>(out.size() / 3), 3));
 }

@@ -94,17 +94,15 @@ StatusOr<std::shared_ptr<const LaplacianModel>> BuildLaplacianModel(const Eigen:
       return Status::InvalidArgument("vertex " + std::to_string(v) + " has a non-finite position " +
                                      FormatVector(positions.row(static_cast<Eigen::Index>(v))));
 
-  auto topology = BuildMeshTopology(n, triangles);
-  if (!topology.ok()) return topology.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto topology, BuildMeshTopology(n, triangles));
 
   auto model = std::make_shared<LaplacianModel>();
   model->weights = options.weights;
   model->rest_positions = positions;
-  model->topology = std::move(*topology);
+  model->topology = std::move(topology);
   if (options.weights == LaplacianWeights::kCotangent) {
-    auto w = CotangentWeights(positions, triangles, model->topology);
-    if (!w.ok()) return w.status();
-    model->edge_weights = std::move(*w);
+    ARMATURE_ASSIGN_OR_RETURN(auto w, CotangentWeights(positions, triangles, model->topology));
+    model->edge_weights = std::move(w);
   } else {
     model->edge_weights = UniformWeights(model->topology);
   }

@@ -86,21 +86,19 @@ StatusOr<AssetContents> ParseFormat(AssetFormat format, std::string_view bytes, 
                                     const ResourceMap& resources, const ImportLimits& limits) {
   switch (format) {
     case AssetFormat::kBvh: {
-      auto bvh = ParseBvh(bytes, limits);
-      if (!bvh.ok()) return bvh.status();
+      ARMATURE_ASSIGN_OR_RETURN(auto bvh, ParseBvh(bytes, limits));
       AssetContents c;
-      c.skeletons.push_back({std::string(name), bvh->skeleton});
-      c.clips.push_back({std::string(name), std::string(name), bvh->clip});
-      c.warnings = std::move(bvh->warnings);
+      c.skeletons.push_back({std::string(name), bvh.skeleton});
+      c.clips.push_back({std::string(name), std::string(name), bvh.clip});
+      c.warnings = std::move(bvh.warnings);
       return c;
     }
     case AssetFormat::kGltf:
     case AssetFormat::kGlb: return ParseGltf(bytes, format == AssetFormat::kGlb, name, resources, limits);
     case AssetFormat::kObj: {
       AssetContents c;
-      auto mesh = ParseObj(bytes, name, &c.warnings, limits);
-      if (!mesh.ok()) return mesh.status();
-      c.meshes.push_back({std::string(name), "", std::make_shared<const Mesh>(std::move(*mesh))});
+      ARMATURE_ASSIGN_OR_RETURN(auto mesh, ParseObj(bytes, name, &c.warnings, limits));
+      c.meshes.push_back({std::string(name), "", std::make_shared<const Mesh>(std::move(mesh))});
       return c;
     }
   }

@@ -76,10 +76,10 @@ Status ResolveEffector(const Skeleton& skeleton, const IkRequest& request, size_
   const IkEffector& in = request.effectors[i];
   // Field names are built only on failure (this runs per request).
   auto fail = [&](const std::string& what) { return Status::InvalidArgument(Indexed("effectors", i) + what); };
-  const StatusOr<int> joint = Resolve(skeleton, ws, in.joint, [&] { return Indexed("effectors", i) + ".joint"; });
-  if (!joint.ok()) return joint.status();
+  ARMATURE_ASSIGN_OR_RETURN(const int joint,
+                            Resolve(skeleton, ws, in.joint, [&] { return Indexed("effectors", i) + ".joint"; }));
   out = IkWorkspace::Effector{};
-  out.joint = *joint;
+  out.joint = joint;
   if (!in.local_offset.allFinite()) return fail(".local_offset: not finite");
   out.offset = in.local_offset;
   if (in.target_position) {
@@ -133,15 +133,15 @@ Status ResolveLimits(const Skeleton& skeleton, const IkRequest& request, IkWorks
   ws.limit_of.assign(skeleton.size(), -1);
   for (size_t i = 0; i < request.limits.size(); ++i) {
     // The field name is only built on failure: this runs per request.
-    const StatusOr<int> joint =
-        Resolve(skeleton, ws, request.limits[i].joint, [&] { return Indexed("limits", i) + ".joint"; });
-    if (!joint.ok()) return joint.status();
-    if (ws.limit_of[*joint] >= 0)
+    ARMATURE_ASSIGN_OR_RETURN(
+        const int joint,
+        Resolve(skeleton, ws, request.limits[i].joint, [&] { return Indexed("limits", i) + ".joint"; }));
+    if (ws.limit_of[joint] >= 0)
       return Status::InvalidArgument(Indexed("limits", i) + ".joint: '" + request.limits[i].joint +
-                                     "' is already limited by " + Indexed("limits", ws.limit_of[*joint]));
+                                     "' is already limited by " + Indexed("limits", ws.limit_of[joint]));
     const Status valid = ValidateJointLimit(request.limits[i], "");
     if (!valid.ok()) return valid.WithContext(Indexed("limits", i));
-    ws.limit_of[*joint] = static_cast<int>(i);
+    ws.limit_of[joint] = static_cast<int>(i);
   }
   return Status::Ok();
 }
@@ -158,18 +158,17 @@ Status MarkFreeJoints(const Skeleton& skeleton, const IkRequest& request, IkWork
     if (!request.root.empty() || request.max_chain_depth != 0)
       return Status::InvalidArgument("free_joints: not combined with root or max_chain_depth");
     for (size_t i = 0; i < request.free_joints.size(); ++i) {
-      const StatusOr<int> j = Resolve(skeleton, ws, request.free_joints[i], [&] { return Indexed("free_joints", i); });
-      if (!j.ok()) return j.status();
-      ws.mark[*j] |= 1;
+      ARMATURE_ASSIGN_OR_RETURN(
+          const int j, Resolve(skeleton, ws, request.free_joints[i], [&] { return Indexed("free_joints", i); }));
+      ws.mark[j] |= 1;
     }
     return Status::Ok();
   }
   if (request.max_chain_depth < 0) return Status::InvalidArgument("max_chain_depth: negative");
   int root = -1;
   if (!request.root.empty()) {
-    const StatusOr<int> r = Resolve(skeleton, ws, request.root, [] { return std::string("root"); });
-    if (!r.ok()) return r.status();
-    root = *r;
+    ARMATURE_ASSIGN_OR_RETURN(const int r, Resolve(skeleton, ws, request.root, [] { return std::string("root"); }));
+    root = r;
   }
   for (size_t i = 0; i < ws.effectors.size(); ++i) {
     const IkWorkspace::Effector& e = ws.effectors[i];

@@ -153,10 +153,9 @@ Status HeatWeights(const Mesh& mesh, const std::vector<std::vector<Segment>>& bo
   // A component that sees no bone (e.g. inward normals) takes its nearest
   // bones regardless, or the system would be singular there.
   const std::vector<uint32_t> triangles = ProperTriangles(mesh);
-  auto topology = BuildMeshTopology(n, triangles);
-  if (!topology.ok()) return topology.status();
-  const std::vector<uint32_t>& component = topology->component;
-  std::vector<char> sees(topology->component_count, 0);
+  ARMATURE_ASSIGN_OR_RETURN(auto topology, BuildMeshTopology(n, triangles));
+  const std::vector<uint32_t>& component = topology.component;
+  std::vector<char> sees(topology.component_count, 0);
   for (size_t i = 0; i < n; ++i)
     if (h[i] > 0) sees[component[i]] = 1;
   size_t forced = 0;

@@ -84,9 +84,8 @@ class AnimationWriter {
                                      std::to_string(track.targets) + " targets");
     std::vector<float> values(track.values.size());
     for (size_t i = 0; i < values.size(); ++i) {
-      auto f = ToFloat(track.values[i], "glTF export: " + where);
-      if (!f.ok()) return f.status();
-      values[i] = *f;
+      ARMATURE_ASSIGN_OR_RETURN(auto f, ToFloat(track.values[i], "glTF export: " + where));
+      values[i] = f;
     }
     // Cubic weights without tangents are written LINEAR at their keys.
     const Interpolation mode = triplets ? Interpolation::kCubic
@@ -104,10 +103,9 @@ class AnimationWriter {
 
   Status Channel(const std::vector<double>& times, const std::vector<float>& values, int type, size_t count,
                  Interpolation mode, size_t node, const char* path, const std::string& where) {
-    auto input = builder_.AddTimes(times, "glTF export: " + where + " " + path);
-    if (!input.ok()) return input.status();
+    ARMATURE_ASSIGN_OR_RETURN(auto input, builder_.AddTimes(times, "glTF export: " + where + " " + path));
     tinygltf::AnimationSampler sampler;
-    sampler.input = *input;
+    sampler.input = input;
     sampler.output = builder_.AddFloats(values, type, count);
     sampler.interpolation = SamplerName(mode);
     animation_.samplers.push_back(std::move(sampler));
@@ -121,9 +119,8 @@ class AnimationWriter {
 
   Status Append(std::vector<float>& out, std::initializer_list<double> values, const std::string& where) {
     for (double x : values) {
-      auto f = ToFloat(x, "glTF export: " + where);
-      if (!f.ok()) return f.status();
-      out.push_back(*f);
+      ARMATURE_ASSIGN_OR_RETURN(auto f, ToFloat(x, "glTF export: " + where));
+      out.push_back(f);
     }
     return Status::Ok();
   }

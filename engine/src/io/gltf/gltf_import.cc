@@ -133,9 +133,8 @@ Status Importer::BuildSkeleton() {
     ARMATURE_RETURN_IF_ERROR(CheckName(node.name, "nodes[" + std::to_string(i) + "].name"));
     skeleton->names.push_back(Unique(node.name.empty() ? "node" + std::to_string(i) : node.name, used));
     skeleton->parents.push_back(parent[i] < 0 ? -1 : joint_of_[static_cast<size_t>(parent[i])]);
-    auto rest = NodeTrs(node, "nodes[" + std::to_string(i) + "]");
-    if (!rest.ok()) return rest.status();
-    skeleton->rest.push_back(*rest);
+    ARMATURE_ASSIGN_OR_RETURN(auto rest, NodeTrs(node, "nodes[" + std::to_string(i) + "]"));
+    skeleton->rest.push_back(rest);
   }
   skeleton->channels.resize(n);
   skeleton->end_sites.resize(n);
@@ -185,13 +184,12 @@ StatusOr<Importer::SkinBinding> Importer::ReadSkin(int s) {
   b.inverse_bind.assign(skin.joints.size(), Eigen::Affine3d::Identity());
   if (skin.inverseBindMatrices >= 0) {
     std::vector<float> m;
-    auto data = reader_.ReadFloats(skin.inverseBindMatrices, where + ".inverseBindMatrices", AccessorType::kMat4,
-                                   {}, &m);
-    if (!data.ok()) return data.status();
-    if (data->count < skin.joints.size())
+    ARMATURE_ASSIGN_OR_RETURN(auto data, reader_.ReadFloats(skin.inverseBindMatrices, where + ".inverseBindMatrices",
+                                                            AccessorType::kMat4, {}, &m));
+    if (data.count < skin.joints.size())
       return Status::InvalidArgument(where + ".inverseBindMatrices: accessor " +
                                      std::to_string(skin.inverseBindMatrices) + " has " +
-                                     std::to_string(data->count) + " matrices for " +
+                                     std::to_string(data.count) + " matrices for " +
                                      std::to_string(skin.joints.size()) + " joints");
     for (size_t k = 0; k < skin.joints.size(); ++k)
       b.inverse_bind[k].matrix() = Eigen::Map<const Eigen::Matrix4f>(m.data() + 16 * k).cast<double>();
@@ -214,9 +212,8 @@ using gltf_internal::Load;
 
 StatusOr<AssetContents> ParseGltf(std::string_view bytes, bool binary, std::string_view name,
                                   const ResourceMap& resources, const ImportLimits& limits) {
-  auto model = Load(bytes, binary, resources);
-  if (!model.ok()) return model.status();
-  return Importer(*model, name, limits).Run();
+  ARMATURE_ASSIGN_OR_RETURN(auto model, Load(bytes, binary, resources));
+  return Importer(model, name, limits).Run();
 }
 
 }  // namespace armature

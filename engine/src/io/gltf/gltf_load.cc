@@ -135,9 +135,8 @@ StatusOr<tinygltf::Model> Load(std::string_view bytes, bool binary, const Resour
   if (bytes.size() > std::numeric_limits<unsigned int>::max())
     return Status::InvalidArgument("glTF: file is larger than 4 GiB");
   if (binary) {
-    auto container = CheckGlbContainer(bytes);
-    if (!container.ok()) return container.status();
-    bytes = *container;
+    ARMATURE_ASSIGN_OR_RETURN(auto container, CheckGlbContainer(bytes));
+    bytes = container;
   }
   ResourceFiles files{&resources, {}};
   tinygltf::TinyGLTF loader;

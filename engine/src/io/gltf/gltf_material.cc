@@ -151,9 +151,9 @@ StatusOr<std::shared_ptr<const Material>> Importer::MaterialOf(int index) {
       {&material->emissive_texture, gm.emissiveTexture.index, gm.emissiveTexture.texCoord, 1, ".emissiveTexture"},
   };
   for (const Slot& slot : slots) {
-    auto ref = ReadTexture(slot.index, slot.texcoord, slot.scale, where + slot.field, material->images);
-    if (!ref.ok()) return ref.status();
-    *slot.out = *ref;
+    ARMATURE_ASSIGN_OR_RETURN(auto ref,
+                              ReadTexture(slot.index, slot.texcoord, slot.scale, where + slot.field, material->images));
+    *slot.out = ref;
   }
   cached = std::move(material);
   return cached;

@@ -41,10 +41,9 @@ StatusOr<int> ModelBuilder::AddTimes(const std::vector<double>& times, const std
   if (auto it = times_.find(times); it != times_.end()) return it->second;
   std::vector<float> f(times.size());
   for (size_t k = 0; k < times.size(); ++k) {
-    auto t = ToFloat(times[k], where + " time " + std::to_string(k));
-    if (!t.ok()) return t.status();
+    ARMATURE_ASSIGN_OR_RETURN(auto t, ToFloat(times[k], where + " time " + std::to_string(k)));
     // Times closer than a float can tell apart stay strictly increasing.
-    f[k] = k > 0 && *t <= f[k - 1] ? std::nextafter(f[k - 1], std::numeric_limits<float>::infinity()) : *t;
+    f[k] = k > 0 && t <= f[k - 1] ? std::nextafter(f[k - 1], std::numeric_limits<float>::infinity()) : t;
   }
   std::vector<double> lo, hi;
   if (!f.empty()) lo = {f.front()}, hi = {f.back()};
@@ -133,10 +132,9 @@ StatusOr<std::string> ExportGltf(const Clip& clip, std::span<const Mesh* const> 
 
   ModelBuilder builder(std::min<uint64_t>(estimate, options.max_bytes));
   AddSkeletonNodes(skeleton, builder.model());
-  auto mesh_nodes = AddMeshes(meshes, skeleton, builder);
-  if (!mesh_nodes.ok()) return mesh_nodes.status();
+  ARMATURE_ASSIGN_OR_RETURN(auto mesh_nodes, AddMeshes(meshes, skeleton, builder));
   std::map<std::string, int> node_of_mesh;
-  for (size_t m = 0; m < meshes.size(); ++m) node_of_mesh.emplace(meshes[m]->name, (*mesh_nodes)[m]);
+  for (size_t m = 0; m < meshes.size(); ++m) node_of_mesh.emplace(meshes[m]->name, mesh_nodes[m]);
   ARMATURE_RETURN_IF_ERROR(AddAnimation(clip, options.animation_name, node_of_mesh, builder));
   return builder.Write(options.binary);
 }
