@@ -71,9 +71,9 @@ int main(int argc, char** argv) {
     const bool ok =
         kind == "ik"
             ? Replay<v1::IkSessionRequest, v1::SolveIkResponse>(
-                  lines, [&](grpc::ClientContext* c) { return v1::IkService::NewStub(channel)->client::IkSession(c); }, &ms)
+                  lines, [&](grpc::ClientContext* c) { return v1::IkService::NewStub(channel)->IkSession(c); }, &ms)
             : Replay<v1::DeformSessionRequest, v1::DeformResponse>(
-                  lines, [&](grpc::ClientContext* c) { return v1::DeformService::NewStub(channel)->client::DeformSession(c); },
+                  lines, [&](grpc::ClientContext* c) { return v1::DeformService::NewStub(channel)->DeformSession(c); },
                   &ms);
     if (!ok) return 1;
   }

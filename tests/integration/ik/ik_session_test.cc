@@ -93,7 +93,7 @@ TEST_F(IkApi, DeadlineStopsTheSolve) {
   // call's cancellation).
   auto stub = v1::IkService::NewStub(client.channel());
   grpc::ClientContext context;
-  auto stream = stub->client::IkSession(&context);
+  auto stream = stub->IkSession(&context);
   v1::IkSessionRequest first;
   *first.mutable_start() = EndlessSolve();
   ASSERT_TRUE(stream->Write(first));
@@ -205,7 +205,7 @@ TEST_F(IkApi, SessionErrorsAndTheSessionLimit) {
   auto stub = v1::IkService::NewStub(client.channel());
   auto first_message_error = [&](const v1::IkSessionRequest& first) {
     grpc::ClientContext context;
-    auto stream = stub->client::IkSession(&context);
+    auto stream = stub->IkSession(&context);
     stream->Write(first);
     v1::SolveIkResponse answer;
     EXPECT_FALSE(stream->Read(&answer));
