@@ -180,7 +180,7 @@ class DynamicGateway : public ::testing::Test {
     if (thread_.joinable()) thread_.join();
     if (grpc_) grpc_->Shutdown();
   }
-  httplib::Client client::Client() { return httplib::Client("127.0.0.1", port_); }
+  httplib::Client Client() { return httplib::Client("127.0.0.1", port_); }
 
   DynamicService types_;
   EchoService echo_;
@@ -202,7 +202,7 @@ std::vector<std::string> DataEvents(const std::string& sse, std::string* status)
 }
 
 TEST_F(DynamicGateway, BidiStreamTakesNdjsonAndAnswersWithServerSentEvents) {
-  auto http = client::Client();
+  auto http = Client();
   const auto r = http.Post("/v1/echo:chat", "{\"text\":\"a\",\"count\":1}\n\n{\"text\":\"b\",\"tags\":[\"x\"]}\n",
                            "application/x-ndjson");
   ASSERT_TRUE(r);
@@ -225,7 +225,7 @@ TEST_F(DynamicGateway, BidiStreamTakesNdjsonAndAnswersWithServerSentEvents) {
 }
 
 TEST_F(DynamicGateway, ClientStreamAndUnaryThroughTheSameTranscoder) {
-  auto http = client::Client();
+  auto http = Client();
   // A client stream answered once: the echo sends each message back, so a
   // unary-response method getting two answers is the server's error, shown as 500.
   const auto collect = http.Post("/v1/echo:collect", "{\"text\":\"only\"}\n", "application/x-ndjson");
