@@ -17,13 +17,17 @@
 namespace armature::server {
 namespace {
 
-// With merge: the clip stored under `name`, which CreateClip named `name`
-// ("<name>.<name>" before clips were made their skeleton's own).
+// With merge: the clip stored under `name`, which CreateClip named `name` in
+// an asset the server made (record.animates), or "<name>.<name>" before clips
+// were made their skeleton's own. An imported file's clip is never edited in
+// place: a BVH "walk" holds a clip "walk" too.
 StatusOr<PartRef<NamedClip>> StoredClipToEdit(const Catalog& catalog, const std::string& name) {
   auto asset = catalog.assets.find(name);
   if (asset == catalog.assets.end())
     return Status::NotFound("merge: there is no asset '" + name + "' to edit (create it first, without merge)");
+  const bool server_made = !asset->second->record.animates.empty();
   for (const std::string& clip_name : {name, name + "." + name}) {
+    if (clip_name == name && !server_made) continue;
     auto clip = catalog.clips.find(clip_name);
     if (clip != catalog.clips.end() && clip->second.asset == asset->second) return clip->second;
   }

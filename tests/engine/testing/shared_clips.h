@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "armature/engine/anim/clip.h"
-#include "armature/engine/io/bvh.h"
-#include "armature/engine/io/gltf.h"
+#include "armature/engine/io/bvh/bvh.h"
+#include "armature/engine/io/gltf/gltf.h"
 #include "test_files.h"
 
 namespace armature::test_util {

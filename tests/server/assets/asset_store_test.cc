@@ -8,7 +8,7 @@
 #include <set>
 
 #include "../testing/temp_store.h"
-#include "armature/engine/io/bvh.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_walk.h"
 
 namespace armature::server {

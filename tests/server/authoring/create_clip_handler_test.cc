@@ -181,6 +181,9 @@ TEST(CreateClipHandler, RequestsThatCannotBeMadeNameTheirField) {
   EXPECT_EQ(error(request).message(),
             "merge: asset 'demo_character' has no clip 'demo_character' (only clips made by CreateClip can be merged "
             "into)");
+  request.set_name("demo_walk");  // an imported BVH: its clip is named after it, but CreateClip did not make it
+  EXPECT_EQ(error(request).message(),
+            "merge: asset 'demo_walk' has no clip 'demo_walk' (only clips made by CreateClip can be merged into)");
   request.set_name("x");
   request.mutable_bake()->mutable_motion()->add_layers()->set_clip("demo_walk");
   EXPECT_EQ(error(request).message(), "bake: not with merge (bake makes every joint's track anew)");
