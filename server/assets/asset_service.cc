@@ -12,7 +12,7 @@
 #include "server/rpc/grpc_status.h"
 #include "server/assets/import_reactor.h"
 #include "server/assets/asset_convert.h"
-#include "server/rpc/pose_convert.h"
+#include "server/rpc/convert/pose_convert.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {

@@ -1,4 +1,5 @@
-// IkService: one-shot inverse kinematics solves and interactive sessions.
+// IkService: the gRPC adapter of one-shot inverse kinematics solves
+// (ik_handlers) and interactive sessions (ik_session).
 #pragma once
 
 #include <memory>
@@ -8,8 +9,8 @@
 #include "server/assets/asset_store.h"
 #include "server/ik/ik_convert.h"
 #include "server/rpc/limits.h"
-#include "server/rpc/session_admission.h"
-#include "server/rpc/stream_admission.h"
+#include "server/rpc/streams/session_admission.h"
+#include "server/rpc/streams/stream_admission.h"
 
 namespace armature::server {
 
