@@ -4,10 +4,8 @@
 
 #include <memory>
 
-#include "armature/engine/kinematics/ik_workspace.h"
 #include "armature/v1/ik.grpc.pb.h"
 #include "server/assets/asset_store.h"
-#include "server/ik/ik_convert.h"
 #include "server/rpc/limits.h"
 #include "server/rpc/streams/session_admission.h"
 #include "server/rpc/streams/stream_admission.h"
