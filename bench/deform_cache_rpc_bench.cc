@@ -15,7 +15,7 @@
 #include "armature/v1/deform.grpc.pb.h"
 #include "rpc_bench_server.h"
 #include "sheet_rpc.h"
-#include "server/deform/deform_service.h"
+#include "server/deform/deform_handlers.h"
 #include "server/host/gateway/json_codec.h"
 
 namespace {

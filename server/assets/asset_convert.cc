@@ -1,7 +1,7 @@
 #include "server/assets/asset_convert.h"
 
 #include "armature/engine/mesh/mesh.h"
-#include "server/rpc/pose_convert.h"
+#include "server/rpc/convert/pose_convert.h"
 
 namespace armature::server {
 

@@ -13,7 +13,7 @@
 #include "server/assets/import_reactor.h"
 #include "server/assets/asset_convert.h"
 #include "server/assets/clip_export.h"
-#include "server/rpc/pose_convert.h"
+#include "server/rpc/convert/pose_convert.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {

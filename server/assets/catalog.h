@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -58,6 +59,10 @@ struct Catalog {
   // The asset named `name`, or the one owning a clip, skeleton or mesh of that name.
   StatusOr<std::shared_ptr<const StoredAsset>> FindOwner(std::string_view name) const;
 };
+
+// Where a long-lived call (a session) takes the catalog's latest snapshot
+// each time it looks a name up: AssetStore::Snapshot, or a fixed one in tests.
+using CatalogSource = std::function<std::shared_ptr<const Catalog>()>;
 
 // A derived clip's parsed file made the clip of skeleton `record.animates`:
 // its one clip renamed `record.name`, its copy of the skeleton dropped from

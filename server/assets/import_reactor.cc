@@ -4,7 +4,7 @@
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
 #include "server/assets/asset_convert.h"
-#include "server/rpc/pose_convert.h"
+#include "server/rpc/convert/pose_convert.h"
 
 namespace armature::server {
 

@@ -7,7 +7,7 @@
 #include <atomic>
 
 #include "armature/base/status.h"
-#include "server/rpc/admission_ticket.h"
+#include "server/rpc/streams/admission_ticket.h"
 
 namespace armature::server {
 

@@ -1,24 +1,14 @@
 #include "server/deform/deform_service.h"
 
-#include <optional>
-#include <string>
+#include <memory>
 
+#include "server/deform/deform_handlers.h"
+#include "server/deform/deform_session.h"
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
-#include "server/deform/deform_session_reactor.h"
-#include "server/deform/mesh_deformer.h"
+#include "server/rpc/streams/session_reactor.h"
 
 namespace armature::server {
-
-Status Deform(DeformerCache& cache, const std::shared_ptr<const Catalog>& catalog, const Limits& limits,
-              const v1::DeformRequest& request, v1::DeformResponse* response) {
-  std::vector<uint32_t> handles;
-  std::vector<double> positions;
-  ARMATURE_RETURN_IF_ERROR(SplitHandles(request, &handles, &positions));
-  auto deformer = cache.Get(catalog, limits, SetupOf(request), std::move(handles));
-  if (!deformer.ok()) return deformer.status();
-  return (*deformer)->SolveFresh(positions, "handles", response);
-}
 
 grpc::ServerUnaryReactor* DeformServiceImpl::Deform(grpc::CallbackServerContext* context,
                                                     const v1::DeformRequest* request, v1::DeformResponse* response) {
@@ -36,11 +26,14 @@ grpc::ServerUnaryReactor* DeformServiceImpl::Deform(grpc::CallbackServerContext*
 
 grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* DeformServiceImpl::DeformSession(
     grpc::CallbackServerContext* context) {
-  return MakeReactor<grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>>(context, "DeformSession", [&]() -> grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>* {
-    using Base = grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>;
+  using Base = grpc::ServerBidiReactor<v1::DeformSessionRequest, v1::DeformResponse>;
+  return MakeReactor<Base>(context, "DeformSession", [&]() -> Base* {
     auto stream = streams_->Admit(*context, "DeformSession");
     if (!stream.ok()) return new FinishedReactor<Base>(stream.status());
-    return NewDeformSession(context, store_, limits_, *sessions_, std::move(*stream), solves_);
+    auto session = std::make_unique<server::DeformSession>([&store = store_] { return store.Snapshot(); }, limits_);
+    // The setup factors: on solves_, off gRPC's callback threads.
+    return new SessionReactor<server::DeformSession>(context, *sessions_, std::move(*stream), std::move(session),
+                                                     {.start_pool = &solves_});
   });
 }
 

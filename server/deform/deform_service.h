@@ -1,4 +1,5 @@
-// DeformService: Laplacian / ARAP mesh editing, one-shot and as a session.
+// DeformService: the gRPC adapter of Laplacian / ARAP mesh editing, one-shot
+// (deform_handlers) and as a session (deform_session).
 #pragma once
 
 #include <memory>
@@ -9,10 +10,10 @@
 #include "armature/v1/deform.grpc.pb.h"
 #include "server/assets/asset_store.h"
 #include "server/deform/deformer_cache.h"
-#include "server/rpc/elastic_thread_pool.h"
+#include "server/rpc/work/elastic_thread_pool.h"
 #include "server/rpc/limits.h"
-#include "server/rpc/session_admission.h"
-#include "server/rpc/stream_admission.h"
+#include "server/rpc/streams/session_admission.h"
+#include "server/rpc/streams/stream_admission.h"
 
 namespace armature::server {
 
@@ -41,9 +42,5 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
   // destroyed first, after the server drained, running what is queued.
   ElasticThreadPool solves_;
 };
-
-// The unary handler's work, callable without gRPC.
-Status Deform(DeformerCache& cache, const std::shared_ptr<const Catalog>& catalog, const Limits& limits,
-              const v1::DeformRequest& request, v1::DeformResponse* response);
 
 }  // namespace armature::server

@@ -60,9 +60,4 @@ class MeshDeformer {
   std::vector<double> positions_;  // the last result (ARAP's warm start); sized by the first Solve
 };
 
-// The unary request's constraint fields as a setup, and its handles split
-// into indices and packed positions (each position must have 3 values).
-v1::DeformSetup SetupOf(const v1::DeformRequest& request);
-Status SplitHandles(const v1::DeformRequest& request, std::vector<uint32_t>* indices, std::vector<double>* positions);
-
 }  // namespace armature::server

@@ -5,7 +5,7 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
-#include "server/rpc/elastic_thread_pool.h"
+#include "server/rpc/work/elastic_thread_pool.h"
 
 namespace armature::server {
 namespace {

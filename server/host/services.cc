@@ -6,9 +6,9 @@
 #include "server/ik/ik_service.h"
 #include "server/mesh/mesh_service.h"
 #include "server/pose/pose_service.h"
-#include "server/rpc/heavy_call_pool.h"
-#include "server/rpc/session_admission.h"
-#include "server/rpc/stream_admission.h"
+#include "server/rpc/work/heavy_call_pool.h"
+#include "server/rpc/streams/session_admission.h"
+#include "server/rpc/streams/stream_admission.h"
 
 namespace armature::server {
 

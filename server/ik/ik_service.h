@@ -1,15 +1,14 @@
-// IkService: one-shot inverse kinematics solves and interactive sessions.
+// IkService: the gRPC adapter of one-shot inverse kinematics solves
+// (ik_handlers) and interactive sessions (ik_session).
 #pragma once
 
 #include <memory>
 
-#include "armature/engine/kinematics/ik_workspace.h"
 #include "armature/v1/ik.grpc.pb.h"
 #include "server/assets/asset_store.h"
-#include "server/ik/ik_convert.h"
 #include "server/rpc/limits.h"
-#include "server/rpc/session_admission.h"
-#include "server/rpc/stream_admission.h"
+#include "server/rpc/streams/session_admission.h"
+#include "server/rpc/streams/stream_admission.h"
 
 namespace armature::server {
 

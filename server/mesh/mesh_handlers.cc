@@ -6,8 +6,8 @@
 #include "armature/engine/mesh/mesh.h"
 #include "armature/engine/mesh/skinning.h"
 #include "server/mesh/mesh_convert.h"
-#include "server/rpc/pose_convert.h"
 #include "server/mesh/mesh_validation.h"
+#include "server/rpc/convert/pose_convert.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {

@@ -3,12 +3,13 @@
 #include "server/assets/asset_convert.h"
 #include "server/mesh/material_handlers.h"
 #include "server/mesh/mesh_convert.h"
-#include "server/mesh/skinned_mesh_stream_reactor.h"
-#include "server/mesh/skinned_motion_stream_reactor.h"
+#include "server/mesh/skinned_mesh_stream_plan.h"
+#include "server/mesh/skinned_motion_stream_plan.h"
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
 #include "server/rpc/request_validation.h"
-#include "server/rpc/work_budget.h"
+#include "server/rpc/streams/paced_stream_reactor.h"
+#include "server/rpc/work/work_budget.h"
 
 namespace armature::server {
 
@@ -36,16 +37,16 @@ grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* MeshServiceImpl::StreamSkinnedMe
                                          static_cast<int64_t>(plan->skeleton->size()), pacing.fps, limits_, "motion");
           !st.ok())
         return new Failed(st);
-      auto* reactor = new SkinnedMotionStreamReactor(scheduler_, pacing, std::move(*mesh), std::move(*plan), *method);
-      reactor->HoldUntilDone(std::move(*stream));
-      return reactor;
+      return new PacedStreamReactor<SkinnedMotionStreamPlan>(
+          scheduler_, pacing, SkinnedMotionStreamPlan(pacing, std::move(*mesh), std::move(*plan), *method),
+          std::move(*stream));
     }
     auto mesh_clip = ClipFor(*catalog, *mesh->part, request->clip());
     if (!mesh_clip.ok()) return new Failed(mesh_clip.status());
-    auto* reactor = new StreamSkinnedMeshReactor(scheduler_, pacing, std::move(*mesh), std::move(*mesh_clip), *method,
-                                                 request->interpolation());
-    reactor->HoldUntilDone(std::move(*stream));
-    return reactor;
+    return new PacedStreamReactor<SkinnedMeshStreamPlan>(
+        scheduler_, pacing,
+        SkinnedMeshStreamPlan(std::move(*mesh), std::move(*mesh_clip), *method, request->interpolation()),
+        std::move(*stream));
   });
 }
 

@@ -7,9 +7,9 @@
 #include "armature/v1/meshes.grpc.pb.h"
 #include "server/assets/asset_store.h"
 #include "server/mesh/mesh_handlers.h"
-#include "server/rpc/frame_scheduler.h"
+#include "server/rpc/streams/frame_scheduler.h"
 #include "server/rpc/limits.h"
-#include "server/rpc/stream_admission.h"
+#include "server/rpc/streams/stream_admission.h"
 
 namespace armature::server {
 

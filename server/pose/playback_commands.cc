@@ -4,7 +4,7 @@
 
 #include "server/assets/motion_convert.h"
 #include "server/rpc/request_validation.h"
-#include "server/rpc/work_budget.h"
+#include "server/rpc/work/work_budget.h"
 
 namespace armature::server {
 namespace {

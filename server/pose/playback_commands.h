@@ -11,7 +11,7 @@
 #include "armature/v1/playback.pb.h"
 #include "server/assets/asset_store.h"
 #include "server/rpc/limits.h"
-#include "server/rpc/pose_convert.h"
+#include "server/rpc/convert/pose_convert.h"
 
 namespace armature::server {
 

@@ -1,149 +1,19 @@
 #include "server/pose/pose_service.h"
 
-#include "armature/engine/anim/clip.h"
-#include "armature/engine/kinematics/fk.h"
+#include <memory>
+
+#include "server/pose/playback_session.h"
+#include "server/pose/pose_handlers.h"
+#include "server/pose/clip_stream_plan.h"
+#include "server/pose/motion_stream_plan.h"
 #include "server/rpc/call_guard.h"
+#include "server/rpc/convert/pose_convert.h"
 #include "server/rpc/grpc_status.h"
-#include "server/rpc/pose_convert.h"
-#include "server/rpc/reply_size.h"
 #include "server/rpc/request_validation.h"
-#include "server/assets/compiled_clips.h"
-#include "server/assets/motion_convert.h"
-#include "server/pose/playback_session_reactor.h"
-#include "server/pose/stream_clip_reactor.h"
-#include "server/pose/stream_motion_reactor.h"
+#include "server/rpc/streams/paced_stream_reactor.h"
+#include "server/rpc/streams/session_reactor.h"
 
 namespace armature::server {
-namespace {
-
-// Each pose carries 7 floats per listed joint (a repeated joint counts
-// again) and its time; refused before any pose is computed.
-Status ValidatePosesReplySize(int times, size_t joints, const Limits& limits, ReplyEncoding encoding,
-                              const std::string& rpc, const std::string& alternative) {
-  ReplyContent reply;
-  reply.floats = static_cast<double>(times) * static_cast<double>(joints) * 7;
-  reply.doubles = times;
-  reply.proto_overhead = static_cast<double>(times) * 8;
-  // {"translations":[],"rotations":[],"scales":[]}, per pose; each joint index.
-  reply.json_overhead = static_cast<double>(times) * 48 + static_cast<double>(joints) * 4;
-  reply.how = std::to_string(times) + " times x " + std::to_string(joints) + " joints x 7 floats";
-  return ValidateReplySize(reply, encoding, limits, rpc, alternative);
-}
-
-// The joints of `clip`'s skeleton, 0 when there is no such clip.
-int64_t SkeletonJointsOf(const Catalog& catalog, const std::string& clip) {
-  auto ref = catalog.FindClip(clip);
-  return ref.ok() ? static_cast<int64_t>(ref->part->clip->skeleton->size()) : 0;
-}
-
-}  // namespace
-
-RequestWork EvaluateClipWork(const Catalog& catalog, const v1::EvaluateClipRequest& request) {
-  return {1, request.times_size(), SkeletonJointsOf(catalog, request.clip())};
-}
-
-RequestWork EvaluateMotionWork(const Catalog& catalog, const v1::EvaluateMotionRequest& request) {
-  const auto& layers = request.motion().layers();
-  return {layers.size(), request.times_size(), layers.empty() ? 0 : SkeletonJointsOf(catalog, layers[0].clip())};
-}
-
-Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::EvaluateClipRequest& request,
-                    v1::EvaluateClipResponse* response, ReplyEncoding encoding, CallProgress progress) {
-  auto ref = catalog.FindClip(request.clip());
-  if (!ref.ok()) return ref.status();
-  ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
-  const RequestWork work = EvaluateClipWork(catalog, request);
-  ARMATURE_RETURN_IF_ERROR(ValidateRequestWork(work, limits, "EvaluateClip"));
-  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
-  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
-  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
-  const Clip& clip = *ref->part->clip;
-  auto joints = ResolveJoints(*clip.skeleton, request.joints(), "joints");
-  if (!joints.ok()) return joints.status();
-  ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, encoding,
-                                                  "EvaluateClip",
-                                                  "stream the poses (StreamClip: GET /v1/clips/{clip}:stream)"));
-
-  SampleOptions options;
-  options.interpolation = FromProto(request.interpolation());
-  options.wrap = FromProto(request.wrap());
-  const v1::Space space = request.space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
-
-  thread_local PoseWorkspace ws;  // reused across calls on this thread: no allocation per pose
-  ws.Resize(clip.skeleton->size());
-  response->set_clip(ref->part->name);
-  response->set_skeleton(ref->part->skeleton);
-  response->set_space(space);
-  for (int j : *joints) response->add_joints(j);
-  response->mutable_times()->CopyFrom(request.times());
-  response->mutable_poses()->Reserve(request.times_size());
-  for (double t : request.times()) {
-    ARMATURE_RETURN_IF_ERROR(SampleNamedClip(*ref->part, t, options, ws.local));
-    PackPose(*clip.skeleton, space, *joints, ws, response->add_poses());
-    ARMATURE_RETURN_IF_ERROR(progress.Step(work.joints));
-  }
-  return Status::Ok();
-}
-
-Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::EvaluateMotionRequest& request,
-                      v1::EvaluateMotionResponse* response, ReplyEncoding encoding, CallProgress progress) {
-  ARMATURE_RETURN_IF_ERROR(ValidateTimes(AsSpan(request.times()), limits, "times"));
-  ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
-  if (!request.has_motion()) return Status::InvalidArgument("motion: required (give at least one layer)");
-  auto plan = BindMotionProto(catalog, request.motion(), limits, "motion");
-  if (!plan.ok()) return plan.status();
-  const RequestWork work = EvaluateMotionWork(catalog, request);
-  ARMATURE_RETURN_IF_ERROR(ValidateRequestWork(work, limits, "EvaluateMotion"));
-  const Skeleton& skeleton = *plan->skeleton;
-  auto joints = ResolveJoints(skeleton, request.joints(), "joints");
-  if (!joints.ok()) return joints.status();
-  ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, encoding,
-                                                  "EvaluateMotion", "stream the poses (StreamClip with a motion)"));
-  const v1::Space space = request.space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
-  const bool extract = plan->root_motion == RootMotion::kExtract;
-
-  thread_local PoseWorkspace ws;
-  thread_local MotionWorkspace motion_ws;
-  ws.Resize(skeleton.size());
-  motion_ws.Resize(*plan);
-  response->set_skeleton(catalog.FindClip(request.motion().layers(0).clip())->part->skeleton);
-  response->set_space(space);
-  for (int j : *joints) response->add_joints(j);
-  response->mutable_times()->CopyFrom(request.times());
-  response->mutable_poses()->Reserve(request.times_size());
-  for (double t : request.times()) {
-    RootDelta delta;
-    const BlendMotionJob job{&*plan, t, &motion_ws, ws.local, extract ? &delta : nullptr};
-    ARMATURE_RETURN_IF_ERROR(job.Run());
-    PackPose(skeleton, space, *joints, ws, response->add_poses());
-    if (extract) {
-      v1::Pose* root = response->add_root_motion();
-      for (double v : delta.translation) root->add_translations(static_cast<float>(v));
-      for (double v : {delta.rotation.w(), delta.rotation.x(), delta.rotation.y(), delta.rotation.z()})
-        root->add_rotations(static_cast<float>(v));
-    }
-    ARMATURE_RETURN_IF_ERROR(progress.Step(work.layers * work.joints));
-  }
-  return Status::Ok();
-}
-
-Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1::ComputeFkResponse* response) {
-  auto ref = catalog.FindSkeleton(request.skeleton());
-  if (!ref.ok()) return ref.status();
-  const Skeleton& skeleton = *ref->part->skeleton;
-  if (request.pose().rotations().empty())
-    return Status::InvalidArgument("pose.rotations: required (4 values per joint: w, x, y, z)");
-  auto joints = ResolveJoints(skeleton, request.joints(), "joints");
-  if (!joints.ok()) return joints.status();
-  thread_local PoseWorkspace ws;
-  ws.Resize(skeleton.size());
-  ARMATURE_RETURN_IF_ERROR(PoseFromArrays(skeleton, AsSpan(request.pose().rotations()),
-                                          AsSpan(request.pose().translations()), ws.local));
-  response->set_skeleton(ref->part->name);
-  for (int j : *joints) response->add_joints(j);
-  PackPose(skeleton, v1::WORLD, *joints, ws, response->mutable_world());
-  return Status::Ok();
-}
 
 grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateClip(grpc::CallbackServerContext* context,
                                                         const v1::EvaluateClipRequest* request,
@@ -177,7 +47,8 @@ grpc::ServerUnaryReactor* PoseServiceImpl::ComputeFk(grpc::CallbackServerContext
 
 grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext* context,
                                                                      const v1::StreamClipRequest* request) {
-  return MakeReactor<grpc::ServerWriteReactor<v1::PoseFrame>>(context, "StreamClip", [&]() -> grpc::ServerWriteReactor<v1::PoseFrame>* {
+  using Base = grpc::ServerWriteReactor<v1::PoseFrame>;
+  return MakeReactor<Base>(context, "StreamClip", [&]() -> Base* {
     auto stream = streams_->Admit(*context, "StreamClip");
     if (!stream.ok()) return new FailedStream<v1::PoseFrame>(stream.status());
     if (Status st = ValidateClipOrMotion(request->clip(), request->has_motion()); !st.ok())
@@ -188,34 +59,17 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
                              ValidateEnum(request->space(), v1::Space_descriptor(), "space")})
       if (!st.ok()) return new FailedStream<v1::PoseFrame>(st);
     const auto catalog = store_.Snapshot();
-    if (request->has_motion()) {
-      auto plan = BindMotionProto(*catalog, request->motion(), limits_, "motion");
-      if (!plan.ok()) return new FailedStream<v1::PoseFrame>(plan.status());
-      auto joints = ResolveJoints(*plan->skeleton, request->joints(), "joints");
-      if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
-      if (Status st = ValidateStreamWork(static_cast<int64_t>(plan->layers.size()),
-                                         static_cast<int64_t>(plan->skeleton->size()), pacing.fps, limits_, "motion");
-          !st.ok())
-        return new FailedStream<v1::PoseFrame>(st);
-      const v1::Space space = request->space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
-      auto* reactor = new StreamMotionReactor(scheduler_, pacing, std::move(*plan),
-                                              catalog->FindClip(request->motion().layers(0).clip())->part->skeleton,
-                                              space, std::move(*joints));
-      reactor->HoldUntilDone(std::move(*stream));
-      return reactor;
-    }
-    auto ref = catalog->FindClip(request->clip());
-    if (!ref.ok()) return new FailedStream<v1::PoseFrame>(ref.status());
-    auto joints = ResolveJoints(*ref->part->clip->skeleton, request->joints(), "joints");
-    if (!joints.ok()) return new FailedStream<v1::PoseFrame>(joints.status());
-    if (Status st = ValidateStreamWork(1, static_cast<int64_t>(ref->part->clip->skeleton->size()), pacing.fps,
-                                       limits_, "clip");
-        !st.ok())
-      return new FailedStream<v1::PoseFrame>(st);
-    auto* reactor = new StreamClipReactor(scheduler_, pacing, std::move(*ref), *request, std::move(*joints));
-    reactor->HoldUntilDone(std::move(*stream));
-    return reactor;
+    if (request->has_motion()) return Play(MotionStreamPlan::Make(*catalog, limits_, *request, pacing), pacing,
+                                           std::move(*stream));
+    return Play(ClipStreamPlan::Make(*catalog, limits_, *request, pacing), pacing, std::move(*stream));
   });
+}
+
+template <class Plan>
+grpc::ServerWriteReactor<typename Plan::Frame>* PoseServiceImpl::Play(StatusOr<Plan> plan, StreamPacing pacing,
+                                                                      StreamAdmission::Ticket stream) {
+  if (!plan.ok()) return new FailedStream<typename Plan::Frame>(plan.status());
+  return new PacedStreamReactor<Plan>(scheduler_, pacing, std::move(*plan), std::move(stream));
 }
 
 grpc::ServerBidiReactor<v1::PlaybackCommand, v1::PlaybackFrame>* PoseServiceImpl::PlaybackSession(
@@ -224,7 +78,9 @@ grpc::ServerBidiReactor<v1::PlaybackCommand, v1::PlaybackFrame>* PoseServiceImpl
   return MakeReactor<Base>(context, "PlaybackSession", [&]() -> Base* {
     auto stream = streams_->Admit(*context, "PlaybackSession");
     if (!stream.ok()) return new FinishedReactor<Base>(stream.status());
-    return new PlaybackSessionReactor(context, store_, limits_, scheduler_, *sessions_, std::move(*stream));
+    auto session = std::make_unique<server::PlaybackSession>([&store = store_] { return store.Snapshot(); }, limits_);
+    return new SessionReactor<server::PlaybackSession>(context, *sessions_, std::move(*stream), std::move(session),
+                                                       {.scheduler = &scheduler_});
   });
 }
 

@@ -49,4 +49,8 @@ std::optional<std::chrono::steady_clock::time_point> SteadyDeadline(const grpc::
   return std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(left);
 }
 
+CallStop CallStopOf(const grpc::ServerContextBase& context) {
+  return {SteadyDeadline(context), [&context] { return context.IsCancelled(); }};
+}
+
 }  // namespace armature::server

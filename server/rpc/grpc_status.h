@@ -7,6 +7,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "armature/base/status.h"
+#include "server/rpc/call_stop.h"
 
 namespace armature::server {
 
@@ -20,5 +21,8 @@ grpc::ServerUnaryReactor* FinishUnary(grpc::CallbackServerContext* context, cons
 
 // The call's deadline on the steady clock the engine checks (IkRequest.deadline), or none.
 std::optional<std::chrono::steady_clock::time_point> SteadyDeadline(const grpc::ServerContextBase& context);
+
+// The call's deadline and cancellation for work that knows no gRPC; `context` must outlive it.
+CallStop CallStopOf(const grpc::ServerContextBase& context);
 
 }  // namespace armature::server

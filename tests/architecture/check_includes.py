@@ -6,6 +6,8 @@
 - base uses nothing of ours.
 - server: rpc <- assets <- the slices (pose, mesh, ik, deform, authoring)
   <- host (host/gateway is part of host). Slices never include each other.
+  Inside rpc: its top (status, validation, limits) <- rpc/convert <-
+  rpc/work <- rpc/streams.
 - clients/cpp/ talks to the server over gRPC only: nothing of server/ or engine/.
 - No include cycle between folders (the rules above are an order, and the
   graph is checked for cycles as well).
@@ -28,6 +30,8 @@ def folder_of_file(path):
         concern = parts[2] if parts[1] == "src" else parts[4] if parts[1] == "include" and len(parts) > 4 else None
         return f"engine/{concern}" if concern else None
     if parts[0] == "server":
+        if parts[1] == "rpc" and len(parts) > 3:
+            return f"server/rpc/{parts[2]}"
         return "server/host" if parts[1] == "host" else f"server/{parts[1]}"
     if parts[0] == "base":
         return "base"
@@ -45,6 +49,9 @@ def folder_of_include(include, includer_folder):
         return "base"
     if include == "armature/client.h":
         return "clients/cpp"
+    m = re.match(r"server/rpc/([a-z_]+)/", include)
+    if m:
+        return f"server/rpc/{m.group(1)}"
     m = re.match(r"server/([a-z_]+)/", include)
     if m:
         return "server/host" if m.group(1) == "host" else f"server/{m.group(1)}"
@@ -75,7 +82,8 @@ def allowed(src, dst):
             return True
         if dst == "clients/cpp":
             return False
-        order = {"server/rpc": 0, "server/assets": 1, "server/host": 3}
+        order = {"server/rpc": 0, "server/rpc/convert": 0.1, "server/rpc/work": 0.2, "server/rpc/streams": 0.3,
+                 "server/assets": 1, "server/host": 3}
         rank = lambda f: order.get(f, 2)  # the slices sit between assets and host
         if rank(src) == 2 and rank(dst) == 2:
             return False  # slices never include each other

@@ -16,7 +16,7 @@
 #include "server/host/gateway/sse.h"
 #include "server/rpc/caller_identity.h"  // kRestPeerMetadata
 #include "server/rpc/reply_size.h"       // kReplyEncodingMetadata
-#include "server/rpc/session_admission.h"
+#include "server/rpc/streams/session_admission.h"
 
 namespace armature::server::gateway {
 

@@ -7,7 +7,7 @@
 
 #include "../testing/demo_catalog.h"
 #include "server/pose/playback_commands.h"
-#include "server/pose/pose_service.h"
+#include "server/pose/pose_handlers.h"
 
 namespace armature::server {
 namespace {

@@ -4,7 +4,7 @@
 #include "../testing/demo_catalog.h"
 #include "armature/engine/anim/clip.h"
 #include "armature/engine/kinematics/fk.h"
-#include "server/pose/pose_service.h"
+#include "server/pose/pose_handlers.h"
 
 namespace armature::server {
 namespace {

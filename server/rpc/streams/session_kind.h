@@ -1,0 +1,10 @@
+// The kinds of long-lived session, each counted apart by SessionAdmission
+// (armature_sessions_active{kind}); a session's logic names its own kind.
+#pragma once
+
+namespace armature::server {
+
+enum class SessionKind { kIk, kDeform, kPlayback };
+inline constexpr int kSessionKindCount = 3;
+
+}  // namespace armature::server
