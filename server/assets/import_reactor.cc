@@ -23,7 +23,7 @@ ImportReactor::ImportReactor(grpc::CallbackServerContext* context, AssetStore& s
 }
 
 void ImportReactor::OnReadDone(bool ok) {
-  GuardCallback(context_, "ImportAsset", [&] { ReadDone(ok); }, [this](grpc::Status st) { Finish(st); });
+  GuardCallback(context_, "ImportAsset", [&] { ReadDone(ok); }, [this](grpc::Status st) { End(st); });
 }
 
 void ImportReactor::ReadDone(bool ok) {
@@ -32,7 +32,7 @@ void ImportReactor::ReadDone(bool ok) {
     return;
   }
   if (Status st = upload_.Add(chunk_); !st.ok()) {
-    Finish(ToGrpcStatus(st));
+    End(ToGrpcStatus(st));
     return;
   }
   StartRead(&chunk_);
@@ -42,12 +42,12 @@ void ImportReactor::Complete() {
   // Not ok also when the call was cancelled (client gone, server shutting
   // down): a cut-short upload is not imported.
   if (context_->IsCancelled()) {
-    Finish(grpc::Status(grpc::StatusCode::CANCELLED, "the upload was cancelled"));
+    End(grpc::Status(grpc::StatusCode::CANCELLED, "the upload was cancelled"));
     return;
   }
   auto import = std::move(upload_).Finish();
   if (!import.ok()) {
-    Finish(ToGrpcStatus(import.status()));
+    End(ToGrpcStatus(import.status()));
     return;
   }
   auto stored = store_.Import(std::move(*import));
@@ -55,7 +55,12 @@ void ImportReactor::Complete() {
     *response_->mutable_asset() = AssetInfoOf(**stored);
     for (const std::string& w : (*stored)->contents.warnings) response_->add_warnings(IsValidUtf8(w) ? w : EscapeForMessage(w, 4096));
   }
-  Finish(ToGrpcStatus(stored.status()));
+  End(ToGrpcStatus(stored.status()));
+}
+
+void ImportReactor::End(const grpc::Status& status) {
+  if (admitted_.ok()) admitted_->Release();
+  Finish(status);
 }
 
 }  // namespace armature::server

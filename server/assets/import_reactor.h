@@ -25,6 +25,9 @@ class ImportReactor final : public grpc::ServerReadReactor<v1::ImportAssetReques
  private:
   void ReadDone(bool ok);
   void Complete();
+  // Gives the upload's place back, then answers: a client that has its answer
+  // may upload again at once, even before gRPC calls OnDone.
+  void End(const grpc::Status& status);
 
   grpc::CallbackServerContext* context_;
   AssetStore& store_;

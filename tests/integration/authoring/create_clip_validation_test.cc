@@ -37,11 +37,13 @@ struct BadCase {
   std::vector<std::string> mentions;  // substrings the message must hold
 };
 
-TEST_F(CreateClipValidation, EachMalformedKeyIsNamed) {
+// Each malformed key of a good request (tracks[1] is Head's), with what its
+// refusal must name.
+std::vector<BadCase> MalformedKeyCases() {
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   auto head = [](v1::CreateClipRequest& r) { return r.mutable_tracks(1); };
   const grpc::StatusCode invalid = grpc::StatusCode::INVALID_ARGUMENT;
-  const std::vector<BadCase> cases = {
+  return {
       {"unknown joint", [&](auto& r) { head(r)->set_joint("Haed"); }, invalid,
        {"tracks[1]", "'Haed'", "not on skeleton 'demo_walk'", "did you mean 'Head'"}},
       {"unsorted times", [&](auto& r) { head(r)->set_times(2, 0.25); }, invalid,
@@ -131,6 +133,10 @@ TEST_F(CreateClipValidation, EachMalformedKeyIsNamed) {
       {"unknown skeleton", [&](auto& r) { r.set_skeleton("demo_wlak"); }, grpc::StatusCode::NOT_FOUND,
        {"skeleton 'demo_wlak'", "did you mean 'demo_walk'"}},
   };
+}
+
+TEST_F(CreateClipValidation, EachMalformedKeyIsNamed) {
+  const std::vector<BadCase> cases = MalformedKeyCases();
   client::Client client(OptionsFor(*server_));
   for (const BadCase& c : cases) {
     v1::CreateClipRequest r = Good();

@@ -326,11 +326,8 @@ TEST_F(IkApi, ThroughTheGateway) {
   EXPECT_EQ(json::parse(events.back().data)["code"], 0);
 }
 
-TEST_F(IkApi, BadInputNamesTheField) {
-  ServerProcess server(data_.path(), {"--max-ik-iterations", "5000"});
-  client::Client client(OptionsFor(server));
-  // A bone of zero length: Tip sits on Knuckle, which sits on Base.
-  client.Import({"stub.bvh", R"(HIERARCHY
+// A bone of zero length: Tip sits on Knuckle, which sits on Base.
+constexpr char kZeroLengthBoneBvh[] = R"(HIERARCHY
 ROOT Base
 {
   OFFSET 0 0 0
@@ -354,22 +351,20 @@ MOTION
 Frames: 1
 Frame Time: 0.1
 0 0 0 0 0 0 0 0 0 0 0 0
-)"});
-  const std::string before = client.ListAssets().SerializeAsString();
-  v1::SolveIkRequest good;
-  good.set_skeleton("demo_walk");
-  *good.add_effectors() = Effector("LeftWrist", {10, 100, 10});
-  *good.add_effectors() = Effector("RightAnkle", {-10, 5, 0});
-  ASSERT_EQ(CodeOf([&] { client.SolveIk(good); }), grpc::StatusCode::OK);
+)";
 
-  struct Case {
-    std::string what;
-    std::function<void(v1::SolveIkRequest&)> edit;
-    grpc::StatusCode code;
-    std::string field;  // must appear in the message
-  };
+// One bad SolveIk request: an edit of a good one, the code it gets and a field
+// its message must name.
+struct IkBadCase {
+  std::string what;
+  std::function<void(v1::SolveIkRequest&)> edit;
+  grpc::StatusCode code;
+  std::string field;  // must appear in the message
+};
+
+std::vector<IkBadCase> IkBadCases() {
   using G = grpc::StatusCode;
-  const std::vector<Case> cases = {
+  return {
       {"unknown joint", [](auto& r) { r.mutable_effectors(1)->set_joint("RightAnkel"); }, G::INVALID_ARGUMENT,
        "effectors[1].joint"},
       {"NaN target", [](auto& r) { r.mutable_effectors(0)->set_target_position(1, NAN); }, G::INVALID_ARGUMENT,
@@ -435,7 +430,21 @@ Frame Time: 0.1
       {"over the iteration limit", [](auto& r) { r.mutable_options()->set_max_iterations(5001); },
        G::RESOURCE_EXHAUSTED, "--max-ik-iterations"},
   };
-  for (const Case& c : cases) {
+}
+
+TEST_F(IkApi, BadInputNamesTheField) {
+  ServerProcess server(data_.path(), {"--max-ik-iterations", "5000"});
+  client::Client client(OptionsFor(server));
+  client.Import({"stub.bvh", kZeroLengthBoneBvh});
+  const std::string before = client.ListAssets().SerializeAsString();
+  v1::SolveIkRequest good;
+  good.set_skeleton("demo_walk");
+  *good.add_effectors() = Effector("LeftWrist", {10, 100, 10});
+  *good.add_effectors() = Effector("RightAnkle", {-10, 5, 0});
+  ASSERT_EQ(CodeOf([&] { client.SolveIk(good); }), grpc::StatusCode::OK);
+
+  const std::vector<IkBadCase> cases = IkBadCases();
+  for (const IkBadCase& c : cases) {
     v1::SolveIkRequest r = good;
     c.edit(r);
     const grpc::Status status = StatusOf([&] { client.SolveIk(r); });

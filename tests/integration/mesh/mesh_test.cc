@@ -71,21 +71,19 @@ class Meshes : public ::testing::Test {
   }
 };
 
-TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
-  const fs::path file = SharedData("gltf/cesium_man.gltf");
-  TempDir data;
-  ServerProcess server(data.path(), {"--no-demo"});
-  client::Client client(OptionsFor(server));
-  const auto imported = client.ImportFile(file, "cesium_man");
-  ASSERT_EQ(imported.asset().meshes_size(), 1);
-  ASSERT_GE(imported.asset().clips_size(), 1);
-  const std::string mesh = imported.asset().meshes(0).name();
-  const std::string clip = imported.asset().clips(0).name();
-  const Reference ref = Reference::Parse(file, "cesium_man");
-  const Mesh& engine_mesh = *ref.contents.meshes.at(0).mesh;
-  ASSERT_EQ(ref.contents.meshes[0].name, mesh);
+// The server's CesiumMan against the same file parsed and skinned in this process.
+struct CesiumMan {
+  Client& client;
+  const Reference& ref;
+  const Mesh& engine_mesh;
+  std::string mesh, clip;
+};
 
-  // Details.
+// Details and geometry: the rest mesh exactly as parsed, for clients that draw it.
+void ExpectDetailsAndGeometry(const CesiumMan& cm, v1::MeshInfo* info_out) {
+  Client& client = cm.client;
+  const Mesh& engine_mesh = cm.engine_mesh;
+  const std::string& mesh = cm.mesh;
   const v1::MeshInfo info = client.GetMesh(mesh);
   EXPECT_EQ(info.vertex_count(), static_cast<int>(engine_mesh.vertex_count()));
   EXPECT_GT(info.vertex_count(), 3000);
@@ -96,7 +94,6 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
   ASSERT_EQ(list.meshes_size(), 1);
   EXPECT_EQ(list.meshes(0).vertex_count(), info.vertex_count());
 
-  // Geometry: the rest mesh exactly as parsed, for clients that draw it.
   const v1::MeshGeometry geometry = client.GetMeshGeometry(mesh);
   ASSERT_EQ(geometry.positions_size(), 3 * info.vertex_count());
   ASSERT_EQ(geometry.normals_size(), 3 * info.vertex_count());
@@ -110,7 +107,15 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
     ASSERT_EQ(geometry.triangles(static_cast<int>(i)), engine_mesh.triangles[i]) << i;
   EXPECT_EQ(CodeOf([&] { client.GetMeshGeometry("nope"); }), grpc::StatusCode::NOT_FOUND);
 
-  const double duration = imported.asset().clips(0).duration();
+  *info_out = info;
+}
+
+// SkinMesh by clip and time, LBS and DQS, equals the engine's result.
+void ExpectSkinningAtTimes(const CesiumMan& cm, double duration) {
+  Client& client = cm.client;
+  const Reference& ref = cm.ref;
+  const Mesh& engine_mesh = cm.engine_mesh;
+  const std::string &mesh = cm.mesh, &clip = cm.clip;
   ASSERT_GT(duration, 1);
   for (double t : {0.0, 0.37, 1.0, duration * 0.8, duration}) {
     for (auto [method, engine_method] :
@@ -129,6 +134,81 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
       EXPECT_LE(MaxAbsDifference(got.normals(), normals), 1e-5) << "t=" << t << " method=" << method;
     }
   }
+
+}
+
+// Bad input names the field.
+void ExpectBadSkinRequestsNamed(Client& client, const v1::SkinMeshRequest& request, const v1::SkinMeshRequest& by_pose) {
+  auto call = [&](v1::SkinMeshRequest r) { return [&client, r] { client.SkinMesh(r); }; };
+  v1::SkinMeshRequest bad = request;
+  bad.set_mesh("nope");
+  ExpectStatus(call(bad), grpc::StatusCode::NOT_FOUND, "mesh");
+  bad = request;
+  bad.set_clip("nope");
+  ExpectStatus(call(bad), grpc::StatusCode::NOT_FOUND, "clip");
+  bad = request;
+  bad.set_time(std::numeric_limits<double>::quiet_NaN());
+  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "time");
+  bad = request;
+  bad.set_time(-1);
+  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
+  bad = by_pose;
+  bad.mutable_pose()->mutable_rotations()->RemoveLast();
+  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "pose");
+  bad = request;
+  bad.add_morph_weights(1);
+  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "morph_weights");
+  bad = request;
+  bad.set_method(static_cast<v1::SkinningMethod>(7));
+  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "method");
+  bad = request;
+  bad.clear_clip();
+  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
+
+}
+
+// A stream: frames at the requested pacing, each equal to SkinMesh at its time.
+void ExpectSkinnedStream(const CesiumMan& cm) {
+  Client& client = cm.client;
+  const Reference& ref = cm.ref;
+  const std::string &mesh = cm.mesh, &clip = cm.clip;
+  v1::StreamSkinnedMeshRequest stream;
+  stream.set_mesh(mesh);
+  stream.set_clip(clip);
+  stream.set_fps(60);
+  stream.set_duration(0.1);
+  int frames = 0;
+  client.StreamSkinnedMesh(stream, [&](const v1::SkinnedMeshFrame& frame) {
+    EXPECT_EQ(frame.index(), static_cast<uint64_t>(frames));
+    EXPECT_NEAR(frame.time(), frames / 60.0, 1e-9);
+    const auto [positions, normals] = ref.Skin(frame.time(), SkinningMethod::kLinear);
+    EXPECT_LE(MaxAbsDifference(frame.positions(), positions), 1e-5);
+    ++frames;
+    return true;
+  });
+  EXPECT_EQ(frames, 6);}
+
+TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
+  const fs::path file = SharedData("gltf/cesium_man.gltf");
+  TempDir data;
+  ServerProcess server(data.path(), {"--no-demo"});
+  client::Client client(OptionsFor(server));
+  const auto imported = client.ImportFile(file, "cesium_man");
+  ASSERT_EQ(imported.asset().meshes_size(), 1);
+  ASSERT_GE(imported.asset().clips_size(), 1);
+  const std::string mesh = imported.asset().meshes(0).name();
+  const std::string clip = imported.asset().clips(0).name();
+  const Reference ref = Reference::Parse(file, "cesium_man");
+  const Mesh& engine_mesh = *ref.contents.meshes.at(0).mesh;
+  ASSERT_EQ(ref.contents.meshes[0].name, mesh);
+
+  const CesiumMan cm{client, ref, engine_mesh, mesh, clip};
+  v1::MeshInfo info;
+  ExpectDetailsAndGeometry(cm, &info);
+  if (HasFatalFailure()) return;
+  const double duration = imported.asset().clips(0).duration();
+  ExpectSkinningAtTimes(cm, duration);
+  if (HasFatalFailure()) return;
 
   // DQS and LBS differ where joints bend.
   v1::SkinMeshRequest request;
@@ -160,32 +240,8 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
   // Poses travel as floats: close to the clip's result, not bit-equal.
   EXPECT_LE(MaxAbsDifference(posed.positions(), lbs_positions), 1e-4);
 
-  // Bad input names the field.
-  auto call = [&](v1::SkinMeshRequest r) { return [&client, r] { client.SkinMesh(r); }; };
-  v1::SkinMeshRequest bad = request;
-  bad.set_mesh("nope");
-  ExpectStatus(call(bad), grpc::StatusCode::NOT_FOUND, "mesh");
-  bad = request;
-  bad.set_clip("nope");
-  ExpectStatus(call(bad), grpc::StatusCode::NOT_FOUND, "clip");
-  bad = request;
-  bad.set_time(std::numeric_limits<double>::quiet_NaN());
-  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "time");
-  bad = request;
-  bad.set_time(-1);
-  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
-  bad = by_pose;
-  bad.mutable_pose()->mutable_rotations()->RemoveLast();
-  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "pose");
-  bad = request;
-  bad.add_morph_weights(1);
-  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "morph_weights");
-  bad = request;
-  bad.set_method(static_cast<v1::SkinningMethod>(7));
-  ExpectStatus(call(bad), grpc::StatusCode::INVALID_ARGUMENT, "method");
-  bad = request;
-  bad.clear_clip();
-  EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
+  ExpectBadSkinRequestsNamed(client, request, by_pose);
+  if (HasFatalFailure()) return;
 
   // The REST gateway serves the same call.
   httplib::Client http("127.0.0.1", server.http_port());
@@ -203,22 +259,7 @@ TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
   ASSERT_EQ(got_info->status, 200) << got_info->body;
   EXPECT_EQ(json::parse(got_info->body)["vertexCount"].get<int>(), info.vertex_count());
 
-  // A stream: frames at the requested pacing, each equal to SkinMesh at its time.
-  v1::StreamSkinnedMeshRequest stream;
-  stream.set_mesh(mesh);
-  stream.set_clip(clip);
-  stream.set_fps(60);
-  stream.set_duration(0.1);
-  int frames = 0;
-  client.StreamSkinnedMesh(stream, [&](const v1::SkinnedMeshFrame& frame) {
-    EXPECT_EQ(frame.index(), static_cast<uint64_t>(frames));
-    EXPECT_NEAR(frame.time(), frames / 60.0, 1e-9);
-    const auto [positions, normals] = ref.Skin(frame.time(), SkinningMethod::kLinear);
-    EXPECT_LE(MaxAbsDifference(frame.positions(), positions), 1e-5);
-    ++frames;
-    return true;
-  });
-  EXPECT_EQ(frames, 6);
+  ExpectSkinnedStream(cm);
 }
 
 // Morph-only meshes through the CLI: the clip's weights track drives the
