@@ -163,11 +163,9 @@ Status ArmatureServer::StartGateway() {
   options.max_reply_bytes = static_cast<size_t>(limits.max_message_bytes);
   // Keep threads free for ordinary requests however many streams are open.
   options.max_streams = limits.max_http_threads - std::min<size_t>(limits.max_http_threads / 4, 64);
-  auto gw = gateway::Gateway::Create(gateway::GeneratedServicesIn("armature.v1"),
-                                     google::protobuf::MessageFactory::generated_factory(),
-                                     grpc_->InProcessChannel(args), options);
-  if (!gw.ok()) return gw.status();
-  gateway_ = std::move(*gw);
+  ARMATURE_ASSIGN_OR_RETURN(gateway_, gateway::Gateway::Create(gateway::GeneratedServicesIn("armature.v1"),
+                                                              google::protobuf::MessageFactory::generated_factory(),
+                                                              grpc_->InProcessChannel(args), options));
   httplib::Server& routes = http_->routes();
   // A form upload's boundaries and part headers are not part of what --max-upload-mb counts: room for them.
   constexpr int64_t kFormFramingBytes = 1 << 20;
