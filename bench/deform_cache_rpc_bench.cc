@@ -16,7 +16,7 @@
 #include "rpc_bench_server.h"
 #include "sheet_rpc.h"
 #include "server/deform/deform_handlers.h"
-#include "server/host/gateway/json_codec.h"
+#include "server/host/gateway/rest/json/json_codec.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The REST gateway's JSON encoding (server/host/gateway/json/json_writer)
+// The REST gateway's JSON encoding (server/host/gateway/rest/json/json_writer)
 // against protobuf's binary encoding of the same answers, in the same run:
 // EvaluateClip of 10,000 times of demo_walk and SkinCharacter of
 // RobotExpressive (../shared/data; skipped when absent), each as
@@ -25,7 +25,7 @@
 
 #include "armature/v1/meshes.grpc.pb.h"
 #include "rpc_bench_server.h"
-#include "server/host/gateway/json_codec.h"
+#include "server/host/gateway/rest/json/json_codec.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 
 #include "armature/client.h"
 #include "server/host/armature_server.h"
-#include "server/host/logging.h"
+#include "server/host/observability/logging.h"
 
 namespace armature_bench {
 namespace fs = std::filesystem;

@@ -10,8 +10,8 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
-#include "server/host/gateway/grpc_web_framing.h"
-#include "server/host/gateway/websocket_framing.h"
+#include "server/host/gateway/grpc_web/grpc_web_framing.h"
+#include "server/host/gateway/websocket/websocket_framing.h"
 
 namespace armature::soak {
 namespace {

@@ -14,14 +14,14 @@
 #include <spdlog/spdlog.h>
 
 #include "grpc/health/v1/health.pb.h"
-#include "server/host/gateway/http_rule.h"
+#include "server/host/gateway/rest/transcoding/http_rule.h"
 #include "server/assets/asset_memory.h"
-#include "server/host/auth_gate.h"
-#include "server/host/listen_error.h"
+#include "server/host/auth/auth_gate.h"
+#include "server/host/http/listen_error.h"
 #include "server/assets/demo_assets.h"
-#include "server/host/metrics_http.h"
+#include "server/host/observability/metrics_http.h"
 #include "server/host/reflection_v1_service.h"
-#include "server/host/rpc_observer.h"
+#include "server/host/observability/rpc_observer.h"
 #include "server/host/server_credentials.h"
 #include "server/host/services.h"
 
@@ -34,96 +34,11 @@ constexpr std::chrono::seconds kShutdownMargin{3};
 StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConfig& config) {
   std::unique_ptr<ArmatureServer> s(new ArmatureServer());
   s->config_ = config;
-
-  if (!config.auth_token_file.empty()) {
-    auto tokens = BearerTokens::FromFile(config.auth_token_file);
-    if (!tokens.ok()) return tokens.status();
-    s->tokens_ = std::move(*tokens);
-    for (int line : s->tokens_->lines_browsers_cannot_send())
-      spdlog::warn("{}:{}: this token has characters outside A-Z a-z 0-9 and !#$%&'*+-.^_`|~ ('/' or '=' of "
-                   "base64, say): browsers cannot send it as a WebSocket subprotocol; make tokens with "
-                   "'openssl rand -hex 32'",
-                   config.auth_token_file, line);
-  }
-  std::vector<gateway::Cidr> proxies;
-  for (const std::string& text : config.trusted_proxies) {
-    auto cidr = gateway::ParseCidr(text);
-    if (!cidr.ok()) return cidr.status();
-    proxies.push_back(*cidr);
-  }
-  s->trusted_proxies_ = gateway::TrustedProxies(std::move(proxies));
-  auto credentials = MakeServerCredentials(config);
-  if (!credentials.ok()) return credentials.status();
-
-  auto store = AssetStore::Open(config.data_dir, {.limits = config.limits});
-  if (!store.ok()) return store.status();
-  s->store_ = std::move(*store);
-  if (s->store_->fresh() && config.demo) {
-    if (Status st = SeedDemoAssets(*s->store_); !st.ok())
-      spdlog::error("could not seed the demo assets: {}", st.message());
-    else
-      spdlog::info("seeded demo assets into {}", s->store_->data_dir().string());
-  }
-
-  // gRPC's locks are absl::Mutex, and the distribution's absl is built with
-  // deadlock detection on: a lock-order graph updated on every lock, about a
-  // tenth of a loaded server's CPU (measured with bench/load). Off, as in
-  // absl's release builds.
-  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
-  grpc::EnableDefaultHealthCheckService(true);
-  // Links health.proto's descriptor in, so reflection can describe the health service.
-  (void)grpc::health::v1::HealthCheckRequest::descriptor();
-  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
-  grpc::ServerBuilder builder;
-  builder.AddListeningPort(config.host + ":" + std::to_string(config.grpc_port), *credentials, &s->grpc_port_);
-  // No SO_REUSEPORT (gRPC's default): a second server on the same port must fail, not split the traffic.
-  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
-  builder.SetMaxReceiveMessageSize(static_cast<int>(config.limits.max_message_bytes));
-  builder.SetMaxSendMessageSize(static_cast<int>(config.limits.max_message_bytes));
-  // Every call, REST ones through the in-process channel included, passes the observer (metrics, request log).
-  s->metrics_ = std::make_unique<Metrics>();
-  s->metrics_->AddCollector([store = s->store_.get()](PrometheusText& out) { CollectAssetMetrics(*store->Snapshot(), out); });
-  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
-  interceptors.push_back(std::make_unique<RpcObserverFactory>(*s->metrics_));
-  builder.experimental().SetInterceptorCreators(std::move(interceptors));
-  // With a token file, each API service sits behind an auth gate; health and reflection (v1alpha, v1) stay open.
-  std::vector<std::string> service_names;
-  for (ServiceEntry& entry : MakeServices(*s->store_, s->config_.limits, *s->metrics_, s->tokens_ != nullptr)) {
-    service_names.push_back(entry.name);
-    if (s->tokens_) {
-      auto gated = GateService(std::move(entry.service), entry.name, s->tokens_);
-      if (!gated.ok()) return gated.status();
-      entry.service = std::move(*gated);
-    }
-    s->services_.push_back(std::move(entry.service));
-  }
-  // Reflection v1 beside the plugin's v1alpha, open like it; both list the same services.
-  std::vector<std::string> reflected = service_names;
-  reflected.insert(reflected.end(), {"grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection",
-                                     "grpc.reflection.v1alpha.ServerReflection"});
-  s->services_.push_back(std::make_unique<ReflectionV1Service>(std::move(reflected)));
-  for (auto& service : s->services_) builder.RegisterService(service.get());
-  s->grpc_ = builder.BuildAndStart();
-  if (!s->grpc_ || s->grpc_port_ == 0)
-    return Status::Unavailable(ListenError("gRPC", config.host, config.grpc_port));
-  // grpc.health.v1 answers for "" (the whole server) and for each armature.v1 service by full name.
-  for (const std::string& name : service_names) s->grpc_->GetHealthCheckService()->SetServingStatus(name, true);
-  s->grpc_->GetHealthCheckService()->SetServingStatus(true);
-
-  if (config.http_port >= 0) {
-    const HttpConnectionLimits connections{
-        .head_timeout = std::chrono::milliseconds(static_cast<int64_t>(config.limits.http_head_timeout_seconds * 1000)),
-        .max_per_address = config.limits.max_http_connections_per_address,
-        .trusted_proxies = s->trusted_proxies_};
-    s->http_ = std::make_unique<HttpServer>(config.limits.max_http_threads, config.tls_cert_file, config.tls_key_file,
-                                            connections);
-    ServeMetrics(s->http_->routes(), *s->metrics_, s->tokens_);
-    if (Status st = s->StartGateway(); !st.ok()) return st;
-    s->http_port_ = s->http_->Start(config.host, config.http_port);
-    if (s->http_port_ < 0)
-      return Status::Unavailable(ListenError("HTTP", config.host, config.http_port));
-    s->http_->SetReady(true);
-  }
+  ARMATURE_RETURN_IF_ERROR(s->LoadAccessRules());
+  ARMATURE_ASSIGN_OR_RETURN(std::shared_ptr<grpc::ServerCredentials> credentials, MakeServerCredentials(config));
+  ARMATURE_RETURN_IF_ERROR(s->OpenStore());
+  ARMATURE_RETURN_IF_ERROR(s->StartGrpc(credentials));
+  if (config.http_port >= 0) ARMATURE_RETURN_IF_ERROR(s->StartHttp());
   spdlog::info("serving gRPC on {}:{} and HTTP on {}:{}{}{}", config.host, s->grpc_port_, config.host, s->http_port_,
                config.tls_cert_file.empty() ? "" : " (TLS)", s->tokens_ ? ", bearer token required" : "");
   if (!s->tokens_ && !IsLoopbackHost(config.host))
@@ -137,6 +52,101 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
     std::rename(tmp.c_str(), config.port_file.c_str());
   }
   return s;
+}
+
+Status ArmatureServer::LoadAccessRules() {
+  if (!config_.auth_token_file.empty()) {
+    ARMATURE_ASSIGN_OR_RETURN(tokens_, BearerTokens::FromFile(config_.auth_token_file));
+    for (int line : tokens_->lines_browsers_cannot_send())
+      spdlog::warn("{}:{}: this token has characters outside A-Z a-z 0-9 and !#$%&'*+-.^_`|~ ('/' or '=' of "
+                   "base64, say): browsers cannot send it as a WebSocket subprotocol; make tokens with "
+                   "'openssl rand -hex 32'",
+                   config_.auth_token_file, line);
+  }
+  std::vector<gateway::Cidr> proxies;
+  for (const std::string& text : config_.trusted_proxies) {
+    ARMATURE_ASSIGN_OR_RETURN(gateway::Cidr cidr, gateway::ParseCidr(text));
+    proxies.push_back(cidr);
+  }
+  trusted_proxies_ = gateway::TrustedProxies(std::move(proxies));
+  return Status::Ok();
+}
+
+Status ArmatureServer::OpenStore() {
+  ARMATURE_ASSIGN_OR_RETURN(store_, AssetStore::Open(config_.data_dir, {.limits = config_.limits}));
+  if (store_->fresh() && config_.demo) {
+    if (Status st = SeedDemoAssets(*store_); !st.ok())
+      spdlog::error("could not seed the demo assets: {}", st.message());
+    else
+      spdlog::info("seeded demo assets into {}", store_->data_dir().string());
+  }
+  return Status::Ok();
+}
+
+Status ArmatureServer::StartGrpc(const std::shared_ptr<grpc::ServerCredentials>& credentials) {
+  // gRPC's locks are absl::Mutex, and the distribution's absl is built with
+  // deadlock detection on: a lock-order graph updated on every lock, about a
+  // tenth of a loaded server's CPU (measured with bench/load). Off, as in
+  // absl's release builds.
+  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
+  grpc::EnableDefaultHealthCheckService(true);
+  // Links health.proto's descriptor in, so reflection can describe the health service.
+  (void)grpc::health::v1::HealthCheckRequest::descriptor();
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(config_.host + ":" + std::to_string(config_.grpc_port), credentials, &grpc_port_);
+  // No SO_REUSEPORT (gRPC's default): a second server on the same port must fail, not split the traffic.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  builder.SetMaxReceiveMessageSize(static_cast<int>(config_.limits.max_message_bytes));
+  builder.SetMaxSendMessageSize(static_cast<int>(config_.limits.max_message_bytes));
+  // Every call, REST ones through the in-process channel included, passes the observer (metrics, request log).
+  metrics_ = std::make_unique<Metrics>();
+  metrics_->AddCollector([store = store_.get()](PrometheusText& out) { CollectAssetMetrics(*store->Snapshot(), out); });
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(std::make_unique<RpcObserverFactory>(*metrics_));
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
+  ARMATURE_ASSIGN_OR_RETURN(std::vector<std::string> service_names, AddServices());
+  for (auto& service : services_) builder.RegisterService(service.get());
+  grpc_ = builder.BuildAndStart();
+  if (!grpc_ || grpc_port_ == 0) return Status::Unavailable(ListenError("gRPC", config_.host, config_.grpc_port));
+  // grpc.health.v1 answers for "" (the whole server) and for each armature.v1 service by full name.
+  for (const std::string& name : service_names) grpc_->GetHealthCheckService()->SetServingStatus(name, true);
+  grpc_->GetHealthCheckService()->SetServingStatus(true);
+  return Status::Ok();
+}
+
+StatusOr<std::vector<std::string>> ArmatureServer::AddServices() {
+  // With a token file, each API service sits behind an auth gate; health and reflection (v1alpha, v1) stay open.
+  std::vector<std::string> service_names;
+  for (ServiceEntry& entry : MakeServices(*store_, config_.limits, *metrics_, tokens_ != nullptr)) {
+    service_names.push_back(entry.name);
+    if (tokens_) {
+      ARMATURE_ASSIGN_OR_RETURN(entry.service, GateService(std::move(entry.service), entry.name, tokens_));
+    }
+    services_.push_back(std::move(entry.service));
+  }
+  // Reflection v1 beside the plugin's v1alpha, open like it; both list the same services.
+  std::vector<std::string> reflected = service_names;
+  reflected.insert(reflected.end(), {"grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection",
+                                     "grpc.reflection.v1alpha.ServerReflection"});
+  services_.push_back(std::make_unique<ReflectionV1Service>(std::move(reflected)));
+  return service_names;
+}
+
+Status ArmatureServer::StartHttp() {
+  const Limits& limits = config_.limits;
+  const HttpConnectionLimits connections{
+      .head_timeout = std::chrono::milliseconds(static_cast<int64_t>(limits.http_head_timeout_seconds * 1000)),
+      .max_per_address = limits.max_http_connections_per_address,
+      .trusted_proxies = trusted_proxies_};
+  http_ = std::make_unique<HttpServer>(limits.max_http_threads, config_.tls_cert_file, config_.tls_key_file,
+                                       connections);
+  ServeMetrics(http_->routes(), *metrics_, tokens_);
+  ARMATURE_RETURN_IF_ERROR(StartGateway());
+  http_port_ = http_->Start(config_.host, config_.http_port);
+  if (http_port_ < 0) return Status::Unavailable(ListenError("HTTP", config_.host, config_.http_port));
+  http_->SetReady(true);
+  return Status::Ok();
 }
 
 Status ArmatureServer::StartGateway() {
@@ -153,11 +163,9 @@ Status ArmatureServer::StartGateway() {
   options.max_reply_bytes = static_cast<size_t>(limits.max_message_bytes);
   // Keep threads free for ordinary requests however many streams are open.
   options.max_streams = limits.max_http_threads - std::min<size_t>(limits.max_http_threads / 4, 64);
-  auto gw = gateway::Gateway::Create(gateway::GeneratedServicesIn("armature.v1"),
-                                     google::protobuf::MessageFactory::generated_factory(),
-                                     grpc_->InProcessChannel(args), options);
-  if (!gw.ok()) return gw.status();
-  gateway_ = std::move(*gw);
+  ARMATURE_ASSIGN_OR_RETURN(gateway_, gateway::Gateway::Create(gateway::GeneratedServicesIn("armature.v1"),
+                                                              google::protobuf::MessageFactory::generated_factory(),
+                                                              grpc_->InProcessChannel(args), options));
   httplib::Server& routes = http_->routes();
   // A form upload's boundaries and part headers are not part of what --max-upload-mb counts: room for them.
   constexpr int64_t kFormFramingBytes = 1 << 20;

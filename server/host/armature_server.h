@@ -3,6 +3,8 @@
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/impl/codegen/service_type.h>
@@ -11,8 +13,8 @@
 #include "server/assets/asset_store.h"
 #include "server/host/config.h"
 #include "server/host/gateway/gateway.h"
-#include "server/host/bearer_tokens.h"
-#include "server/host/http_server.h"
+#include "server/host/auth/bearer_tokens.h"
+#include "server/host/http/http_server.h"
 #include "server/rpc/metrics.h"
 
 namespace armature::server {
@@ -32,7 +34,15 @@ class ArmatureServer {
 
  private:
   ArmatureServer() = default;
-  Status StartGateway();  // the REST gateway and the viewer on http_
+  // Start's steps, in order.
+  Status LoadAccessRules();  // --auth-token-file, --trust-forwarded-for
+  Status OpenStore();        // the data dir (demo assets seeded into a fresh one)
+  Status StartGrpc(const std::shared_ptr<grpc::ServerCredentials>& credentials);
+  // The API services (behind auth gates with a token file) and reflection v1
+  // into services_; the API services' names.
+  StatusOr<std::vector<std::string>> AddServices();
+  Status StartHttp();     // metrics, the gateway and the viewer on the HTTP port
+  Status StartGateway();  // the gateway and the viewer on http_
 
   ServerConfig config_;
   std::unique_ptr<AssetStore> store_;

@@ -7,7 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "armature/build_info.h"
-#include "server/host/gateway/forwarded_for.h"
+#include "server/host/gateway/common/forwarded_for.h"
 
 namespace armature::server {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "server/host/armature_server.h"
 #include "server/host/config.h"
-#include "server/host/logging.h"
+#include "server/host/observability/logging.h"
 
 int main(int argc, char** argv) {
   armature::server::ServerConfig config;

@@ -8,6 +8,10 @@
   <- host (host/gateway is part of host). Slices never include each other.
   Inside rpc: its top (status, validation, limits) <- rpc/convert <-
   rpc/work <- rpc/streams.
+- inside host/gateway: common/ (the call factory) uses no protocol folder;
+  rest/ and grpc_web/ use common/ only; websocket/ (sessions on REST paths)
+  uses common/, rest/ and grpc_web/ (its base64); nothing includes the
+  router (gateway.h, cors.h) but host/ itself.
 - clients/cpp/ talks to the server over gRPC only: nothing of server/ or engine/.
 - No include cycle between folders (the rules above are an order, and the
   graph is checked for cycles as well).
@@ -93,6 +97,36 @@ def allowed(src, dst):
     return True
 
 
+GATEWAY = "server/host/gateway/"
+# What each folder of the gateway may use of the others; "router" is the
+# top (gateway.h, cors.h), which only host/ and the router itself use.
+GATEWAY_USES = {
+    "common": set(),
+    "rest": {"common"},
+    "grpc_web": {"common"},
+    "websocket": {"common", "rest", "grpc_web"},
+}
+
+
+def gateway_part(path):
+    """'common', 'rest', … for a file in server/host/gateway/<part>/, 'router' at its top, else None."""
+    if not path.startswith(GATEWAY):
+        return None
+    first = path[len(GATEWAY):].split("/")
+    return first[0] if len(first) > 1 else "router"
+
+
+def gateway_allowed(rel, include):
+    src, dst = gateway_part(rel), gateway_part(include)
+    if dst is None or src == dst:
+        return True
+    if dst == "router":
+        return src is None or src == "router"  # host/ wires the gateway
+    if src is None or src == "router":
+        return True
+    return dst in GATEWAY_USES.get(src, set())
+
+
 def find_cycle(edges):
     graph = {}
     for a, b in edges:
@@ -139,6 +173,9 @@ def main():
                         edges.add((src, dst))
                     if not allowed(src, dst):
                         problems.append(f'{rel}: #include "{include}": {src} may not use {dst}')
+                    elif not gateway_allowed(rel, include):
+                        problems.append(f'{rel}: #include "{include}": gateway/{gateway_part(rel)} may not use '
+                                        f'gateway/{gateway_part(include)}')
     cycle = find_cycle(edges)
     if cycle:
         problems.append("an include cycle between folders: " + " -> ".join(cycle))

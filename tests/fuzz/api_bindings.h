@@ -9,7 +9,7 @@
 #include "armature/v1/ik.pb.h"
 #include "armature/v1/meshes.pb.h"
 #include "armature/v1/poses.pb.h"
-#include "server/host/gateway/http_rule.h"
+#include "server/host/gateway/rest/transcoding/http_rule.h"
 
 namespace armature::fuzz {
 

@@ -1,4 +1,4 @@
-// gRPC-Web framing (server/host/gateway/grpc_web_framing): the request body
+// gRPC-Web framing (server/host/gateway/grpc_web/grpc_web_framing): the request body
 // parser, base64 and grpc-message's percent-encoding. Input: a byte choosing
 // the frame size limit, then a body. Accepted frames re-encode to the body
 // byte for byte; a refused body is named by a status; base64 and percent-
@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "server/host/gateway/grpc_web_framing.h"
+#include "server/host/gateway/grpc_web/grpc_web_framing.h"
 
 namespace gw = armature::server::gateway;
 

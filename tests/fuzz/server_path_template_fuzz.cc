@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "api_bindings.h"
-#include "server/host/gateway/path_template.h"
+#include "server/host/gateway/rest/transcoding/path_template.h"
 
 namespace {
 

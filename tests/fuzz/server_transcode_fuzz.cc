@@ -21,9 +21,9 @@
 #include <nlohmann/json.hpp>
 
 #include "api_bindings.h"
-#include "server/host/gateway/error_mapping.h"
-#include "server/host/gateway/http_rule.h"
-#include "server/host/gateway/transcoder.h"
+#include "server/host/gateway/common/error_mapping.h"
+#include "server/host/gateway/rest/transcoding/http_rule.h"
+#include "server/host/gateway/rest/transcoding/transcoder.h"
 
 namespace {
 

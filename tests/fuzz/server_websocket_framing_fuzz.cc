@@ -1,4 +1,4 @@
-// WebSocket framing (server/host/gateway/websocket_framing): the client frame
+// WebSocket framing (server/host/gateway/websocket/websocket_framing): the client frame
 // reader. Input: a byte choosing the message size limit and the split points,
 // then bytes off the wire. Whatever the split, the reader finds the same
 // events; no message exceeds the limit, text is UTF-8, a close code is one a
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "armature/base/utf8.h"
-#include "server/host/gateway/websocket_framing.h"
+#include "server/host/gateway/websocket/websocket_framing.h"
 
 namespace gw = armature::server::gateway;
 

@@ -4,7 +4,7 @@
 
 #include <httplib.h>
 
-#include "server/host/gateway/error_mapping.h"
+#include "server/host/gateway/common/error_mapping.h"
 
 namespace armature::server::gateway {
 namespace {

@@ -1,7 +1,7 @@
-// The gateway's parts without armature-server: path templates, and the
-// transcoder over a service the test defines at run time (descriptors built
-// here, served by a generic gRPC echo handler), which covers the RPC kinds
-// the Armature API does not have yet, bidirectional streaming among them.
+// The gateway without armature-server: the transcoder over a service the
+// test defines at run time (descriptors built here, served by a generic gRPC
+// echo handler), which covers the RPC kinds the Armature API does not have
+// yet, bidirectional streaming among them.
 #include <thread>
 
 #include <google/protobuf/descriptor.pb.h>
@@ -15,57 +15,12 @@
 #include "../../../common/sse_events.h"
 #include "google/api/annotations.pb.h"
 #include "server/host/gateway/gateway.h"
-#include "server/host/gateway/path_template.h"
 
 namespace armature::server::gateway {
 namespace {
 
 namespace pb = google::protobuf;
 using nlohmann::json;
-
-PathBindings MatchOrDie(const std::string& tmpl, const std::string& path) {
-  auto t = PathTemplate::Parse(tmpl);
-  EXPECT_TRUE(t.ok()) << t.status().message();
-  auto p = RequestPath::Parse(path);
-  EXPECT_TRUE(p.ok()) << p.status().message();
-  PathBindings b;
-  EXPECT_TRUE(t->Match(*p, &b)) << tmpl << " vs " << path;
-  return b;
-}
-
-bool Matches(const std::string& tmpl, const std::string& path) {
-  PathBindings b;
-  return PathTemplate::Parse(tmpl)->Match(*RequestPath::Parse(path), &b);
-}
-
-TEST(PathTemplate, VariablesVerbsAndWildcards) {
-  EXPECT_EQ(MatchOrDie("/v1/clips/{clip}", "/v1/clips/walk"), (PathBindings{{"clip", "walk"}}));
-  EXPECT_EQ(MatchOrDie("/v1/clips/{clip}:evaluate", "/v1/clips/walk:evaluate"), (PathBindings{{"clip", "walk"}}));
-  // Segments are percent-decoded; a name may hold '/' or ':' when escaped or verb-less.
-  EXPECT_EQ(MatchOrDie("/v1/clips/{clip}", "/v1/clips/a%2Fb%20c"), (PathBindings{{"clip", "a/b c"}}));
-  EXPECT_EQ(MatchOrDie("/v1/clips/{clip}", "/v1/clips/a:b"), (PathBindings{{"clip", "a:b"}}));
-  EXPECT_EQ(MatchOrDie("/v1/{name=assets/*}", "/v1/assets/x"), (PathBindings{{"name", "assets/x"}}));
-  EXPECT_EQ(MatchOrDie("/v1/{name=files/**}:get", "/v1/files/a/b/c:get"), (PathBindings{{"name", "files/a/b/c"}}));
-  EXPECT_EQ(MatchOrDie("/v1/{pose.name}/*", "/v1/p/q"), (PathBindings{{"pose.name", "p"}}));
-  EXPECT_FALSE(Matches("/v1/clips/{clip}:evaluate", "/v1/clips/walk"));
-  EXPECT_FALSE(Matches("/v1/clips/{clip}:evaluate", "/v1/clips/walk:stream"));
-  EXPECT_FALSE(Matches("/v1/clips/{clip}", "/v1/clips/walk/extra"));
-  EXPECT_FALSE(Matches("/v1/clips/{clip}", "/v1/clips/"));
-  EXPECT_FALSE(Matches("/v1/clips", "/v1/clip"));
-  EXPECT_EQ(PathTemplate::Parse("/v1/{name=assets/*}:x")->Simplified(), "/v1/{name}:x");
-  EXPECT_GT(PathTemplate::Parse("/v1/clips/{clip}:stream")->specificity(),
-            PathTemplate::Parse("/v1/clips/{clip}")->specificity());
-}
-
-TEST(PathTemplate, MalformedTemplatesAndPathsAreErrors) {
-  for (const char* bad : {"v1/x", "/v1//x", "/v1/{x", "/v1/{x=**}/y", "/v1/{1x}", "/v1/{a.}", "/v1/x:", "/v1/{a={b}}"}) {
-    auto t = PathTemplate::Parse(bad);
-    EXPECT_FALSE(t.ok()) << bad;
-    if (!t.ok()) EXPECT_NE(t.status().message().find("path template"), std::string::npos) << t.status().message();
-  }
-  EXPECT_FALSE(RequestPath::Parse("/v1/clips/%zz").ok());
-  EXPECT_FALSE(RequestPath::Parse("/v1/clips/%4").ok());
-}
 
 // test.v1.EchoService: Chat (bidi), Collect (client stream), Say (unary),
 // each bound by a (google.api.http) rule set here.
