@@ -23,7 +23,7 @@ import {
   UnauthenticatedError, createArmatureClient, openIkSession,
 } from '../dist/index.js';
 import { SolveIkResponseSchema } from '../dist/gen/armature/v1/ik_pb.js';
-import { startServer } from '../../../web/test/server.mjs';
+import { startServer } from '../../../web/test/support/server.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const [serverBin] = process.argv.slice(2);

@@ -17,7 +17,7 @@ import { Code, ConnectError, createClient } from '@connectrpc/connect';
 import { createGrpcTransport } from '@connectrpc/connect-node';
 import { createGrpcWebTransport } from '@connectrpc/connect-web';
 
-import { startServer } from '../../../web/test/server.mjs';
+import { startServer } from '../../../web/test/support/server.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const [serverBin, protoc, protoDir] = process.argv.slice(2);

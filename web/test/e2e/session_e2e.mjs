@@ -13,9 +13,9 @@ import { execFileSync } from 'node:child_process';
 import { existsSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
-import { besides, check, runViewerTest } from './browser.mjs';
-import { bumpGridObj } from './fixtures.mjs';
-import { startEcho } from './ws_echo.mjs';
+import { besides, check, runViewerTest } from '../support/browser.mjs';
+import { bumpGridObj } from '../support/fixtures.mjs';
+import { startEcho } from '../support/ws_echo.mjs';
 
 const replayBin = process.argv[5];
 const STEPS = 30;

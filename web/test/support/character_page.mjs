@@ -5,7 +5,7 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
-const DATA = process.env.ARMATURE_SHARED_DATA ?? path.resolve(here, '../../../shared/data');
+const DATA = process.env.ARMATURE_SHARED_DATA ?? path.resolve(here, '../../../../shared/data');
 
 // The paths of `files` (relative to ../shared/data); exits 0 with SKIP when one is missing.
 export function sharedDataOrSkip(...files) {

@@ -4,7 +4,7 @@
 // bone colour in a screenshot, and different ones as it walks), scrubbing
 // while paused, and that the console shows no errors. Saves a screenshot.
 //   node viewer_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { besides, check, colourStats, runViewerTest } from './browser.mjs';
+import { besides, check, colourStats, runViewerTest } from '../support/browser.mjs';
 
 // Every call the viewer makes is gRPC-Web (binary protobuf), none REST JSON:
 // the paths it calls, and any REST or non-binary call.

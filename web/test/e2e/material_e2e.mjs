@@ -9,8 +9,8 @@
 //   node material_e2e.mjs <armature-server> <web dir> <screenshot.png>
 // SKIP when ../shared/data (or $ARMATURE_SHARED_DATA) has no cesium_man.gltf.
 import { readFileSync, writeFileSync } from 'node:fs';
-import { besides, check, colourStats, runViewerTest } from './browser.mjs';
-import { rendered, sharedDataOrSkip } from './character_page.mjs';
+import { besides, check, colourStats, runViewerTest } from '../support/browser.mjs';
+import { rendered, sharedDataOrSkip } from '../support/character_page.mjs';
 
 const [GLTF] = sharedDataOrSkip('gltf/cesium_man.gltf');
 

@@ -11,8 +11,8 @@
 //   node retarget_e2e.mjs <armature-server> <web dir> <screenshot.png>
 // SKIP when ../shared/data (or $ARMATURE_SHARED_DATA) lacks either file.
 import { readFileSync, writeFileSync } from 'node:fs';
-import { answeredAfter, besides, changedPixels, check, colourStats, runViewerTest } from './browser.mjs';
-import { drawnPositions, rendered, scrubTo, sharedDataOrSkip } from './character_page.mjs';
+import { answeredAfter, besides, changedPixels, check, colourStats, runViewerTest } from '../support/browser.mjs';
+import { drawnPositions, rendered, scrubTo, sharedDataOrSkip } from '../support/character_page.mjs';
 
 const [GLB, BVH] = sharedDataOrSkip('gltf/RobotExpressive/RobotExpressive.glb', 'bvh/cmu_01_01.bvh');
 

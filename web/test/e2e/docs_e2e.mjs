@@ -3,7 +3,7 @@
 // under the document's title, with every request to the server's own origin
 // (no CDN).
 //   node docs_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { check, runViewerTest } from './browser.mjs';
+import { check, runViewerTest } from '../support/browser.mjs';
 
 await runViewerTest('docs_e2e.mjs', async ({ page, server, screenshot }) => {
   const spec = await (await fetch(`${server.url}/openapi.json`)).json();

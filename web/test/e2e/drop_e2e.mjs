@@ -5,8 +5,8 @@
 // is shown whole; the progress indicator reaches 100% and hides; a file the
 // server refuses shows its message. Saves a screenshot.
 //   node drop_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { check, colourStats, runViewerTest } from './browser.mjs';
-import { ARM_BVH, twistTubeGltf } from './fixtures.mjs';
+import { check, colourStats, runViewerTest } from '../support/browser.mjs';
+import { ARM_BVH, twistTubeGltf } from '../support/fixtures.mjs';
 
 // Drops files [{ name, text }] on the page, as dragenter, dragover and drop events.
 async function drop(page, files) {

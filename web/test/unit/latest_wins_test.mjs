@@ -2,7 +2,7 @@
 // flight, and a request made at any moment while the last call finishes
 // (here: after 0 to 8 microtask hops from its answer) is run, never left
 // waiting with no pump.   node latest_wins_test.mjs
-import { LatestWins } from '../src/latest_wins.js';
+import { LatestWins } from '../../src/latest_wins.js';
 
 let failed = false;
 function check(condition, message) {

@@ -2,7 +2,7 @@
 // node: a clip of another body, not the character's own clips nor clips
 // already retargeted onto it, nor a skeleton that is no body.
 //   node retarget_source_test.mjs
-import { defaultRetargetSource, looksLikeABody } from '../src/retarget/retarget_source.js';
+import { defaultRetargetSource, looksLikeABody } from '../../src/retarget/retarget_source.js';
 
 let failed = false;
 function check(condition, message) {

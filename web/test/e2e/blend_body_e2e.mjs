@@ -3,8 +3,8 @@
 // blend's time (what is drawn matches a direct call within 1e-4), under the
 // skeleton drawn thin; leaving the blend takes the mesh away.
 //   node blend_body_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { check, runViewerTest } from './browser.mjs';
-import { drawnPositions } from './character_page.mjs';
+import { check, runViewerTest } from '../support/browser.mjs';
+import { drawnPositions } from '../support/character_page.mjs';
 
 await runViewerTest('blend_body_e2e.mjs', async ({ page, server, screenshot }) => {
   await page.goto(`${server.url}/?clip=demo_character.walk`);

@@ -7,8 +7,8 @@
 // followed, that a second drag keeps the first handle's target (edits
 // accumulate), ARAP and cotangent weights, and Reset. Saves a screenshot.
 //   node deform_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { check, colourStats, runViewerTest } from './browser.mjs';
-import { bumpGridObj } from './fixtures.mjs';
+import { check, colourStats, runViewerTest } from '../support/browser.mjs';
+import { bumpGridObj } from '../support/fixtures.mjs';
 
 const grid = bumpGridObj();
 const MESH = 'plane';

@@ -2,7 +2,7 @@
 // validated offline with @apidevtools/swagger-parser (schema and $refs).
 //   node openapi_validate.mjs <armature-server>
 import SwaggerParser from '@apidevtools/swagger-parser';
-import { startServer } from './server.mjs';
+import { startServer } from '../support/server.mjs';
 
 const [serverBin] = process.argv.slice(2);
 if (!serverBin) {

@@ -7,9 +7,9 @@
 //   node mixamo_e2e.mjs <armature-server> <web dir> <screenshot.png>
 // SKIP when ../shared/data (or $ARMATURE_SHARED_DATA) has no RobotExpressive.
 import { readFileSync } from 'node:fs';
-import { besides, check, colourStats, runViewerTest } from './browser.mjs';
-import { sharedDataOrSkip } from './character_page.mjs';
-import { mixamoRigGlb } from './mixamo_rig.mjs';
+import { besides, check, colourStats, runViewerTest } from '../support/browser.mjs';
+import { sharedDataOrSkip } from '../support/character_page.mjs';
+import { mixamoRigGlb } from '../support/mixamo_rig.mjs';
 
 const [GLB] = sharedDataOrSkip('gltf/RobotExpressive/RobotExpressive.glb');
 

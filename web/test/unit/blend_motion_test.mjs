@@ -2,7 +2,7 @@
 // upper-body joint on hand-made skeletons (by name, past a small node named
 // like a torso, by the hips' shape, none), the crossfade ramp and the motion
 // JSON.   node blend_motion_test.mjs
-import { buildMotion, crossfadeWeights, subtree, upperBodyJoint } from '../src/blend/blend_motion.js';
+import { buildMotion, crossfadeWeights, subtree, upperBodyJoint } from '../../src/blend/blend_motion.js';
 
 let failed = false;
 function check(condition, message) {

@@ -10,10 +10,10 @@
 import { existsSync, readFileSync } from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { besides, check, colourStats, runViewerTest } from './browser.mjs';
+import { besides, check, colourStats, runViewerTest } from '../support/browser.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
-const DATA = process.env.ARMATURE_SHARED_DATA ?? path.resolve(here, '../../../shared/data');
+const DATA = process.env.ARMATURE_SHARED_DATA ?? path.resolve(here, '../../../../shared/data');
 const GLB = path.join(DATA, 'gltf/RobotExpressive/RobotExpressive.glb');
 if (!existsSync(GLB)) {
   console.log(`SKIP: ${GLB} is not present (../shared/data is only beside the project's own clone)`);

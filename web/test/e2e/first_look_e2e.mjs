@@ -4,8 +4,8 @@
 // clip of another body) for the demo character, then forgets its answer when
 // another character is chosen.
 //   node first_look_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { check, runViewerTest } from './browser.mjs';
-import { ARM_BVH } from './fixtures.mjs';
+import { check, runViewerTest } from '../support/browser.mjs';
+import { ARM_BVH } from '../support/fixtures.mjs';
 
 const LONG = 'a_capture_with_a_rather_long_descriptive_name_from_the_mocap_stage';
 

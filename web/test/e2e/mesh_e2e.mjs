@@ -8,8 +8,8 @@
 // wrapper"), measured from the positions the MeshView draws. Then
 // ?mesh=&clip=&method=, and back to the skeleton alone. Saves screenshots.
 //   node mesh_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { besides, check, colourStats, runViewerTest } from './browser.mjs';
-import { twistTubeGltf } from './fixtures.mjs';
+import { besides, check, colourStats, runViewerTest } from '../support/browser.mjs';
+import { twistTubeGltf } from '../support/fixtures.mjs';
 
 const tube = twistTubeGltf();
 const MESH = 'tube.tube';

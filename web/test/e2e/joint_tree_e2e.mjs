@@ -3,7 +3,7 @@
 // the list (and ringed in the view), pointing at a name rings its joint, and
 // leaving the view clears both.
 //   node joint_tree_e2e.mjs <armature-server> <web dir> <screenshot.png>
-import { check, runViewerTest } from './browser.mjs';
+import { check, runViewerTest } from '../support/browser.mjs';
 
 await runViewerTest('joint_tree_e2e.mjs', async ({ page, server, screenshot }) => {
   const skeleton = await (await fetch(`${server.url}/v1/skeletons/demo_walk`)).json();
