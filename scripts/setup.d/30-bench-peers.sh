@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Libraries the benchmarks (make bench) compare against, never linked into the
-# server or the tests: assimp's BVH import (bench/bvh_assimp_bench.cc).
+# server or the tests: assimp's BVH import (bench/engine/bvh_assimp_bench.cc).
 # Without them the comparison benchmarks are left out (bench/CMakeLists.txt).
 set -euo pipefail
 # Only for `make bench` (scripts/setup.sh bench): neither `make run` nor `make test` needs them.

@@ -10,7 +10,7 @@
 #include "armature/engine/mesh/mesh.h"
 #include "server/rpc/call_guard.h"
 #include "server/rpc/grpc_status.h"
-#include "server/assets/import_reactor.h"
+#include "server/assets/upload/import_reactor.h"
 #include "server/assets/asset_convert.h"
 #include "server/assets/clip_export.h"
 #include "server/rpc/convert/pose_convert.h"

@@ -3,7 +3,7 @@
 
 #include "armature/v1/assets.grpc.pb.h"
 #include "server/assets/asset_store.h"
-#include "server/assets/upload_admission.h"
+#include "server/assets/upload/upload_admission.h"
 #include "server/rpc/limits.h"
 
 namespace armature::server {

@@ -18,7 +18,7 @@
 #include "armature/base/utf8.h"
 #include "armature/engine/io/asset.h"
 #include "fuzz_limits.h"
-#include "server/assets/import_upload.h"
+#include "server/assets/upload/import_upload.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 // the main file; every other file part is a resource named by its part's
 // filename, the name the .gltf's uris use; text fields set request fields
 // the way query parameters do (`name`, `format`, `replace`). The messages
-// follow ImportAsset's chunk protocol (server/assets/import_upload.h), so
+// follow ImportAsset's chunk protocol (server/assets/upload/import_upload.h), so
 // the upload takes the same path, limits and checks as over gRPC.
 #pragma once
 

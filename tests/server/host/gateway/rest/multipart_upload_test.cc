@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "armature/v1/assets.pb.h"
-#include "server/assets/import_upload.h"
+#include "server/assets/upload/import_upload.h"
 #include "server/host/gateway/rest/multipart_upload.h"
 
 namespace armature::server::gateway {

@@ -1,4 +1,4 @@
-#include "server/assets/import_reactor.h"
+#include "server/assets/upload/import_reactor.h"
 
 #include "armature/base/utf8.h"
 #include "server/rpc/call_guard.h"

@@ -12,7 +12,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "../tests/engine/testing/ik_rigs.h"
+#include "../../tests/engine/testing/ik_rigs.h"
 #include "armature/engine/kinematics/ik.h"
 
 namespace armature::ik_bench {

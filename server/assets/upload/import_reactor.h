@@ -6,7 +6,7 @@
 
 #include "armature/v1/assets.grpc.pb.h"
 #include "server/assets/asset_store.h"
-#include "server/assets/import_upload.h"
+#include "server/assets/upload/import_upload.h"
 #include "server/rpc/streams/admission_ticket.h"
 #include "server/rpc/limits.h"
 

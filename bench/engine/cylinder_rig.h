@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "../tests/engine/testing/mesh_test_util.h"
+#include "../../tests/engine/testing/mesh_test_util.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/math/rotation.h"
 #include "armature/engine/mesh/mesh.h"

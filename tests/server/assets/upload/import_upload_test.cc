@@ -2,7 +2,7 @@
 // the upload, and which sequences are refused with which message.
 #include <gtest/gtest.h>
 
-#include "server/assets/import_upload.h"
+#include "server/assets/upload/import_upload.h"
 
 namespace armature::server {
 namespace {

@@ -1,4 +1,4 @@
-#include "server/assets/import_upload.h"
+#include "server/assets/upload/import_upload.h"
 
 #include "armature/base/utf8.h"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "../tests/engine/testing/generated_meshes.h"
+#include "../../tests/engine/testing/generated_meshes.h"
 #include "armature/engine/deform/deformation_constraints.h"
 
 namespace armature_bench {
