@@ -1,6 +1,6 @@
 #include "server/deform/deform_convert.h"
 
-#include "server/rpc/request_validation.h"
+#include "server/deform/deform_validation.h"
 
 namespace armature::server {
 
