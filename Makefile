@@ -20,7 +20,7 @@ FUZZ_RUNS ?=
 FUZZ_MAX_LEN ?= 4096
 CLANG ?= /usr/bin/clang++-14
 
-.PHONY: all deps test-deps configure build run test bench image-test soak clean fuzz fuzz-build fuzz-smoke
+.PHONY: all deps test-deps configure build run test bench image-test soak clean fuzz fuzz-build fuzz-smoke format
 
 all: build
 
@@ -43,6 +43,12 @@ test: test-deps configure
 	cmake --build $(BUILD) -j $(JOBS)
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 600
 	$(MAKE) fuzz-smoke
+
+# The C++ sources as .clang-format has them (ctest architecture.format checks it).
+format:
+	python3 tests/architecture/check_format.py . >/dev/null || \
+	  find base engine server clients/cpp bench tests \( -name '*.cc' -o -name '*.h' \) -not -path '*/node_modules/*' \
+	    -not -path '*/corpus/*' -not -path '*/regressions/*' -not -path '*/seeds/*' | xargs clang-format-14 -i --style=file
 
 # libFuzzer targets (tests/fuzz) in their own clang build with ASan+UBSan.
 fuzz-build:

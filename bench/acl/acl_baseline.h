@@ -29,8 +29,9 @@ inline acl::ansi_allocator& Allocator() {
 }
 
 inline rtm::qvvf ToQvv(const Trs& t) {
-  const rtm::quatf q = rtm::quat_normalize(rtm::quat_set(static_cast<float>(t.rotation.x()), static_cast<float>(t.rotation.y()),
-                                                         static_cast<float>(t.rotation.z()), static_cast<float>(t.rotation.w())));
+  const rtm::quatf q =
+      rtm::quat_normalize(rtm::quat_set(static_cast<float>(t.rotation.x()), static_cast<float>(t.rotation.y()),
+                                        static_cast<float>(t.rotation.z()), static_cast<float>(t.rotation.w())));
   return rtm::qvv_set(q,
                       rtm::vector_set(static_cast<float>(t.translation.x()), static_cast<float>(t.translation.y()),
                                       static_cast<float>(t.translation.z())),
@@ -60,7 +61,8 @@ inline acl::track_array_qvvf RawTracks(const Clip& clip, const FrameGrid& frames
   for (uint32_t j = 0; j < joints; ++j) {
     acl::track_desc_transformf desc;
     desc.output_index = j;
-    desc.parent_index = skeleton.parents[j] < 0 ? acl::k_invalid_track_index : static_cast<uint32_t>(skeleton.parents[j]);
+    desc.parent_index =
+        skeleton.parents[j] < 0 ? acl::k_invalid_track_index : static_cast<uint32_t>(skeleton.parents[j]);
     desc.precision = static_cast<float>(bound.precision);
     desc.shell_distance = static_cast<float>(bound.shell_distance);
     desc.default_value = ToQvv(skeleton.rest[j]);
@@ -98,11 +100,15 @@ struct PoseWriter : acl::track_writer {
   rtm::qvvf* out = nullptr;
   const rtm::qvvf* rest = nullptr;
 
-  static constexpr acl::default_sub_track_mode get_default_rotation_mode() { return acl::default_sub_track_mode::variable; }
+  static constexpr acl::default_sub_track_mode get_default_rotation_mode() {
+    return acl::default_sub_track_mode::variable;
+  }
   static constexpr acl::default_sub_track_mode get_default_translation_mode() {
     return acl::default_sub_track_mode::variable;
   }
-  static constexpr acl::default_sub_track_mode get_default_scale_mode() { return acl::default_sub_track_mode::variable; }
+  static constexpr acl::default_sub_track_mode get_default_scale_mode() {
+    return acl::default_sub_track_mode::variable;
+  }
   rtm::quatf RTM_SIMD_CALL get_variable_default_rotation(uint32_t i) const { return rest[i].rotation; }
   rtm::vector4f RTM_SIMD_CALL get_variable_default_translation(uint32_t i) const { return rest[i].translation; }
   rtm::vector4f RTM_SIMD_CALL get_variable_default_scale(uint32_t i) const { return rest[i].scale; }

@@ -147,8 +147,7 @@ const Compared* Cmu() {
 }
 
 double AclBytesPerJointSample(const Compared& c) {
-  return static_cast<double>(c.acl->get_size()) /
-         static_cast<double>(c.clip->skeleton->size() * c.ours->frames.count);
+  return static_cast<double>(c.acl->get_size()) / static_cast<double>(c.clip->skeleton->size() * c.ours->frames.count);
 }
 
 void SetCounters(benchmark::State& state, const Compared& c, bool ours) {

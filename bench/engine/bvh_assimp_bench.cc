@@ -57,11 +57,17 @@ void BM_BvhParse_Assimp_cmu_01_01(benchmark::State& state) {
   if (!armature_bench::CmuBvhText()) return state.SkipWithError("shared data bvh/cmu_01_01.bvh is absent");
   AssimpVsArmature(state, *armature_bench::CmuBvhText());
 }
-BENCHMARK(BM_BvhParse_Assimp_cmu_01_01)->Name("BM_BvhParse_Assimp/cmu_01_01")->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BvhParse_Assimp_cmu_01_01)
+    ->Name("BM_BvhParse_Assimp/cmu_01_01")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 
 void BM_BvhParse_Assimp_walk_16MB(benchmark::State& state) {
   AssimpVsArmature(state, armature_bench::LargeWalkBvhText());
 }
-BENCHMARK(BM_BvhParse_Assimp_walk_16MB)->Name("BM_BvhParse_Assimp/walk_16MB")->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BvhParse_Assimp_walk_16MB)
+    ->Name("BM_BvhParse_Assimp/walk_16MB")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -78,8 +78,7 @@ std::vector<Trs> PoseOf(const LimbCase& c, const KDL::JntArray& q) {
 
 // KDL's stats, and in `within_limits` the share of targets it reached with
 // a pose that happens to respect the rig's limits (it does not know them).
-ik_bench::SolveStats MeasureKdl(const LimbCase& c, const std::vector<ik_rigs::Target>& targets,
-                                double* within_limits) {
+ik_bench::SolveStats MeasureKdl(const LimbCase& c, const std::vector<ik_rigs::Target>& targets, double* within_limits) {
   const KDL::Chain chain = ToKdlChain(c);
   // The chain's base is the root joint's world frame in the rest pose.
   std::vector<Eigen::Affine3d> world(c.skeleton.size());
@@ -139,10 +138,16 @@ void BM_IkVersusKdl(benchmark::State& state, const char* name) {
   state.SetLabel(c.name);
 }
 
-BENCHMARK_CAPTURE(BM_IkVersusKdl, cmu_left_arm_reach, "cmu_left_arm_reach")->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_IkVersusKdl, cmu_left_arm_reach, "cmu_left_arm_reach")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_IkVersusKdl, cmu_left_arm_pose, "cmu_left_arm_pose")->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_IkVersusKdl, cmu_right_leg_reach, "cmu_right_leg_reach")->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_IkVersusKdl, cmu_right_leg_pose, "cmu_right_leg_pose")->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_IkVersusKdl, cmu_right_leg_reach, "cmu_right_leg_reach")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_IkVersusKdl, cmu_right_leg_pose, "cmu_right_leg_pose")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_IkVersusKdl, seven_dof_pose, "seven_dof_pose")->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -95,12 +95,22 @@ void SampleFk(benchmark::State& state, Form form, Times times, Interpolation int
                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-void BM_SampleFk_Sequential(benchmark::State& s) { SampleFk(s, Form::kCompiled, Times::kSequential, Interpolation::kLinear); }
-void BM_SampleFk_Sequential_FileForm(benchmark::State& s) { SampleFk(s, Form::kFile, Times::kSequential, Interpolation::kLinear); }
-void BM_SampleFk_RandomSeek(benchmark::State& s) { SampleFk(s, Form::kCompiled, Times::kRandom, Interpolation::kLinear); }
-void BM_SampleFk_RandomSeek_FileForm(benchmark::State& s) { SampleFk(s, Form::kFile, Times::kRandom, Interpolation::kLinear); }
+void BM_SampleFk_Sequential(benchmark::State& s) {
+  SampleFk(s, Form::kCompiled, Times::kSequential, Interpolation::kLinear);
+}
+void BM_SampleFk_Sequential_FileForm(benchmark::State& s) {
+  SampleFk(s, Form::kFile, Times::kSequential, Interpolation::kLinear);
+}
+void BM_SampleFk_RandomSeek(benchmark::State& s) {
+  SampleFk(s, Form::kCompiled, Times::kRandom, Interpolation::kLinear);
+}
+void BM_SampleFk_RandomSeek_FileForm(benchmark::State& s) {
+  SampleFk(s, Form::kFile, Times::kRandom, Interpolation::kLinear);
+}
 void BM_SampleFk_Cubic(benchmark::State& s) { SampleFk(s, Form::kCompiled, Times::kSequential, Interpolation::kCubic); }
-void BM_SampleFk_Cubic_FileForm(benchmark::State& s) { SampleFk(s, Form::kFile, Times::kSequential, Interpolation::kCubic); }
+void BM_SampleFk_Cubic_FileForm(benchmark::State& s) {
+  SampleFk(s, Form::kFile, Times::kSequential, Interpolation::kCubic);
+}
 BENCHMARK(BM_SampleFk_Sequential);
 BENCHMARK(BM_SampleFk_Sequential_FileForm);
 BENCHMARK(BM_SampleFk_RandomSeek);
@@ -110,8 +120,12 @@ BENCHMARK(BM_SampleFk_Cubic_FileForm);
 
 // The hierarchy alone (ozz's LocalToModelJob is the counterpart), now and
 // before, on the pose at 1 s.
-void BM_SampleFk_HierarchyOnly(benchmark::State& s) { SampleFk(s, Form::kCompiled, Times::kNone, Interpolation::kLinear); }
-void BM_SampleFk_HierarchyOnly_Before(benchmark::State& s) { SampleFk(s, Form::kFile, Times::kNone, Interpolation::kLinear); }
+void BM_SampleFk_HierarchyOnly(benchmark::State& s) {
+  SampleFk(s, Form::kCompiled, Times::kNone, Interpolation::kLinear);
+}
+void BM_SampleFk_HierarchyOnly_Before(benchmark::State& s) {
+  SampleFk(s, Form::kFile, Times::kNone, Interpolation::kLinear);
+}
 BENCHMARK(BM_SampleFk_HierarchyOnly);
 BENCHMARK(BM_SampleFk_HierarchyOnly_Before);
 

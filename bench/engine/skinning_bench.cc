@@ -29,8 +29,8 @@ void BM_Skin(benchmark::State& state, SkinningMethod method, bool normals, bool 
   }
   state.counters["vertices"] = static_cast<double>(n);
   // Seconds per vertex (printed with an SI prefix: "3.1n" = 3.1 ns).
-  state.counters["per_vertex"] = benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate |
-                                                                               benchmark::Counter::kInvert);
+  state.counters["per_vertex"] = benchmark::Counter(
+      static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 // 1024 rings × 64 = 65536 vertices; 256 rings = 16384 (a typical character).
@@ -40,7 +40,9 @@ BENCHMARK_CAPTURE(BM_Skin, lbs_positions_1core, SkinningMethod::kLinear, false, 
 BENCHMARK_CAPTURE(BM_Skin, dqs_positions_1core, SkinningMethod::kDualQuaternion, false, false, false)->Arg(1024);
 BENCHMARK_CAPTURE(BM_Skin, lbs_normals_morph_1core, SkinningMethod::kLinear, true, false, true)->Arg(1024);
 BENCHMARK_CAPTURE(BM_Skin, lbs_normals_pool, SkinningMethod::kLinear, true, true, false)->Arg(1024)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Skin, dqs_normals_pool, SkinningMethod::kDualQuaternion, true, true, false)->Arg(1024)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Skin, dqs_normals_pool, SkinningMethod::kDualQuaternion, true, true, false)
+    ->Arg(1024)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace armature

@@ -53,10 +53,10 @@
 namespace armature {
 namespace {
 
-constexpr double kStep = 1.0 / 60;            // sequential playback
-constexpr size_t kSeekTimes = 1024;           // random seek: a fixed pseudo-random sequence
-constexpr double kMaxRelativeError = 1e-3;    // of the skeleton's size (ozz keeps half-float translations)
-constexpr int kSkinRings = 256;               // 256 × 64 = 16,384 vertices
+constexpr double kStep = 1.0 / 60;          // sequential playback
+constexpr size_t kSeekTimes = 1024;         // random seek: a fixed pseudo-random sequence
+constexpr double kMaxRelativeError = 1e-3;  // of the skeleton's size (ozz keeps half-float translations)
+constexpr int kSkinRings = 256;             // 256 × 64 = 16,384 vertices
 
 void Fail(const std::string& what) {
   std::fprintf(stderr, "vs_ozz_bench: %s\n", what.c_str());
@@ -92,14 +92,14 @@ const Cmu& LoadCmu() {
 void SetJoints(benchmark::State& state, size_t joints) {
   state.counters["joints"] = static_cast<double>(joints);
   // Seconds per joint (printed with an SI prefix: "47n" = 47 ns).
-  state.counters["per_joint"] = benchmark::Counter(static_cast<double>(joints), benchmark::Counter::kIsIterationInvariantRate |
-                                                                                  benchmark::Counter::kInvert);
+  state.counters["per_joint"] = benchmark::Counter(
+      static_cast<double>(joints), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 void SetVertices(benchmark::State& state, size_t vertices) {
   state.counters["vertices"] = static_cast<double>(vertices);
-  state.counters["per_vertex"] = benchmark::Counter(static_cast<double>(vertices),
-                                                    benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["per_vertex"] = benchmark::Counter(
+      static_cast<double>(vertices), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 // The CMU clip's runtime form, compiled once (the server compiles at import).
@@ -197,8 +197,8 @@ om::Float4x4 ToOzz(const Eigen::Affine3d& a) {
   const Eigen::Matrix4d& m = a.matrix();
   om::Float4x4 out;
   for (int c = 0; c < 4; ++c)
-    out.cols[c] = om::simd_float4::Load(static_cast<float>(m(0, c)), static_cast<float>(m(1, c)), static_cast<float>(m(2, c)),
-                                        static_cast<float>(m(3, c)));
+    out.cols[c] = om::simd_float4::Load(static_cast<float>(m(0, c)), static_cast<float>(m(1, c)),
+                                        static_cast<float>(m(2, c)), static_cast<float>(m(3, c)));
   return out;
 }
 Eigen::Vector3d Translation(const om::Float4x4& m) {
@@ -225,7 +225,8 @@ void CopyKeys(const Track<V>& track, const V& rest, ozz::vector<OzzKey>& out) {
     out.push_back({0.f, ToOzz(rest)});
     return;
   }
-  for (size_t k = 0; k < track.times.size(); ++k) out.push_back({static_cast<float>(track.times[k]), ToOzz(track.values[k])});
+  for (size_t k = 0; k < track.times.size(); ++k)
+    out.push_back({static_cast<float>(track.times[k]), ToOzz(track.values[k])});
 }
 
 struct OzzCmu {
@@ -263,7 +264,8 @@ struct OzzPose {
 // Samples both at `time` and compares world positions; returns the largest
 // difference relative to the pose's bounding-box diagonal, aborting above
 // kMaxRelativeError.
-double CheckAgreement(const std::shared_ptr<const Clip>& shared, const OzzCmu& o, const oa::Animation& animation, double time) {
+double CheckAgreement(const std::shared_ptr<const Clip>& shared, const OzzCmu& o, const oa::Animation& animation,
+                      double time) {
   const Clip& clip = *shared;
   ArmaturePose ours(shared);
   if (!ours.Sample(time)) Fail("SampleCompiledClip failed");
@@ -282,8 +284,9 @@ double CheckAgreement(const std::shared_ptr<const Clip>& shared, const OzzCmu& o
     const double error = (Translation(models[k]) - world[static_cast<size_t>(j)].translation()).norm() / size;
     if (error > kMaxRelativeError) {
       char line[256];
-      std::snprintf(line, sizeof line, "ozz and Armature disagree at t=%.4f s on joint %s: %.3g of the skeleton's size %.3g",
-                    time, clip.skeleton->names[static_cast<size_t>(j)].c_str(), error, size);
+      std::snprintf(line, sizeof line,
+                    "ozz and Armature disagree at t=%.4f s on joint %s: %.3g of the skeleton's size %.3g", time,
+                    clip.skeleton->names[static_cast<size_t>(j)].c_str(), error, size);
       Fail(line);
     }
     worst = std::max(worst, error);
@@ -420,7 +423,8 @@ void BM_VsOzz_Skin_Ozz(benchmark::State& state) {
   job.out_normals = ozz::make_span(normals);
   job.out_normals_stride = 3 * sizeof(float);
   auto run = [&] {
-    for (size_t k = 0; k < skinning.size(); ++k) skinning[k] = models[static_cast<size_t>(mesh.joints[k])] * inverse_bind[k];
+    for (size_t k = 0; k < skinning.size(); ++k)
+      skinning[k] = models[static_cast<size_t>(mesh.joints[k])] * inverse_bind[k];
     return job.Run();
   };
 
@@ -458,8 +462,12 @@ void BM_VsOzz_Skin_Ozz(benchmark::State& state) {
 void BM_VsOzz_SampleFk_Ozz(benchmark::State& state, bool, bool) {
   state.SkipWithError("ozz-animation not built: " ARMATURE_NO_OZZ_REASON);
 }
-void BM_VsOzz_Fk_Ozz(benchmark::State& state) { state.SkipWithError("ozz-animation not built: " ARMATURE_NO_OZZ_REASON); }
-void BM_VsOzz_Skin_Ozz(benchmark::State& state) { state.SkipWithError("ozz-animation not built: " ARMATURE_NO_OZZ_REASON); }
+void BM_VsOzz_Fk_Ozz(benchmark::State& state) {
+  state.SkipWithError("ozz-animation not built: " ARMATURE_NO_OZZ_REASON);
+}
+void BM_VsOzz_Skin_Ozz(benchmark::State& state) {
+  state.SkipWithError("ozz-animation not built: " ARMATURE_NO_OZZ_REASON);
+}
 
 #endif
 
@@ -467,7 +475,8 @@ BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Armature, Sequential, true)->Name("BM_VsOzz_
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, Sequential, true, false)->Name("BM_VsOzz_SampleFk_Sequential_Ozz");
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Armature, RandomSeek, false)->Name("BM_VsOzz_SampleFk_RandomSeek_Armature");
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeek, false, false)->Name("BM_VsOzz_SampleFk_RandomSeek_Ozz");
-BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeekIframes, false, true)->Name("BM_VsOzz_SampleFk_RandomSeek_OzzIframes");
+BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeekIframes, false, true)
+    ->Name("BM_VsOzz_SampleFk_RandomSeek_OzzIframes");
 BENCHMARK(BM_VsOzz_Fk_Armature);
 BENCHMARK(BM_VsOzz_Fk_Ozz);
 BENCHMARK(BM_VsOzz_Skin_Armature);

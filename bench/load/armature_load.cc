@@ -85,8 +85,8 @@ void PrintRow(const std::string& name, Totals& t) {
   const Percentiles p = Summarize(t.outcome.latencies_ms);
   std::printf("  %-34s %9zu %10.0f %9.3f %9.3f %9.3f %7lld%s%s\n", name.c_str(), p.count,
               t.seconds > 0 ? static_cast<double>(p.count) / t.seconds : 0.0, p.p50, p.p99, p.p999,
-              static_cast<long long>(t.outcome.errors), t.outcome.first_error.empty() ? "" : "  first error: ",
-              t.outcome.first_error.c_str());
+              static_cast<long long>(t.outcome.errors),
+              t.outcome.first_error.empty() ? "" : "  first error: ", t.outcome.first_error.c_str());
 }
 
 // One concurrency point; returns false when a call failed or none completed.
@@ -143,10 +143,11 @@ bool RunUnaryPoint(const std::vector<std::shared_ptr<grpc::Channel>>& channels, 
                 server_us[0], mix_text.c_str(), server_us[1], server_us[0] > 0 ? server_us[1] / server_us[0] : 0.0,
                 client_us[0], client_us[1]);
   // One line for scripts.
-  std::printf("RESULT mode=unary rpc=%s concurrency=%d calls_per_s=%.1f health_calls_per_s=%.1f ratio=%.4f errors=%lld "
-              "server_cpu_us_health=%.2f server_cpu_us=%.2f\n",
-              mix_text.c_str(), concurrency, load_rate, base_rate, ratio, static_cast<long long>(load_errors), server_us[0],
-              server_us[1]);
+  std::printf(
+      "RESULT mode=unary rpc=%s concurrency=%d calls_per_s=%.1f health_calls_per_s=%.1f ratio=%.4f errors=%lld "
+      "server_cpu_us_health=%.2f server_cpu_us=%.2f\n",
+      mix_text.c_str(), concurrency, load_rate, base_rate, ratio, static_cast<long long>(load_errors), server_us[0],
+      server_us[1]);
   return ok;
 }
 
@@ -157,22 +158,24 @@ bool RunStreamPoint(const std::vector<std::shared_ptr<grpc::Channel>>& channels,
   std::printf("  interval ms: mean %.3f  p50 %.3f  p99 %.3f  min..max jitter: |dev| p50 %.3f  p99 %.3f  max %.3f\n",
               r.interval_ms.mean, r.interval_ms.p50, r.interval_ms.p99, r.deviation_ms.p50, r.deviation_ms.p99,
               r.deviation_ms.max);
-  std::printf("  worst stream's p99 |dev| %.3f ms; frames %lld of %lld due, lost %lld, late (> %.1f ms) %lld, "
-              "latest %.1f ms\n",
-              r.worst_stream_p99_deviation_ms, static_cast<long long>(r.frames), static_cast<long long>(r.frames_expected),
-              static_cast<long long>(r.frames_lost), o.late_ms, static_cast<long long>(r.frames_late), r.max_late_ms);
+  std::printf(
+      "  worst stream's p99 |dev| %.3f ms; frames %lld of %lld due, lost %lld, late (> %.1f ms) %lld, "
+      "latest %.1f ms\n",
+      r.worst_stream_p99_deviation_ms, static_cast<long long>(r.frames), static_cast<long long>(r.frames_expected),
+      static_cast<long long>(r.frames_lost), o.late_ms, static_cast<long long>(r.frames_late), r.max_late_ms);
   std::printf("  server-side lateness (wall_time - index/fps) ms: p50 %.3f  p99 %.3f  max %.3f\n", r.server_late_ms.p50,
               r.server_late_ms.p99, r.server_late_ms.max);
   std::printf("  server CPU %.1f %% of a core, this client %.1f %%; streams failed %d%s%s\n", r.server_cpu_percent,
-              r.client_cpu_percent, r.streams_failed, r.first_error.empty() ? "" : ", first error: ",
-              r.first_error.c_str());
-  std::printf("RESULT mode=streams streams=%d fps=%.0f interval_mean_ms=%.3f jitter_p99_ms=%.3f jitter_max_ms=%.3f "
-              "frames=%lld expected=%lld lost=%lld late=%lld server_late_p99_ms=%.3f server_cpu_pct=%.1f client_cpu_pct=%.1f failed=%d\n",
-              o.streams, o.fps, r.interval_ms.mean, r.deviation_ms.p99, r.deviation_ms.max,
-              static_cast<long long>(r.frames), static_cast<long long>(r.frames_expected),
-              static_cast<long long>(r.frames_lost), static_cast<long long>(r.frames_late), r.server_late_ms.p99,
-              r.server_cpu_percent,
-              r.client_cpu_percent, r.streams_failed);
+              r.client_cpu_percent, r.streams_failed,
+              r.first_error.empty() ? "" : ", first error: ", r.first_error.c_str());
+  std::printf(
+      "RESULT mode=streams streams=%d fps=%.0f interval_mean_ms=%.3f jitter_p99_ms=%.3f jitter_max_ms=%.3f "
+      "frames=%lld expected=%lld lost=%lld late=%lld server_late_p99_ms=%.3f server_cpu_pct=%.1f client_cpu_pct=%.1f "
+      "failed=%d\n",
+      o.streams, o.fps, r.interval_ms.mean, r.deviation_ms.p99, r.deviation_ms.max, static_cast<long long>(r.frames),
+      static_cast<long long>(r.frames_expected), static_cast<long long>(r.frames_lost),
+      static_cast<long long>(r.frames_late), r.server_late_ms.p99, r.server_cpu_percent, r.client_cpu_percent,
+      r.streams_failed);
   return r.streams_failed == 0 && r.streams_opened == o.streams && r.frames > 0;
 }
 
@@ -188,7 +191,8 @@ int main(int argc, char** argv) {
   app.add_option("--target", target, "gRPC address of the server (loopback only: 127.0.0.0/8, localhost, [::1])");
   app.add_option("--rpc", rpc_text, "RPC or weighted mix: health, evaluate, skin, stream (e.g. evaluate=4,skin=1)");
   app.add_option("--concurrency", concurrency_text, "Calls in flight, one point per value (e.g. 1,8,32,128)");
-  app.add_option("--seconds", seconds, "Measured seconds per point (unary: of each side)")->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--seconds", seconds, "Measured seconds per point (unary: of each side)")
+      ->check(CLI::Range(0.1, 3600.0));
   app.add_option("--rounds", rounds, "Unary: alternating baseline/mix phases per point")->check(CLI::Range(1, 100));
   app.add_option("--connections", connections, "gRPC connections, calls spread over them")->check(CLI::Range(1, 64));
   app.add_option("--window-kb", window_kb, "HTTP/2 receive window per stream (lookahead), KiB; 0 = gRPC's")
@@ -198,14 +202,19 @@ int main(int argc, char** argv) {
   app.add_option("--clip", shape.clip, "Clip of EvaluateClip (one pose) and StreamClip");
   app.add_option("--mesh", shape.mesh, "Mesh of SkinMesh");
   app.add_option("--mesh-clip", shape.mesh_clip, "Clip of SkinMesh");
-  app.add_option("--streams", streams_text, "Stream mode: StreamClip streams at once, one point per value (e.g. 100,500,1000)");
+  app.add_option("--streams", streams_text,
+                 "Stream mode: StreamClip streams at once, one point per value (e.g. 100,500,1000)");
   app.add_option("--fps", fps, "Stream mode: frames per second of each stream")->check(CLI::Range(1.0, 240.0));
-  app.add_option("--warmup", warmup, "Stream mode: seconds after every stream plays before measuring")->check(CLI::Range(0.0, 60.0));
-  app.add_option("--late-ms", late_ms, "Stream mode: a frame this much past its due time is late")->check(CLI::Range(0.1, 1000.0));
-  app.add_option("--server-pid", server_pid, "The server's pid, for its CPU from /proc/<pid>/stat (per call; per stream window)");
+  app.add_option("--warmup", warmup, "Stream mode: seconds after every stream plays before measuring")
+      ->check(CLI::Range(0.0, 60.0));
+  app.add_option("--late-ms", late_ms, "Stream mode: a frame this much past its due time is late")
+      ->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--server-pid", server_pid,
+                 "The server's pid, for its CPU from /proc/<pid>/stat (per call; per stream window)");
   CLI11_PARSE(app, argc, argv);
   if (!IsLoopbackTarget(target)) {
-    std::fprintf(stderr, "--target %s: refused, only a server on this machine (127.0.0.0/8, localhost, [::1]) may be loaded\n",
+    std::fprintf(stderr,
+                 "--target %s: refused, only a server on this machine (127.0.0.0/8, localhost, [::1]) may be loaded\n",
                  target.c_str());
     return 2;
   }
@@ -242,7 +251,8 @@ int main(int argc, char** argv) {
       ok = RunStreamPoint(channels, o) && ok;
     }
   } else {
-    for (int c : concurrencies) ok = RunUnaryPoint(channels, mix, shape, c, seconds, rounds, rpc_text, server_pid) && ok;
+    for (int c : concurrencies)
+      ok = RunUnaryPoint(channels, mix, shape, c, seconds, rounds, rpc_text, server_pid) && ok;
   }
   std::fflush(stdout);
   return ok ? 0 : 1;

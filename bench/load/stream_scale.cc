@@ -38,9 +38,10 @@ class PacedStream final : public grpc::ClientReadReactor<v1::PoseFrame> {
     request_.set_loop(true);
     request_.set_duration(stream_seconds);
     request_.set_space(v1::WORLD);
-    context_.set_deadline(std::chrono::system_clock::now() +
-                          std::chrono::duration_cast<std::chrono::seconds>(std::chrono::duration<double>(stream_seconds)) +
-                          std::chrono::seconds(60));
+    context_.set_deadline(
+        std::chrono::system_clock::now() +
+        std::chrono::duration_cast<std::chrono::seconds>(std::chrono::duration<double>(stream_seconds)) +
+        std::chrono::seconds(60));
     arrivals_.reserve(capacity);  // no allocation per frame while measuring
   }
 
@@ -99,7 +100,8 @@ StreamScaleOutcome RunStreamScale(const std::vector<std::shared_ptr<grpc::Channe
   Done done;
   done.left = o.streams;
   std::vector<std::unique_ptr<PacedStream>> streams;
-  for (int i = 0; i < o.streams; ++i) streams.push_back(std::make_unique<PacedStream>(o, stream_seconds, capacity, done));
+  for (int i = 0; i < o.streams; ++i)
+    streams.push_back(std::make_unique<PacedStream>(o, stream_seconds, capacity, done));
   const auto open_start = Clock::now();
   for (int i = 0; i < o.streams; ++i) streams[i]->Begin(*stubs[i % stubs.size()]);
 

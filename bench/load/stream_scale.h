@@ -16,25 +16,25 @@ namespace armature_load {
 struct StreamScaleOptions {
   int streams = 100;
   double fps = 60;
-  double seconds = 5;          // measured window (after the warm-up)
-  double warmup_seconds = 1;   // after the last stream's first frame
-  double late_ms = 5;          // a frame later than its due time by more is late
+  double seconds = 5;         // measured window (after the warm-up)
+  double warmup_seconds = 1;  // after the last stream's first frame
+  double late_ms = 5;         // a frame later than its due time by more is late
   std::string clip = "load_cmu";
-  int server_pid = 0;          // its CPU is read from /proc/<pid>/stat; 0 = not reported
+  int server_pid = 0;  // its CPU is read from /proc/<pid>/stat; 0 = not reported
 };
 
 struct StreamScaleOutcome {
-  int streams_opened = 0;      // streams that delivered a first frame
-  int streams_failed = 0;      // ended with an error status
+  int streams_opened = 0;  // streams that delivered a first frame
+  int streams_failed = 0;  // ended with an error status
   std::string first_error;
-  double open_seconds = 0;     // from the first request to the last stream's first frame
-  int64_t frames = 0;          // received in the window
-  int64_t frames_expected = 0; // due in the window: window × fps × streams
-  int64_t frames_lost = 0;     // index gaps (a frame never sent) over the whole run
-  int64_t frames_late = 0;     // in the window, later than due + late_ms
+  double open_seconds = 0;      // from the first request to the last stream's first frame
+  int64_t frames = 0;           // received in the window
+  int64_t frames_expected = 0;  // due in the window: window × fps × streams
+  int64_t frames_lost = 0;      // index gaps (a frame never sent) over the whole run
+  int64_t frames_late = 0;      // in the window, later than due + late_ms
   double max_late_ms = 0;
-  Percentiles interval_ms;     // inter-frame arrival interval, all streams
-  Percentiles deviation_ms;    // |interval − 1/fps|
+  Percentiles interval_ms;   // inter-frame arrival interval, all streams
+  Percentiles deviation_ms;  // |interval − 1/fps|
   double worst_stream_p99_deviation_ms = 0;
   // How late the server wrote frames by its own clock (PoseFrame.wall_time −
   // index/fps): beside the arrival figures, it tells a server that falls

@@ -63,8 +63,13 @@ class Slot {
  public:
   Slot(const std::shared_ptr<grpc::Channel>& channel, const std::vector<MixEntry>& mix, const CallShape& shape,
        int seed, Clock::time_point deadline, Latch& latch)
-      : health_(health::Health::NewStub(channel)), poses_(v1::PoseService::NewStub(channel)),
-        meshes_(v1::MeshService::NewStub(channel)), mix_(mix), rng_(seed), deadline_(deadline), latch_(latch) {
+      : health_(health::Health::NewStub(channel)),
+        poses_(v1::PoseService::NewStub(channel)),
+        meshes_(v1::MeshService::NewStub(channel)),
+        mix_(mix),
+        rng_(seed),
+        deadline_(deadline),
+        latch_(latch) {
     for (const MixEntry& e : mix) total_weight_ += e.weight;
     evaluate_.set_clip(shape.clip);
     evaluate_.set_space(v1::WORLD);
@@ -161,8 +166,8 @@ const char* RpcLabel(Rpc rpc) {
   return "?";
 }
 
-PhaseOutcome RunClosedLoop(const std::vector<std::shared_ptr<grpc::Channel>>& channels, const std::vector<MixEntry>& mix,
-                           const CallShape& shape, int concurrency, double seconds) {
+PhaseOutcome RunClosedLoop(const std::vector<std::shared_ptr<grpc::Channel>>& channels,
+                           const std::vector<MixEntry>& mix, const CallShape& shape, int concurrency, double seconds) {
   Latch latch(concurrency);
   const auto start = Clock::now();
   const auto deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));

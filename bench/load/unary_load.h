@@ -27,7 +27,7 @@ struct MixEntry {
 
 // What each RPC of the mix asks for.
 struct CallShape {
-  std::string clip = "load_cmu";  // EvaluateClip (one pose) and StreamClip
+  std::string clip = "load_cmu";             // EvaluateClip (one pose) and StreamClip
   std::string mesh = "demo_character.body";  // SkinMesh
   std::string mesh_clip = "demo_character.walk";
   int stream_frames = 12;  // a StreamClip call: this many frames at 240 fps
@@ -46,7 +46,7 @@ struct PhaseOutcome {
 
 // Runs the mix over `channels` (slot i uses channel i % size) for `seconds`;
 // every slot finishes its call in flight before this returns.
-PhaseOutcome RunClosedLoop(const std::vector<std::shared_ptr<grpc::Channel>>& channels, const std::vector<MixEntry>& mix,
-                           const CallShape& shape, int concurrency, double seconds);
+PhaseOutcome RunClosedLoop(const std::vector<std::shared_ptr<grpc::Channel>>& channels,
+                           const std::vector<MixEntry>& mix, const CallShape& shape, int concurrency, double seconds);
 
 }  // namespace armature_load

@@ -108,11 +108,14 @@ void BM_Deform_Sheet100k_Laplacian_HitInProcess(benchmark::State& state) {
   server::DeformerCache cache(size_t{256} << 20);
   const server::Limits limits;
   v1::DeformResponse response;
-  if (auto st = server::Deform(cache, store.Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(0)), &response); !st.ok())
+  if (auto st =
+          server::Deform(cache, store.Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(0)), &response);
+      !st.ok())
     return state.SkipWithError(st.message().c_str());
   int step = 0;
   for (auto _ : state) {
-    const auto st = server::Deform(cache, store.Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(++step)), &response);
+    const auto st =
+        server::Deform(cache, store.Snapshot(), limits, SheetRequest(v1::LAPLACIAN, kCentre, Lift(++step)), &response);
     if (!st.ok()) return state.SkipWithError(st.message().c_str());
   }
   state.counters["cache_hits"] = static_cast<double>(cache.stats().hits);

@@ -42,7 +42,8 @@ struct Drag {
     setup->set_weights(arap ? v1::COTANGENT : v1::UNIFORM);
     setup->mutable_fixed()->Add(constraints.fixed.begin(), constraints.fixed.end());
     start.mutable_handle_indices()->Add(constraints.handles.begin(), constraints.handles.end());
-    for (int step = 1; step <= kTargetSets; ++step) targets.push_back(armature_bench::SheetDragTargets(constraints, step));
+    for (int step = 1; step <= kTargetSets; ++step)
+      targets.push_back(armature_bench::SheetDragTargets(constraints, step));
   }
   const std::vector<double>& Targets(int64_t step) const { return targets[static_cast<size_t>(step % kTargetSets)]; }
 };
@@ -55,8 +56,8 @@ void DragCases(benchmark::internal::Benchmark* b) {
 }
 
 void Label(benchmark::State& state, const v1::DeformResponse& answer) {
-  state.SetLabel(std::string(state.range(1) ? "arap" : "laplacian") + ", " + std::to_string(state.range(0) * state.range(0)) +
-                 " handle(s)");
+  state.SetLabel(std::string(state.range(1) ? "arap" : "laplacian") + ", " +
+                 std::to_string(state.range(0) * state.range(0)) + " handle(s)");
   state.counters["vertices"] = answer.positions_size() / 3;
   state.counters["arap_rounds"] = answer.iterations();
 }
@@ -126,4 +127,3 @@ void BM_DeformResponse_Parse(benchmark::State& state) {
 BENCHMARK(BM_DeformResponse_Parse)->Unit(benchmark::kMillisecond);
 
 }  // namespace
-

@@ -67,8 +67,8 @@ armature::v1::SkinMeshResponse ViaGrpcWeb(const armature::v1::SkinMeshRequest& r
 std::string RestPath(const armature::v1::SkinMeshRequest& r) { return "/v1/meshes/" + r.mesh() + ":skin"; }
 
 armature::v1::SkinMeshResponse ViaRestProtobuf(const armature::v1::SkinMeshRequest& r) {
-  const auto res = Http().Post(RestPath(r), {{"Accept", "application/x-protobuf"}}, r.SerializeAsString(),
-                               "application/x-protobuf");
+  const auto res =
+      Http().Post(RestPath(r), {{"Accept", "application/x-protobuf"}}, r.SerializeAsString(), "application/x-protobuf");
   armature::v1::SkinMeshResponse out;
   if (!res || res->status != 200 || !out.ParseFromString(res->body))
     throw std::runtime_error("REST protobuf SkinMesh failed");
@@ -111,7 +111,10 @@ void BM_SkinMesh100k(benchmark::State& state) {
   state.counters["MB"] = static_cast<double>(first.ByteSizeLong()) / 1e6;
 }
 
-BENCHMARK_TEMPLATE(BM_SkinMesh100k, ViaGrpc)->Name("BM_SkinMesh100k/grpc")->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SkinMesh100k, ViaGrpc)
+    ->Name("BM_SkinMesh100k/grpc")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_SkinMesh100k, ViaGrpcWeb)
     ->Name("BM_SkinMesh100k/grpc_web_binary")
     ->UseManualTime()

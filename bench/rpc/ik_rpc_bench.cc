@@ -49,9 +49,7 @@ void BM_SolveIk_DemoWalk_AlreadyReached(benchmark::State& state) {
 }
 BENCHMARK(BM_SolveIk_DemoWalk_AlreadyReached)->UseRealTime();
 
-void BM_SolveIk_DemoWalk_Dls_OneEffector(benchmark::State& state) {
-  Solve(state, Request("demo_walk", {"LeftWrist"}));
-}
+void BM_SolveIk_DemoWalk_Dls_OneEffector(benchmark::State& state) { Solve(state, Request("demo_walk", {"LeftWrist"})); }
 BENCHMARK(BM_SolveIk_DemoWalk_Dls_OneEffector)->UseRealTime();
 
 void BM_SolveIk_DemoWalk_Dls_TwoEffectors(benchmark::State& state) {
@@ -87,7 +85,8 @@ void BM_IkSession_Update_DemoWalk(benchmark::State& state) {
     iterations += answer.iterations();
   }
   session->Close();
-  state.counters["ik_iterations"] = benchmark::Counter(static_cast<double>(iterations), benchmark::Counter::kAvgIterations);
+  state.counters["ik_iterations"] =
+      benchmark::Counter(static_cast<double>(iterations), benchmark::Counter::kAvgIterations);
 }
 BENCHMARK(BM_IkSession_Update_DemoWalk)->UseRealTime();
 

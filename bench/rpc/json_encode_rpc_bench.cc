@@ -42,8 +42,7 @@ std::atomic<int64_t> live_bytes{0}, peak_bytes{0};
 void Count(int64_t delta) {
   const int64_t now = live_bytes.fetch_add(delta, std::memory_order_relaxed) + delta;
   int64_t peak = peak_bytes.load(std::memory_order_relaxed);
-  while (now > peak && !peak_bytes.compare_exchange_weak(peak, now, std::memory_order_relaxed)) {
-  }
+  while (now > peak && !peak_bytes.compare_exchange_weak(peak, now, std::memory_order_relaxed)) {}
 }
 
 // The peak of heap bytes allocated while `encode` runs once (its output included).
@@ -94,8 +93,10 @@ void Encode(benchmark::State& state, const pb::Message& answer, Encoder encode) 
   const double peak = PeakBytesOf([&] { benchmark::DoNotOptimize(encode(answer).size()); });
   state.counters["peak_x_answer"] = peak / static_cast<double>(bytes);
   if (encode == BinaryEncoding) return;
-  state.counters["x_binary_time"] = seconds / static_cast<double>(state.iterations()) / SecondsOf(answer, BinaryEncoding);
-  state.counters["x_binary_peak"] = peak / PeakBytesOf([&] { benchmark::DoNotOptimize(BinaryEncoding(answer).size()); });
+  state.counters["x_binary_time"] =
+      seconds / static_cast<double>(state.iterations()) / SecondsOf(answer, BinaryEncoding);
+  state.counters["x_binary_peak"] =
+      peak / PeakBytesOf([&] { benchmark::DoNotOptimize(BinaryEncoding(answer).size()); });
 }
 
 const armature::v1::EvaluateClipResponse& EvaluateClip10k() {

@@ -74,23 +74,30 @@ inline std::string SkinnedSheetGlb() {
     bounds_max += (k ? "," : "") + std::to_string(hi[k]);
   }
   const std::string N = std::to_string(n);
-  std::string json = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
-                     R"("nodes":[{"name":"root","children":[1],"mesh":0,"skin":0},{"name":"bend","translation":[1,0,0]}],)"
-                     R"("skins":[{"joints":[0,1],"skeleton":0,"inverseBindMatrices":4}],)"
-                     R"("meshes":[{"name":"sheet","primitives":[{"attributes":{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2},"indices":3}]}],)"
-                     R"("animations":[{"name":"bend","channels":[{"sampler":0,"target":{"node":1,"path":"rotation"}}],)"
-                     R"("samplers":[{"input":5,"output":6,"interpolation":"LINEAR"}]}],)"
-                     R"("accessors":[)"
-                     R"({"bufferView":0,"componentType":5126,"type":"VEC3","count":)" + N +
-                     R"(,"min":[)" + bounds_min + R"(],"max":[)" + bounds_max + R"(]},)"
-                     R"({"bufferView":1,"componentType":5121,"type":"VEC4","count":)" + N + R"(},)"
-                     R"({"bufferView":2,"componentType":5126,"type":"VEC4","count":)" + N + R"(},)"
-                     R"({"bufferView":3,"componentType":5125,"type":"SCALAR","count":)" +
-                     std::to_string(indices.size()) + R"(},)"
-                     R"({"bufferView":4,"componentType":5126,"type":"MAT4","count":2},)"
-                     R"({"bufferView":5,"componentType":5126,"type":"SCALAR","count":2,"min":[0],"max":[1]},)"
-                     R"({"bufferView":6,"componentType":5126,"type":"VEC4","count":2}],)"
-                     R"("bufferViews":[)";
+  std::string json =
+      R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
+      R"("nodes":[{"name":"root","children":[1],"mesh":0,"skin":0},{"name":"bend","translation":[1,0,0]}],)"
+      R"("skins":[{"joints":[0,1],"skeleton":0,"inverseBindMatrices":4}],)"
+      R"("meshes":[{"name":"sheet","primitives":[{"attributes":{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2},"indices":3}]}],)"
+      R"("animations":[{"name":"bend","channels":[{"sampler":0,"target":{"node":1,"path":"rotation"}}],)"
+      R"("samplers":[{"input":5,"output":6,"interpolation":"LINEAR"}]}],)"
+      R"("accessors":[)"
+      R"({"bufferView":0,"componentType":5126,"type":"VEC3","count":)" +
+      N + R"(,"min":[)" + bounds_min + R"(],"max":[)" + bounds_max +
+      R"(]},)"
+      R"({"bufferView":1,"componentType":5121,"type":"VEC4","count":)" +
+      N +
+      R"(},)"
+      R"({"bufferView":2,"componentType":5126,"type":"VEC4","count":)" +
+      N +
+      R"(},)"
+      R"({"bufferView":3,"componentType":5125,"type":"SCALAR","count":)" +
+      std::to_string(indices.size()) +
+      R"(},)"
+      R"({"bufferView":4,"componentType":5126,"type":"MAT4","count":2},)"
+      R"({"bufferView":5,"componentType":5126,"type":"SCALAR","count":2,"min":[0],"max":[1]},)"
+      R"({"bufferView":6,"componentType":5126,"type":"VEC4","count":2}],)"
+      R"("bufferViews":[)";
   for (size_t i = 0; i < views.size(); ++i) json += (i ? "," : "") + view_json(i);
   json += R"(],"buffers":[{"byteLength":)" + std::to_string(bin.size()) + "}]}";
   while (json.size() % 4) json += ' ';

@@ -46,7 +46,8 @@ bool ParseMix(const std::string& text, Mix& mix, std::string& error) {
   for (std::string item; std::getline(in, item, ',');) {
     const auto eq = item.find('=');
     const std::string name = item.substr(0, eq);
-    if (std::find(known.begin(), known.end(), name) == known.end()) return error = "unknown mix entry '" + name + "'", false;
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      return error = "unknown mix entry '" + name + "'", false;
     int w = 1;
     try {
       if (eq != std::string::npos) w = std::stoi(item.substr(eq + 1));
@@ -142,8 +143,7 @@ int main(int argc, char** argv) {
   sampler.join();
   try {
     armature::client::Client(setup_options).DeleteAsset("soak_grid");
-  } catch (const armature::client::ClientError&) {
-  }
+  } catch (const armature::client::ClientError&) {}
 
   std::printf("armature-soak: %d clients, %d s against %s (HTTP port %d)\n", clients, seconds, server.c_str(),
               http_port);

@@ -51,7 +51,8 @@ class WebSocket {
   // The upgrade; the answer's status code (101 when upgraded).
   int Upgrade(const std::string& path) {
     if (!connected_) return 0;
-    Send("GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+    Send("GET " + path +
+         " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
          "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n");
     std::string head;
     size_t end;
@@ -114,8 +115,10 @@ grpc::Status HttpTransports::GrpcWeb(const std::string& method_path, const googl
     const uint32_t n = BigEndian32(r->body, at + 1);
     if (at + 5 + n > r->body.size()) return Failed("gRPC-Web: a frame runs past the body");
     const std::string payload = r->body.substr(at + 5, n);
-    if (r->body[at] & server::gateway::kGrpcWebTrailerFlag) trailers = payload;
-    else if (!response.ParseFromString(payload)) return Failed("gRPC-Web: the message does not parse");
+    if (r->body[at] & server::gateway::kGrpcWebTrailerFlag)
+      trailers = payload;
+    else if (!response.ParseFromString(payload))
+      return Failed("gRPC-Web: the message does not parse");
     at += 5 + n;
   }
   if (const size_t s = trailers.find("grpc-status:"); s != std::string::npos) code = std::stoi(trailers.substr(s + 12));
@@ -130,8 +133,8 @@ grpc::Status HttpTransports::RestBinary(const std::string& path, const google::p
                                         google::protobuf::Message& response) {
   httplib::Client http("127.0.0.1", port_);
   http.set_read_timeout(kTimeoutMs / 1000);
-  const auto r = http.Post(path, {{"Accept", "application/x-protobuf"}}, request.SerializeAsString(),
-                           "application/x-protobuf");
+  const auto r =
+      http.Post(path, {{"Accept", "application/x-protobuf"}}, request.SerializeAsString(), "application/x-protobuf");
   if (!r) return Failed("binary REST: no answer (" + httplib::to_string(r.error()) + ")");
   if (r->status != 200) return FromErrorJson(r->status, r->body);
   if (r->get_header_value("Content-Type") != "application/x-protobuf")

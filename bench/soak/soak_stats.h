@@ -13,7 +13,7 @@ namespace armature::soak {
 
 struct MethodStats {
   std::vector<double> latencies_ms;
-  int refused = 0;  // IsExpectedRefusal
+  int refused = 0;                    // IsExpectedRefusal
   std::map<std::string, int> errors;  // status code name → count
   std::string first_error;
 };

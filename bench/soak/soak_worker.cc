@@ -30,9 +30,8 @@ void SetDeadline(grpc::ClientContext& context) {
 
 const std::vector<std::string>& MixEntries() {
   static const std::vector<std::string> kEntries = {
-      "evaluate", "stream",    "ik",       "ik_session", "skin",       "deform",   "list",      "import_delete",
-      "motion",   "bake",      "export",   "character",  "retarget",   "playback", "ws_session", "grpc_web",
-      "rest_binary"};
+      "evaluate", "stream", "ik",        "ik_session", "skin",     "deform",     "list",     "import_delete", "motion",
+      "bake",     "export", "character", "retarget",   "playback", "ws_session", "grpc_web", "rest_binary"};
   return kEntries;
 }
 
@@ -121,12 +120,16 @@ v1::Motion Worker::ThreeLayers() {
 
 void Worker::Call(const std::string& kind) {
   using Member = void (Worker::*)();
-  static const std::map<std::string, Member> kCalls = {
-      {"evaluate", &Worker::CallEvaluate},   {"stream", &Worker::CallStream},
-      {"ik_session", &Worker::CallIkSession}, {"deform", &Worker::CallDeform},
-      {"list", &Worker::CallList},           {"import_delete", &Worker::CallImportDelete},
-      {"bake", &Worker::CallBake},           {"retarget", &Worker::CallRetarget},
-      {"playback", &Worker::CallPlayback},   {"ws_session", &Worker::CallWebSocketSession}};
+  static const std::map<std::string, Member> kCalls = {{"evaluate", &Worker::CallEvaluate},
+                                                       {"stream", &Worker::CallStream},
+                                                       {"ik_session", &Worker::CallIkSession},
+                                                       {"deform", &Worker::CallDeform},
+                                                       {"list", &Worker::CallList},
+                                                       {"import_delete", &Worker::CallImportDelete},
+                                                       {"bake", &Worker::CallBake},
+                                                       {"retarget", &Worker::CallRetarget},
+                                                       {"playback", &Worker::CallPlayback},
+                                                       {"ws_session", &Worker::CallWebSocketSession}};
   if (auto it = kCalls.find(kind); it != kCalls.end()) return (this->*it->second)();
   if (kind == "ik") {
     Timed("SolveIk", [&] { client_->SolveIk(IkStart()); });
@@ -187,7 +190,7 @@ void Worker::CallIkSession() {
 
 void Worker::CallDeform() {
   v1::DeformRequest r;
-  r.set_mesh("soak_grid");  // an OBJ's one mesh takes the asset's name
+  r.set_mesh("soak_grid");                         // an OBJ's one mesh takes the asset's name
   for (int i = 0; i < kGrid; ++i) r.add_fixed(i);  // the bottom row
   auto* h = r.add_handles();
   h->set_index((kGrid - 1) * kGrid + kGrid / 2);  // the top row's middle
@@ -273,7 +276,8 @@ void Worker::CallPlayback() {
     int frames = 0;
     while (stream->Read(&frame)) ++frames;
     const grpc::Status st = stream->Finish();
-    if (st.ok() && frames < 10) return grpc::Status(grpc::StatusCode::UNKNOWN, std::to_string(frames) + " playback frames of 15");
+    if (st.ok() && frames < 10)
+      return grpc::Status(grpc::StatusCode::UNKNOWN, std::to_string(frames) + " playback frames of 15");
     return st;
   });
 }

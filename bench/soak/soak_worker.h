@@ -43,7 +43,9 @@ class Worker {
   v1::SolveIkRequest IkStart();
   v1::EvaluateClipRequest Evaluate();
   v1::Motion ThreeLayers();
-  std::string Name(const std::string& kind) { return "soak_" + kind + std::to_string(id_) + "_" + std::to_string(next_++); }
+  std::string Name(const std::string& kind) {
+    return "soak_" + kind + std::to_string(id_) + "_" + std::to_string(next_++);
+  }
 
   void CallEvaluate();
   void CallStream();

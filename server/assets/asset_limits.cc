@@ -70,7 +70,8 @@ ImportLimits LoadLimitsOf(const Limits& limits) {
 StatusOr<AssetContents> WithLimitFlags(StatusOr<AssetContents> parsed) {
   if (parsed.ok() || parsed.status().code() != StatusCode::kResourceExhausted) return parsed;
   static constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
-      {"max_clip_frames", "--max-clip-frames"}, {"max_mesh_vertices", "--max-mesh-vertices"},
+      {"max_clip_frames", "--max-clip-frames"},
+      {"max_mesh_vertices", "--max-mesh-vertices"},
       {"max_image_bytes", "--max-image-mb"},
       {"max_decoded_bytes", "--max-assets-mb, less what the server holds"}};
   const std::string message = parsed.status().message();

@@ -44,7 +44,8 @@ size_t MeshBytes(const Mesh& m) {
     bytes += sizeof(MorphTarget) + t.name.size() + ElementBytes(t.vertices, t.position_deltas, t.normal_deltas);
   bytes += ElementBytes(m.default_weights);
   const SkinningLayout& l = m.layout;
-  bytes += ElementBytes(l.order, l.x, l.y, l.z, l.nx, l.ny, l.nz, l.groups, l.joints, l.weights, l.pair_offsets, l.pairs);
+  bytes +=
+      ElementBytes(l.order, l.x, l.y, l.z, l.nx, l.ny, l.nz, l.groups, l.joints, l.weights, l.pair_offsets, l.pairs);
   for (const SkinningLayout::Target& t : l.targets)
     bytes += sizeof(SkinningLayout::Target) + ElementBytes(t.vertices, t.dx, t.dy, t.dz, t.nx, t.ny, t.nz);
   return bytes;

@@ -13,9 +13,9 @@ namespace armature::server {
 // rest transforms, BVH channels, end sites), clip tracks (key times,
 // values, tangents), morph-weight tracks and meshes (positions, normals,
 // triangles, UVs, skin and influences, morph targets, the skinning layout;
-// materials and their images' stored bytes), each skeleton, mesh, material and image counted once, element storage only (no allocator
-// overhead). The uploaded source is not held in memory and is not counted,
-// nor are deformation sessions' factorizations (they belong to sessions).
+// materials and their images' stored bytes), each skeleton, mesh, material and image counted once, element storage only
+// (no allocator overhead). The uploaded source is not held in memory and is not counted, nor are deformation sessions'
+// factorizations (they belong to sessions).
 size_t EstimateAssetBytes(const AssetContents& contents);
 
 // EstimateAssetBytes summed over the catalog's assets, but `except` (the one

@@ -25,8 +25,7 @@ grpc::ServerReadReactor<v1::ImportAssetRequest>* AssetServiceImpl::ImportAsset(g
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::ListAssets(grpc::CallbackServerContext* context,
-                                                       const v1::ListAssetsRequest*,
-                                                       v1::ListAssetsResponse* response) {
+                                                       const v1::ListAssetsRequest*, v1::ListAssetsResponse* response) {
   return RunUnary(context, "ListAssets", [&]() -> Status {
     // The snapshot is held for the whole loop: a temporary's member would die
     // before the first iteration, and a concurrent import/delete free it.
@@ -41,8 +40,7 @@ grpc::ServerUnaryReactor* AssetServiceImpl::GetAsset(grpc::CallbackServerContext
   return RunUnary(context, "GetAsset", [&]() -> Status {
     const auto catalog = store_.Snapshot();
     auto it = catalog->assets.find(request->name());
-    if (it == catalog->assets.end())
-      return Status::NotFound("asset '" + request->name() + "' not found");
+    if (it == catalog->assets.end()) return Status::NotFound("asset '" + request->name() + "' not found");
     *response = AssetInfoOf(*it->second);
     return Status::Ok();
   });
@@ -58,12 +56,11 @@ grpc::ServerUnaryReactor* AssetServiceImpl::DeleteAsset(grpc::CallbackServerCont
   });
 }
 
-grpc::ServerUnaryReactor* AssetServiceImpl::ListClips(grpc::CallbackServerContext* context,
-                                                      const v1::ListClipsRequest*, v1::ListClipsResponse* response) {
+grpc::ServerUnaryReactor* AssetServiceImpl::ListClips(grpc::CallbackServerContext* context, const v1::ListClipsRequest*,
+                                                      v1::ListClipsResponse* response) {
   return RunUnary(context, "ListClips", [&]() -> Status {
     const auto catalog = store_.Snapshot();  // held for the loop (see ListAssets)
-    for (const auto& [name, ref] : catalog->clips)
-      *response->add_clips() = ClipInfoOf(*ref.asset, *ref.part, false);
+    for (const auto& [name, ref] : catalog->clips) *response->add_clips() = ClipInfoOf(*ref.asset, *ref.part, false);
     return Status::Ok();
   });
 }
@@ -89,8 +86,7 @@ grpc::ServerUnaryReactor* AssetServiceImpl::ListSkeletons(grpc::CallbackServerCo
 }
 
 grpc::ServerUnaryReactor* AssetServiceImpl::GetSkeleton(grpc::CallbackServerContext* context,
-                                                        const v1::GetSkeletonRequest* request,
-                                                        v1::Skeleton* response) {
+                                                        const v1::GetSkeletonRequest* request, v1::Skeleton* response) {
   return RunUnary(context, "GetSkeleton", [&]() -> Status {
     auto ref = store_.Snapshot()->FindSkeleton(request->skeleton());
     if (ref.ok()) {

@@ -25,8 +25,7 @@ class AssetServiceImpl final : public v1::AssetService::CallbackService {
                                       v1::ListClipsResponse* response) override;
   grpc::ServerUnaryReactor* GetClip(grpc::CallbackServerContext* context, const v1::GetClipRequest* request,
                                     v1::ClipInfo* response) override;
-  grpc::ServerUnaryReactor* ListSkeletons(grpc::CallbackServerContext* context,
-                                          const v1::ListSkeletonsRequest* request,
+  grpc::ServerUnaryReactor* ListSkeletons(grpc::CallbackServerContext* context, const v1::ListSkeletonsRequest* request,
                                           v1::ListSkeletonsResponse* response) override;
   grpc::ServerUnaryReactor* GetSkeleton(grpc::CallbackServerContext* context, const v1::GetSkeletonRequest* request,
                                         v1::Skeleton* response) override;

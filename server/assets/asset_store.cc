@@ -56,8 +56,8 @@ std::string SafeFileName(std::string_view uri) {
 }
 
 json RecordToJson(const AssetRecord& r) {
-  json j = {{"name", r.name},          {"format", FormatName(r.format)}, {"filename", r.filename},
-            {"file", r.file},          {"size_bytes", r.size_bytes},     {"imported_at", r.imported_at}};
+  json j = {{"name", r.name}, {"format", FormatName(r.format)}, {"filename", r.filename},
+            {"file", r.file}, {"size_bytes", r.size_bytes},     {"imported_at", r.imported_at}};
   if (!r.resources.empty()) j["resources"] = r.resources;
   if (!r.animates.empty()) j["animates"] = r.animates;
   return j;
@@ -91,7 +91,8 @@ bool IsStoredFilePath(std::string_view path) {
 }
 
 Status CheckRecordPaths(const AssetRecord& r) {
-  if (!IsStoredFilePath(r.file)) return Status::InvalidArgument("manifest entry '" + r.name + "': bad file path '" + r.file + "'");
+  if (!IsStoredFilePath(r.file))
+    return Status::InvalidArgument("manifest entry '" + r.name + "': bad file path '" + r.file + "'");
   for (const auto& [uri, file] : r.resources)
     if (!IsStoredFilePath(file))
       return Status::InvalidArgument("manifest entry '" + r.name + "': bad resource path '" + file + "'");
@@ -330,8 +331,8 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   const auto before = Snapshot();
   const auto replacing = request.replace ? before->assets.find(request.name) : before->assets.end();
   const size_t held = HeldAssetBytes(*before, replacing == before->assets.end() ? nullptr : replacing->second.get());
-  auto contents = WithLimitFlags(ParseAsset(format, request.bytes, request.name, request.resources,
-                                            ImportLimitsWithRoom(options_.limits, held)));
+  auto contents = WithLimitFlags(
+      ParseAsset(format, request.bytes, request.name, request.resources, ImportLimitsWithRoom(options_.limits, held)));
   if (!contents.ok()) return contents.status().WithContext(label + ": ");
   ARMATURE_RETURN_IF_ERROR(CheckAssetLimits(*contents, options_.limits).WithContext(label + ": "));
   AssetRecord record;
@@ -356,9 +357,9 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   }
   if (request.replace_only && replaced != request.replace_only)
     return Status::Aborted("asset '" + request.name + "' changed while this edit was made from it");
-  ARMATURE_RETURN_IF_ERROR(CheckAssetsTotal(EstimateAssetBytes(*contents), HeldAssetBytes(*current, replaced.get()),
-                                            options_.limits)
-                               .WithContext(label + ": "));
+  ARMATURE_RETURN_IF_ERROR(
+      CheckAssetsTotal(EstimateAssetBytes(*contents), HeldAssetBytes(*current, replaced.get()), options_.limits)
+          .WithContext(label + ": "));
 
   record.format = format;
   record.filename = request.filename;

@@ -37,9 +37,9 @@
 namespace armature::server {
 
 struct ImportRequest {
-  std::string name;      // empty: the filename's stem
+  std::string name;  // empty: the filename's stem
   std::string filename;
-  std::string format;    // empty: detect
+  std::string format;  // empty: detect
   bool replace = false;
   // Set: replace exactly this stored asset, ABORTED if `name` holds another
   // by the time the write lock is taken (a read-modify-write that lost a race).
@@ -110,8 +110,8 @@ class AssetStore {
   std::filesystem::path dir_;
   StoreOptions options_;
   bool fresh_ = false;
-  std::mutex write_mu_;   // one writer or reload at a time in this process
-  ManifestStamp stamp_;   // of the manifest the catalog reflects; guarded by write_mu_
+  std::mutex write_mu_;             // one writer or reload at a time in this process
+  ManifestStamp stamp_;             // of the manifest the catalog reflects; guarded by write_mu_
   std::string last_refresh_error_;  // logged once, not every poll; guarded by write_mu_
   // Manifest entries (name, JSON text) that could not be loaded: written back
   // with every new manifest, so an asset that does not load here (a newer

@@ -23,7 +23,7 @@ struct AssetRecord {
   std::string filename;  // as uploaded
   std::string file;      // stored source, relative to the data dir
   int64_t size_bytes = 0;
-  std::string imported_at;  // RFC 3339, UTC
+  std::string imported_at;                       // RFC 3339, UTC
   std::map<std::string, std::string> resources;  // uri → stored file, relative to the data dir
   // Set: the asset is one clip the server made for this skeleton (retargeted,
   // created from keys): its clip is named after the asset and animates the

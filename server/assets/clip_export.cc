@@ -89,8 +89,7 @@ Status ExportClip(const Catalog& catalog, const Limits& limits, const v1::Export
   ARMATURE_ASSIGN_OR_RETURN(const AssetFormat format, ExportFormat(request.format()));
   ARMATURE_ASSIGN_OR_RETURN(auto ref, catalog.FindClip(request.clip()));
   if (format != AssetFormat::kBvh)
-    return ExportGltfClip(catalog, limits, ref, format == AssetFormat::kGlb, request.with_meshes(), encoding,
-                          response);
+    return ExportGltfClip(catalog, limits, ref, format == AssetFormat::kGlb, request.with_meshes(), encoding, response);
   if (request.with_meshes())
     return Status::InvalidArgument("with_meshes: BVH holds no meshes; ask for format glb or gltf");
   const Clip& clip = *ref.part->clip;

@@ -38,8 +38,8 @@ Status Seed(AssetStore& store, const std::string& name, const std::string& filen
 }  // namespace
 
 Status SeedDemoAssets(AssetStore& store) {
-  const Status walk = Seed(store, "demo_walk", "demo_walk.bvh",
-                           [] { return StatusOr<std::string>(WriteBvh(*MakeDemoWalk().clip)); });
+  const Status walk =
+      Seed(store, "demo_walk", "demo_walk.bvh", [] { return StatusOr<std::string>(WriteBvh(*MakeDemoWalk().clip)); });
   const Status character = Seed(store, "demo_character", "demo_character.glb", &MakeDemoCharacterGlb);
   return walk.ok() ? character : walk;
 }

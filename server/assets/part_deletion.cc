@@ -40,8 +40,8 @@ Status CheckDeletionTakesOnly(const StoredAsset& owner, std::string_view name) {
   std::string list = held[0];
   for (size_t i = 1; i < held.size(); ++i) list += (i + 1 == held.size() ? " and " : ", ") + held[i];
   return Status::FailedPrecondition(std::string(kind) + " '" + std::string(name) + "' belongs to asset '" +
-                                    record.name + "', which also holds " + list + "; delete the asset '" +
-                                    record.name + "' to remove them all");
+                                    record.name + "', which also holds " + list + "; delete the asset '" + record.name +
+                                    "' to remove them all");
 }
 
 }  // namespace armature::server

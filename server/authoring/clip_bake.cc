@@ -12,7 +12,8 @@ namespace armature::server {
 
 StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const Limits& limits, const v1::ClipBake& bake) {
   const double fps = bake.fps() == 0 ? 30 : bake.fps();
-  if (!(fps > 0 && fps <= 1000)) return Status::InvalidArgument("bake.fps: " + std::to_string(fps) + " is not in (0, 1000]");
+  if (!(fps > 0 && fps <= 1000))
+    return Status::InvalidArgument("bake.fps: " + std::to_string(fps) + " is not in (0, 1000]");
   if (!(std::isfinite(bake.duration()) && bake.duration() > 0))
     return Status::InvalidArgument("bake.duration: required, a finite number of seconds > 0");
   const double frames = std::floor(bake.duration() * fps + 1e-9);
@@ -30,13 +31,14 @@ StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const Limits& limits, con
   if (memory_bytes > static_cast<double>(limits.max_upload_bytes))
     return Status::ResourceExhausted("bake: " + std::to_string(static_cast<int64_t>(frames) + 1) + " keys × " +
                                      std::to_string(plan.skeleton->size()) + " joints would take about " +
-                                     std::to_string(static_cast<int64_t>(memory_bytes) >> 20) +
-                                     " MiB in memory (" + std::to_string(kBakeBytesPerJointKey) +
+                                     std::to_string(static_cast<int64_t>(memory_bytes) >> 20) + " MiB in memory (" +
+                                     std::to_string(kBakeBytesPerJointKey) +
                                      " bytes per joint and key: the clip as baked, as a file and as stored), over "
-                                     "--max-upload-mb (" + std::to_string(limits.max_upload_bytes >> 20) +
-                                     " MiB); lower fps or duration");
+                                     "--max-upload-mb (" +
+                                     std::to_string(limits.max_upload_bytes >> 20) + " MiB); lower fps or duration");
   std::vector<double> times;
-  for (int64_t k = 0; k <= static_cast<int64_t>(frames); ++k) times.push_back(StoredKeyTime(static_cast<double>(k) / fps));
+  for (int64_t k = 0; k <= static_cast<int64_t>(frames); ++k)
+    times.push_back(StoredKeyTime(static_cast<double>(k) / fps));
   if (StoredKeyTime(bake.duration()) > times.back()) times.push_back(StoredKeyTime(bake.duration()));
 
   BakedClip out;

@@ -43,8 +43,8 @@ Status CarryOver(const Clip& stored, const Skeleton& skeleton, const std::string
     if (t.translation.empty() && t.rotation.empty() && t.scale.empty()) continue;
     const int to = skeleton.Find(from.names[j]);
     if (to < 0)
-      return Status::InvalidArgument("merge: the stored clip animates joint '" + from.names[j] +
-                                     "', which skeleton '" + skeleton_name + "' does not have");
+      return Status::InvalidArgument("merge: the stored clip animates joint '" + from.names[j] + "', which skeleton '" +
+                                     skeleton_name + "' does not have");
     clip.joints[static_cast<size_t>(to)] = t;
   }
   return Status::Ok();

@@ -46,7 +46,9 @@ Status CheckTimes(const google::protobuf::RepeatedField<double>& times, const En
     if (k == 0) continue;
     const double p = times[k - 1];
     if (t == p) return e.BadKey(k, "time " + Num(t) + " repeats key " + std::to_string(k - 1));
-    if (t < p) return e.BadKey(k, "time " + Num(t) + " does not increase (key " + std::to_string(k - 1) + " is at " + Num(p) + "); times must be sorted");
+    if (t < p)
+      return e.BadKey(k, "time " + Num(t) + " does not increase (key " + std::to_string(k - 1) + " is at " + Num(p) +
+                             "); times must be sorted");
     if (StoredKeyTime(t) <= StoredKeyTime(p))
       return e.BadKey(k, "time " + Num(t) + " equals key " + std::to_string(k - 1) + "'s " + Num(p) +
                              " as a 32-bit float (glTF stores times as floats)");
@@ -60,12 +62,15 @@ Status CheckValues(const google::protobuf::RepeatedField<double>& values, size_t
   const size_t expected = keys * static_cast<size_t>(per_key);
   if (static_cast<size_t>(values.size()) != expected)
     return e.Bad(channel + ": " + std::to_string(values.size()) + " values for " + std::to_string(keys) +
-                 " keys; expected " + std::to_string(per_key) + " per key (" + layout + "), " + std::to_string(expected));
+                 " keys; expected " + std::to_string(per_key) + " per key (" + layout + "), " +
+                 std::to_string(expected));
   for (int i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i]))
-      return e.BadKey(static_cast<size_t>(i / per_key), channel + " value " + std::to_string(i % per_key) + " is not finite (NaN or Inf)");
+      return e.BadKey(static_cast<size_t>(i / per_key),
+                      channel + " value " + std::to_string(i % per_key) + " is not finite (NaN or Inf)");
     if (std::abs(values[i]) > kMaxFloat)
-      return e.BadKey(static_cast<size_t>(i / per_key), channel + " value " + Num(values[i]) + " is beyond a 32-bit float");
+      return e.BadKey(static_cast<size_t>(i / per_key),
+                      channel + " value " + Num(values[i]) + " is beyond a 32-bit float");
   }
   return Status::Ok();
 }
@@ -79,15 +84,16 @@ std::vector<Eigen::Vector3d> Vec3s(const google::protobuf::RepeatedField<double>
 // w, x, y, z per key (the API's order) → Eigen's.
 std::vector<Eigen::Quaterniond> Quats(const google::protobuf::RepeatedField<double>& v) {
   std::vector<Eigen::Quaterniond> out(static_cast<size_t>(v.size() / 4));
-  for (size_t k = 0; k < out.size(); ++k) out[k] = Eigen::Quaterniond(v[4 * k], v[4 * k + 1], v[4 * k + 2], v[4 * k + 3]);
+  for (size_t k = 0; k < out.size(); ++k)
+    out[k] = Eigen::Quaterniond(v[4 * k], v[4 * k + 1], v[4 * k + 2], v[4 * k + 3]);
   return out;
 }
 
 // A channel's optional tangents: only on CUBIC tracks with that channel.
 template <class V, class Convert>
-Status ReadTangents(bool has, const v1::KeyTangents& tangents, bool has_channel,
-                    size_t n, int per_key, const std::string& channel, const std::string& layout, bool cubic,
-                    const EntryErrors& e, const Convert& convert, Track<V>& track) {
+Status ReadTangents(bool has, const v1::KeyTangents& tangents, bool has_channel, size_t n, int per_key,
+                    const std::string& channel, const std::string& layout, bool cubic, const EntryErrors& e,
+                    const Convert& convert, Track<V>& track) {
   if (!has) return Status::Ok();
   if (!cubic) return e.Bad(channel + ": tangents are only for CUBIC tracks");
   if (!has_channel) return e.Bad(channel + ": tangents for a channel without values");
@@ -122,7 +128,8 @@ StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleto
   out.joint = skeleton.Find(in.joint());
   if (out.joint < 0) {
     std::vector<std::string_view> names(skeleton.names.begin(), skeleton.names.end());
-    return e.Bad("joint '" + in.joint() + "' is not on skeleton '" + skeleton_name + "'" + DidYouMean(in.joint(), names));
+    return e.Bad("joint '" + in.joint() + "' is not on skeleton '" + skeleton_name + "'" +
+                 DidYouMean(in.joint(), names));
   }
   ARMATURE_ASSIGN_OR_RETURN(auto mode, InterpolationOf(in.interpolation(), e));
   const bool cubic = mode == Interpolation::kCubic;
@@ -131,7 +138,8 @@ StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleto
   const bool has_t = !in.translations().empty(), has_s = !in.scales().empty();
   if (n == 0) {
     if (has_rot || has_euler || has_t || has_s) return e.Bad("values without times (give one time per key)");
-    if (!may_delete) return e.Bad("no times: an entry without times deletes a stored or baked track, with merge or bake only");
+    if (!may_delete)
+      return e.Bad("no times: an entry without times deletes a stored or baked track, with merge or bake only");
     out.remove = true;
     return out;
   }
@@ -182,8 +190,8 @@ StatusOr<KeyedJoint> ReadEntry(const v1::JointKeys& in, int index, const Skeleto
                                         "rotation_tangents", "w, x, y, z", cubic, e, Quats, track.rotation));
   ARMATURE_RETURN_IF_ERROR(ReadTangents(given(in.translation_tangents()), in.translation_tangents(), has_t, n, 3,
                                         "translation_tangents", "x, y, z", cubic, e, Vec3s, track.translation));
-  ARMATURE_RETURN_IF_ERROR(ReadTangents(given(in.scale_tangents()), in.scale_tangents(), has_s, n, 3,
-                                        "scale_tangents", "x, y, z", cubic, e, Vec3s, track.scale));
+  ARMATURE_RETURN_IF_ERROR(ReadTangents(given(in.scale_tangents()), in.scale_tangents(), has_s, n, 3, "scale_tangents",
+                                        "x, y, z", cubic, e, Vec3s, track.scale));
   return out;
 }
 
@@ -195,13 +203,13 @@ double StoredKeyTime(double t) {
   return f;
 }
 
-StatusOr<std::vector<KeyedJoint>> KeyedJointsFromRequest(const v1::CreateClipRequest& request,
-                                                         const Skeleton& skeleton, const std::string& skeleton_name,
-                                                         const Limits& limits) {
+StatusOr<std::vector<KeyedJoint>> KeyedJointsFromRequest(const v1::CreateClipRequest& request, const Skeleton& skeleton,
+                                                         const std::string& skeleton_name, const Limits& limits) {
   std::vector<KeyedJoint> out;
   std::set<int> seen;
   for (int i = 0; i < request.tracks_size(); ++i) {
-    auto entry = ReadEntry(request.tracks(i), i, skeleton, skeleton_name, request.merge() || request.has_bake(), limits);
+    auto entry =
+        ReadEntry(request.tracks(i), i, skeleton, skeleton_name, request.merge() || request.has_bake(), limits);
     if (!entry.ok()) return entry.status();
     if (!seen.insert(entry->joint).second)
       return Status::InvalidArgument("tracks[" + std::to_string(i) + "] (joint '" + request.tracks(i).joint() +

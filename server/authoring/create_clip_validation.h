@@ -16,9 +16,9 @@ namespace armature::server {
 
 // One request entry, ready to put into a clip.
 struct KeyedJoint {
-  int joint = -1;    // index in the skeleton
+  int joint = -1;       // index in the skeleton
   bool remove = false;  // no times (merge only): the stored track is deleted
-  JointTrack track;  // rotations normalized; CUBIC tracks without tangents have none yet
+  JointTrack track;     // rotations normalized; CUBIC tracks without tangents have none yet
 };
 
 // The 32-bit float at or below `t`: the time a key at `t` is stored at. glTF
@@ -33,8 +33,7 @@ double StoredKeyTime(double t);
 // translations and scales; tangents only on CUBIC tracks, sized like their
 // channel; every value finite and within a 32-bit float's range (glTF
 // stores floats); at most --max-clip-frames keys per track.
-StatusOr<std::vector<KeyedJoint>> KeyedJointsFromRequest(const v1::CreateClipRequest& request,
-                                                         const Skeleton& skeleton, const std::string& skeleton_name,
-                                                         const Limits& limits);
+StatusOr<std::vector<KeyedJoint>> KeyedJointsFromRequest(const v1::CreateClipRequest& request, const Skeleton& skeleton,
+                                                         const std::string& skeleton_name, const Limits& limits);
 
 }  // namespace armature::server

@@ -16,9 +16,9 @@ StatusOr<DerivedClip> StoreDerivedClip(AssetStore& store, const Clip& clip, cons
   auto bytes = ExportGltf(clip, {}, gltf);
   if (!bytes.ok()) {
     if (bytes.status().code() == StatusCode::kResourceExhausted) {
-      return Status::ResourceExhausted("the new clip '" + options.asset_name + "' would be a file over --max-upload-mb (" +
-                                       std::to_string(limits.max_upload_bytes >> 20) + " MB): " +
-                                       bytes.status().message());
+      return Status::ResourceExhausted(
+          "the new clip '" + options.asset_name + "' would be a file over --max-upload-mb (" +
+          std::to_string(limits.max_upload_bytes >> 20) + " MB): " + bytes.status().message());
     }
     return bytes.status();
   }
@@ -38,7 +38,8 @@ StatusOr<DerivedClip> StoreDerivedClip(AssetStore& store, const Clip& clip, cons
   for (const NamedClip& named : result.asset->contents.clips) {
     if (named.name == clip_name) result.clip = &named;
   }
-  if (result.clip == nullptr) return Status::Internal("stored asset '" + options.asset_name + "' has no clip '" + clip_name + "'");
+  if (result.clip == nullptr)
+    return Status::Internal("stored asset '" + options.asset_name + "' has no clip '" + clip_name + "'");
   return result;
 }
 

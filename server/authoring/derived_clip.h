@@ -25,7 +25,7 @@ struct DerivedClipOptions {
   // the asset keeps the copy as a skeleton of its own, and the clip is
   // "<asset_name>.<asset_name>" (CreateClip's merge into such an older clip).
   std::string skeleton;
-  bool replace = false;        // replace an asset of that name instead of ALREADY_EXISTS
+  bool replace = false;  // replace an asset of that name instead of ALREADY_EXISTS
   // Set: replace exactly this stored asset (ABORTED if another took its place meanwhile).
   std::shared_ptr<const StoredAsset> replace_only;
 };

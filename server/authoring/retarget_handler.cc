@@ -58,7 +58,8 @@ Status RetargetClip(AssetStore& store, const Limits& limits, const v1::RetargetC
     pair->set_source(source.skeleton->names[static_cast<size_t>(p.source)]);
     pair->set_target(target.names[static_cast<size_t>(p.target)]);
   }
-  for (int j : map->unmapped_source) response->mutable_unmapped()->add_source(source.skeleton->names[static_cast<size_t>(j)]);
+  for (int j : map->unmapped_source)
+    response->mutable_unmapped()->add_source(source.skeleton->names[static_cast<size_t>(j)]);
   for (int j : map->unmapped_target) response->mutable_unmapped()->add_target(target.names[static_cast<size_t>(j)]);
   for (std::string& w : result.warnings) response->add_warnings(std::move(w));
   return Status::Ok();

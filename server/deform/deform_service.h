@@ -22,7 +22,10 @@ class DeformServiceImpl final : public v1::DeformService::CallbackService {
   // `cache` serves the unary Deform (sessions keep their own deformer).
   DeformServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
                     std::shared_ptr<StreamAdmission> streams, std::shared_ptr<DeformerCache> cache)
-      : store_(store), limits_(limits), sessions_(std::move(sessions)), streams_(std::move(streams)),
+      : store_(store),
+        limits_(limits),
+        sessions_(std::move(sessions)),
+        streams_(std::move(streams)),
         cache_(std::move(cache)),
         solves_(std::max(4u, 2 * std::thread::hardware_concurrency())) {}
 

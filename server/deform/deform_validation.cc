@@ -14,8 +14,8 @@ Status ValidateDeformSetup(const v1::DeformSetup& setup) {
 
 Status ValidateHandlePositions(std::span<const double> positions, size_t handles, const std::string& field) {
   if (positions.size() != 3 * handles)
-    return Status::InvalidArgument(field + ": needs " + std::to_string(3 * handles) + " values (x, y, z per handle), got " +
-                                   std::to_string(positions.size()));
+    return Status::InvalidArgument(field + ": needs " + std::to_string(3 * handles) +
+                                   " values (x, y, z per handle), got " + std::to_string(positions.size()));
   for (size_t i = 0; i < positions.size(); ++i)
     if (!std::isfinite(positions[i]))
       return Status::InvalidArgument(field + ": handle " + std::to_string(i / 3) + " has a non-finite coordinate");

@@ -111,8 +111,9 @@ void DeformerCache::Collect(PrometheusText& out) const {
   out.Family("armature_deform_cache_misses_total", "counter",
              "Unary Deform calls that built and factored a deformer (all of them with --deform-cache-mb 0).");
   out.Sample("armature_deform_cache_misses_total", {}, static_cast<double>(s.misses));
-  out.Family("armature_deform_cache_bytes", "gauge",
-             "Estimated memory of the cached deformers (factor, handle basis, Laplacian model), at most --deform-cache-mb.");
+  out.Family(
+      "armature_deform_cache_bytes", "gauge",
+      "Estimated memory of the cached deformers (factor, handle basis, Laplacian model), at most --deform-cache-mb.");
   out.Sample("armature_deform_cache_bytes", {}, static_cast<double>(s.bytes));
   out.Family("armature_deform_cache_entries", "gauge", "Deformers in the unary Deform cache.");
   out.Sample("armature_deform_cache_entries", {}, static_cast<double>(s.entries));

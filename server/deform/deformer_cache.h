@@ -57,9 +57,8 @@ class DeformerCache {
   // The deformer for this mesh (in `catalog`), setup and handle indices:
   // the cached one, or MeshDeformer::Create's (its errors are returned and
   // nothing is kept).
-  StatusOr<std::shared_ptr<const MeshDeformer>> Get(const std::shared_ptr<const Catalog>& catalog,
-                                                    const Limits& limits, const v1::DeformSetup& setup,
-                                                    std::vector<uint32_t> handles);
+  StatusOr<std::shared_ptr<const MeshDeformer>> Get(const std::shared_ptr<const Catalog>& catalog, const Limits& limits,
+                                                    const v1::DeformSetup& setup, std::vector<uint32_t> handles);
 
   DeformerCacheStats stats() const;
   // armature_deform_cache_hits_total, _misses_total and armature_deform_cache_bytes.
@@ -82,7 +81,7 @@ class DeformerCache {
   mutable std::mutex mu_;
   Lru lru_;
   std::unordered_map<std::string_view, Lru::iterator> index_;  // views of the entries' keys
-  std::weak_ptr<const Catalog> seen_;  // the catalog of the last lookup
+  std::weak_ptr<const Catalog> seen_;                          // the catalog of the last lookup
   size_t bytes_ = 0;
   uint64_t hits_ = 0, misses_ = 0;
 };

@@ -9,15 +9,15 @@
 
 namespace armature::server {
 
-StatusOr<MeshDeformer> MeshDeformer::Create(const Catalog& catalog, const Limits& limits,
-                                            const v1::DeformSetup& setup, std::vector<uint32_t> handles) {
+StatusOr<MeshDeformer> MeshDeformer::Create(const Catalog& catalog, const Limits& limits, const v1::DeformSetup& setup,
+                                            std::vector<uint32_t> handles) {
   auto ref = catalog.FindMesh(setup.mesh());
   if (!ref.ok()) return ref.status();
   const Mesh& mesh = *ref->part->mesh;
   if (static_cast<int64_t>(mesh.vertex_count()) > limits.max_mesh_vertices)
     return Status::ResourceExhausted("mesh '" + setup.mesh() + "' has " + std::to_string(mesh.vertex_count()) +
-                                     " vertices, over max_mesh_vertices (" +
-                                     std::to_string(limits.max_mesh_vertices) + ")");
+                                     " vertices, over max_mesh_vertices (" + std::to_string(limits.max_mesh_vertices) +
+                                     ")");
   ARMATURE_RETURN_IF_ERROR(ValidateDeformSetup(setup));
 
   LaplacianModelOptions model_options;
@@ -94,7 +94,8 @@ Status MeshDeformer::SolveInto(std::span<const double> handle_positions, const s
     auto report = arap_->Solve(handle_positions, options, positions);  // doubles: a session's warm start
     if (report.ok()) {
       iterations = report->iterations;
-      std::transform(positions.begin(), positions.end(), floats.begin(), [](double x) { return static_cast<float>(x); });
+      std::transform(positions.begin(), positions.end(), floats.begin(),
+                     [](double x) { return static_cast<float>(x); });
     }
     solved = report.status();
   } else {

@@ -42,9 +42,10 @@ StatusOr<std::unique_ptr<ArmatureServer>> ArmatureServer::Start(const ServerConf
   spdlog::info("serving gRPC on {}:{} and HTTP on {}:{}{}{}", config.host, s->grpc_port_, config.host, s->http_port_,
                config.tls_cert_file.empty() ? "" : " (TLS)", s->tokens_ ? ", bearer token required" : "");
   if (!s->tokens_ && !IsLoopbackHost(config.host))
-    spdlog::warn("listening on {} beyond this machine with no --auth-token-file: anyone who reaches these ports "
-                 "can import, delete and call everything; set --auth-token-file, or --host 127.0.0.1",
-                 config.host);
+    spdlog::warn(
+        "listening on {} beyond this machine with no --auth-token-file: anyone who reaches these ports "
+        "can import, delete and call everything; set --auth-token-file, or --host 127.0.0.1",
+        config.host);
 
   if (!config.port_file.empty()) {
     const std::string tmp = config.port_file + ".tmp";
@@ -58,10 +59,11 @@ Status ArmatureServer::LoadAccessRules() {
   if (!config_.auth_token_file.empty()) {
     ARMATURE_ASSIGN_OR_RETURN(tokens_, BearerTokens::FromFile(config_.auth_token_file));
     for (int line : tokens_->lines_browsers_cannot_send())
-      spdlog::warn("{}:{}: this token has characters outside A-Z a-z 0-9 and !#$%&'*+-.^_`|~ ('/' or '=' of "
-                   "base64, say): browsers cannot send it as a WebSocket subprotocol; make tokens with "
-                   "'openssl rand -hex 32'",
-                   config_.auth_token_file, line);
+      spdlog::warn(
+          "{}:{}: this token has characters outside A-Z a-z 0-9 and !#$%&'*+-.^_`|~ ('/' or '=' of "
+          "base64, say): browsers cannot send it as a WebSocket subprotocol; make tokens with "
+          "'openssl rand -hex 32'",
+          config_.auth_token_file, line);
   }
   std::vector<gateway::Cidr> proxies;
   for (const std::string& text : config_.trusted_proxies) {
@@ -139,8 +141,8 @@ Status ArmatureServer::StartHttp() {
       .head_timeout = std::chrono::milliseconds(static_cast<int64_t>(limits.http_head_timeout_seconds * 1000)),
       .max_per_address = limits.max_http_connections_per_address,
       .trusted_proxies = trusted_proxies_};
-  http_ = std::make_unique<HttpServer>(limits.max_http_threads, config_.tls_cert_file, config_.tls_key_file,
-                                       connections);
+  http_ =
+      std::make_unique<HttpServer>(limits.max_http_threads, config_.tls_cert_file, config_.tls_key_file, connections);
   ServeMetrics(http_->routes(), *metrics_, tokens_);
   ARMATURE_RETURN_IF_ERROR(StartGateway());
   http_port_ = http_->Start(config_.host, config_.http_port);
@@ -164,8 +166,8 @@ Status ArmatureServer::StartGateway() {
   // Keep threads free for ordinary requests however many streams are open.
   options.max_streams = limits.max_http_threads - std::min<size_t>(limits.max_http_threads / 4, 64);
   ARMATURE_ASSIGN_OR_RETURN(gateway_, gateway::Gateway::Create(gateway::GeneratedServicesIn("armature.v1"),
-                                                              google::protobuf::MessageFactory::generated_factory(),
-                                                              grpc_->InProcessChannel(args), options));
+                                                               google::protobuf::MessageFactory::generated_factory(),
+                                                               grpc_->InProcessChannel(args), options));
   httplib::Server& routes = http_->routes();
   // A form upload's boundaries and part headers are not part of what --max-upload-mb counts: room for them.
   constexpr int64_t kFormFramingBytes = 1 << 20;

@@ -46,9 +46,9 @@ class ArmatureServer {
 
   ServerConfig config_;
   std::unique_ptr<AssetStore> store_;
-  std::unique_ptr<Metrics> metrics_;              // outlives the gRPC server, whose interceptors use it
+  std::unique_ptr<Metrics> metrics_;            // outlives the gRPC server, whose interceptors use it
   std::shared_ptr<const BearerTokens> tokens_;  // null: no auth
-  gateway::TrustedProxies trusted_proxies_;      // --trust-forwarded-for
+  gateway::TrustedProxies trusted_proxies_;     // --trust-forwarded-for
   std::vector<std::unique_ptr<grpc::Service>> services_;
   std::unique_ptr<grpc::Server> grpc_;
   std::unique_ptr<gateway::Gateway> gateway_;  // calls grpc_ in-process; serves on http_

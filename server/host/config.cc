@@ -16,17 +16,21 @@ namespace {
 void AddWorkBudgetFlags(CLI::App& app, Limits& limits) {
   app.add_option("--max-request-work", limits.max_request_work,
                  "Most work one EvaluateClip/EvaluateMotion may ask for: layers x times x skeleton joints")
-      ->envname("ARMATURE_MAX_REQUEST_WORK")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_MAX_REQUEST_WORK")
+      ->check(CLI::PositiveNumber);
   app.add_option("--max-stream-work", limits.max_stream_work,
                  "Most work a second one pose stream or playback session may ask for: layers x joints x fps "
                  "(a session's layers: those of every motion playing)")
-      ->envname("ARMATURE_MAX_STREAM_WORK")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_MAX_STREAM_WORK")
+      ->check(CLI::PositiveNumber);
   app.add_option("--heavy-threads", limits.heavy_threads,
                  "Heavy unary calls (long evaluations) run at once, off gRPC's threads (0: the cores, at least 2)")
-      ->envname("ARMATURE_HEAVY_THREADS")->check(CLI::Range(0, 1024));
+      ->envname("ARMATURE_HEAVY_THREADS")
+      ->check(CLI::Range(0, 1024));
   app.add_option("--heavy-queue", limits.heavy_queue,
                  "Heavy calls that may wait beyond those running before more are refused (0: 4 per thread)")
-      ->envname("ARMATURE_HEAVY_QUEUE")->check(CLI::Range(0, 100000));
+      ->envname("ARMATURE_HEAVY_QUEUE")
+      ->check(CLI::Range(0, 100000));
 }
 
 }  // namespace
@@ -39,14 +43,17 @@ void AddHttpConnectionFlags(CLI::App& app, ServerConfig& c) {
   Limits& limits = c.limits;
   app.add_option("--http-head-timeout", limits.http_head_timeout_seconds,
                  "Seconds an HTTP request's head (TLS handshake, request line, headers) may take in all")
-      ->envname("ARMATURE_HTTP_HEAD_TIMEOUT")->check(CLI::Range(0.1, 3600.0));
+      ->envname("ARMATURE_HTTP_HEAD_TIMEOUT")
+      ->check(CLI::Range(0.1, 3600.0));
   app.add_option("--http-max-connections-per-address", limits.max_http_connections_per_address,
                  "Most HTTP connections one client address may hold open (each SSE stream or WebSocket holds one)")
-      ->envname("ARMATURE_HTTP_MAX_CONNECTIONS_PER_ADDRESS")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_HTTP_MAX_CONNECTIONS_PER_ADDRESS")
+      ->check(CLI::PositiveNumber);
   app.add_option("--trust-forwarded-for", c.trusted_proxies,
                  "Proxy address or network (e.g. 10.0.0.0/8; repeatable) whose X-Forwarded-For names the HTTP "
                  "client that per-client limits count; its own connections are not capped per address")
-      ->envname("ARMATURE_TRUST_FORWARDED_FOR")->delimiter(',')
+      ->envname("ARMATURE_TRUST_FORWARDED_FOR")
+      ->delimiter(',')
       ->check([](const std::string& value) {
         auto cidr = gateway::ParseCidr(value);
         return cidr.ok() ? std::string() : std::string(cidr.status().message());
@@ -65,15 +72,61 @@ std::pair<std::shared_ptr<double>, std::shared_ptr<double>> AddMemoryFlags(CLI::
   app.add_option("--max-assets-mb", *assets_mb,
                  "Memory the loaded assets may take in all (estimated, as in armature_assets_memory_bytes), in "
                  "MiB; an import or new clip that would pass it is refused")
-      ->envname("ARMATURE_MAX_ASSETS_MB")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_MAX_ASSETS_MB")
+      ->check(CLI::PositiveNumber);
   app.add_option("--max-concurrent-uploads", limits.max_concurrent_uploads,
                  "Most imports (ImportAsset over gRPC, REST or gRPC-Web) received at once; more are refused")
-      ->envname("ARMATURE_MAX_CONCURRENT_UPLOADS")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_MAX_CONCURRENT_UPLOADS")
+      ->check(CLI::PositiveNumber);
   app.add_option("--max-image-mb", *image_mb,
                  "Largest material image (texture) an import keeps, in MiB, as stored (PNG or JPEG bytes); an import "
                  "with a larger one is refused")
-      ->envname("ARMATURE_MAX_IMAGE_MB")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_MAX_IMAGE_MB")
+      ->check(CLI::PositiveNumber);
   return {assets_mb, image_mb};
+}
+
+// The bounds on what one import holds and what one IK request may ask.
+void AddImportAndIkFlags(CLI::App& app, Limits& limits) {
+  app.add_option("--max-clip-frames", limits.max_clip_frames, "Most frames an imported clip may have")
+      ->envname("ARMATURE_MAX_CLIP_FRAMES")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-mesh-vertices", limits.max_mesh_vertices, "Most vertices an imported mesh may have")
+      ->envname("ARMATURE_MAX_MESH_VERTICES")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-iterations", limits.max_ik_iterations, "Most solver iterations an IK request may ask for")
+      ->envname("ARMATURE_MAX_IK_ITERATIONS")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-effectors", limits.max_ik_effectors, "Most effectors one IK request may have")
+      ->envname("ARMATURE_MAX_IK_EFFECTORS")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-work", limits.max_ik_work,
+                 "Most work one IK request may ask for: the sum over its effectors of the joints in each "
+                 "effector's chain, times max_iterations")
+      ->envname("ARMATURE_MAX_IK_WORK")
+      ->check(CLI::PositiveNumber);
+}
+
+// The caps on open streams and sessions, per client and in all.
+void AddStreamAndSessionFlags(CLI::App& app, Limits& limits) {
+  app.add_option("--max-sessions-per-client", limits.max_sessions_per_client,
+                 "Most IK/deformation sessions one client may hold open")
+      ->envname("ARMATURE_MAX_SESSIONS_PER_CLIENT")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-streams-per-client", limits.max_streams_per_client,
+                 "Most streams (StreamClip, StreamSkinnedMesh, IkSession, DeformSession) one client may hold open")
+      ->envname("ARMATURE_MAX_STREAMS_PER_CLIENT")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-streams", limits.max_streams,
+                 "Most streams open at once, all clients together (each client also: --max-streams-per-client)")
+      ->envname("ARMATURE_MAX_STREAMS")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-sessions", limits.max_sessions, "Most IK/deformation sessions open at once in all")
+      ->envname("ARMATURE_MAX_SESSIONS")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-ik-sessions", limits.max_ik_sessions, "Most IK sessions open at once, all clients together")
+      ->envname("ARMATURE_MAX_IK_SESSIONS")
+      ->check(CLI::NonNegativeNumber);
 }
 
 }  // namespace
@@ -81,83 +134,75 @@ std::pair<std::shared_ptr<double>, std::shared_ptr<double>> AddMemoryFlags(CLI::
 int ParseConfig(int argc, char** argv, ServerConfig& c) {
   CLI::App app{"armature-server: an animation server (pose evaluation, IK, skinning, deformation) over gRPC and HTTP"};
   app.option_defaults()->always_capture_default();
-  app.set_version_flag("--version", build_info::VersionLine("armature-server"), "Print the version and git commit, then exit");
+  app.set_version_flag("--version", build_info::VersionLine("armature-server"),
+                       "Print the version and git commit, then exit");
   app.add_option("--host", c.host, "Address to listen on (0.0.0.0: every interface; then set --auth-token-file)")
       ->envname("ARMATURE_HOST");
   app.add_option("--grpc-port", c.grpc_port, "gRPC port (0: any free port)")
-      ->envname("ARMATURE_GRPC_PORT")->check(CLI::Range(0, 65535));
+      ->envname("ARMATURE_GRPC_PORT")
+      ->check(CLI::Range(0, 65535));
   app.add_option("--http-port", c.http_port, "HTTP port for health, gateway and viewer (0: any free port, -1: off)")
-      ->envname("ARMATURE_HTTP_PORT")->check(CLI::Range(-1, 65535));
+      ->envname("ARMATURE_HTTP_PORT")
+      ->check(CLI::Range(-1, 65535));
   app.add_option("--data-dir", c.data_dir, "Where imported assets are persisted")->envname("ARMATURE_DATA_DIR");
   app.add_option("--log-level", c.log_level, "trace, debug, info, warn or error")
-      ->envname("ARMATURE_LOG_LEVEL")->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+      ->envname("ARMATURE_LOG_LEVEL")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
   app.add_option("--log-format", c.log_format, "text or json")
-      ->envname("ARMATURE_LOG_FORMAT")->check(CLI::IsMember({"text", "json"}));
+      ->envname("ARMATURE_LOG_FORMAT")
+      ->check(CLI::IsMember({"text", "json"}));
   double upload_mb = static_cast<double>(c.limits.max_upload_bytes) / (1 << 20);
   app.add_option("--max-upload-mb", upload_mb, "Largest accepted upload, in MiB")
-      ->envname("ARMATURE_MAX_UPLOAD_MB")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_MAX_UPLOAD_MB")
+      ->check(CLI::PositiveNumber);
   double message_mb = static_cast<double>(c.limits.max_message_bytes) / (1 << 20);
   app.add_option("--max-message-mb", message_mb, "Largest gRPC message sent or received, in MiB")
-      ->envname("ARMATURE_MAX_MESSAGE_MB")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_MAX_MESSAGE_MB")
+      ->check(CLI::PositiveNumber);
   bool no_demo = !c.demo;
   app.add_flag("--no-demo", no_demo, "Do not seed demo assets into an empty data dir")->envname("ARMATURE_NO_DEMO");
   app.add_option("--shutdown-grace", c.shutdown_grace_seconds,
                  "Seconds in-flight calls get to finish on SIGTERM/SIGINT")
-      ->envname("ARMATURE_SHUTDOWN_GRACE")->check(CLI::NonNegativeNumber);
+      ->envname("ARMATURE_SHUTDOWN_GRACE")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--port-file", c.port_file, "Write the bound ports as JSON here once serving")
       ->envname("ARMATURE_PORT_FILE");
   app.add_option("--cors-origin", c.cors_origins,
                  "Origin allowed to call the REST API from a browser, e.g. http://localhost:5173 (repeatable; * = any)")
-      ->envname("ARMATURE_CORS_ORIGIN")->delimiter(',');
+      ->envname("ARMATURE_CORS_ORIGIN")
+      ->delimiter(',');
   double request_kb = static_cast<double>(c.limits.max_request_bytes) / 1024;
   app.add_option("--max-request-kb", request_kb, "Largest REST JSON request body, in KiB (imports: --max-upload-mb)")
-      ->envname("ARMATURE_MAX_REQUEST_KB")->check(CLI::PositiveNumber);
+      ->envname("ARMATURE_MAX_REQUEST_KB")
+      ->check(CLI::PositiveNumber);
   app.add_option("--http-threads", c.limits.max_http_threads,
                  "Most HTTP connections served at once (each open SSE stream holds one)")
-      ->envname("ARMATURE_HTTP_THREADS")->check(CLI::Range(16, 10000));
+      ->envname("ARMATURE_HTTP_THREADS")
+      ->check(CLI::Range(16, 10000));
   AddHttpConnectionFlags(app, c);
   app.add_option("--web-dir", c.web_dir, "The viewer's files, served at / (default: the installed or built viewer)")
       ->envname("ARMATURE_WEB_DIR");
   app.add_option("--auth-token-file", c.auth_token_file,
                  "Require 'authorization: Bearer <token>' on API calls; one accepted token per line "
                  "(health checks and reflection stay open)")
-      ->envname("ARMATURE_AUTH_TOKEN_FILE")->check(CLI::ExistingFile);
+      ->envname("ARMATURE_AUTH_TOKEN_FILE")
+      ->check(CLI::ExistingFile);
   auto* cert = app.add_option("--tls-cert", c.tls_cert_file, "PEM certificate chain: serve gRPC and HTTP over TLS")
-                   ->envname("ARMATURE_TLS_CERT")->check(CLI::ExistingFile);
+                   ->envname("ARMATURE_TLS_CERT")
+                   ->check(CLI::ExistingFile);
   auto* key = app.add_option("--tls-key", c.tls_key_file, "PEM private key of --tls-cert")
-                  ->envname("ARMATURE_TLS_KEY")->check(CLI::ExistingFile);
+                  ->envname("ARMATURE_TLS_KEY")
+                  ->check(CLI::ExistingFile);
   cert->needs(key);
   key->needs(cert);
-  app.add_option("--max-clip-frames", c.limits.max_clip_frames, "Most frames an imported clip may have")
-      ->envname("ARMATURE_MAX_CLIP_FRAMES")->check(CLI::PositiveNumber);
-  app.add_option("--max-mesh-vertices", c.limits.max_mesh_vertices, "Most vertices an imported mesh may have")
-      ->envname("ARMATURE_MAX_MESH_VERTICES")->check(CLI::PositiveNumber);
-  app.add_option("--max-ik-iterations", c.limits.max_ik_iterations, "Most solver iterations an IK request may ask for")
-      ->envname("ARMATURE_MAX_IK_ITERATIONS")->check(CLI::PositiveNumber);
-  app.add_option("--max-ik-effectors", c.limits.max_ik_effectors, "Most effectors one IK request may have")
-      ->envname("ARMATURE_MAX_IK_EFFECTORS")->check(CLI::PositiveNumber);
-  app.add_option("--max-ik-work", c.limits.max_ik_work,
-                 "Most work one IK request may ask for: the sum over its effectors of the joints in each "
-                 "effector's chain, times max_iterations")
-      ->envname("ARMATURE_MAX_IK_WORK")->check(CLI::PositiveNumber);
-  app.add_option("--max-sessions-per-client", c.limits.max_sessions_per_client,
-                 "Most IK/deformation sessions one client may hold open")
-      ->envname("ARMATURE_MAX_SESSIONS_PER_CLIENT")->check(CLI::PositiveNumber);
-  app.add_option("--max-streams-per-client", c.limits.max_streams_per_client,
-                 "Most streams (StreamClip, StreamSkinnedMesh, IkSession, DeformSession) one client may hold open")
-      ->envname("ARMATURE_MAX_STREAMS_PER_CLIENT")->check(CLI::PositiveNumber);
-  app.add_option("--max-streams", c.limits.max_streams,
-                 "Most streams open at once, all clients together (each client also: --max-streams-per-client)")
-      ->envname("ARMATURE_MAX_STREAMS")->check(CLI::PositiveNumber);
-  app.add_option("--max-sessions", c.limits.max_sessions, "Most IK/deformation sessions open at once in all")
-      ->envname("ARMATURE_MAX_SESSIONS")->check(CLI::PositiveNumber);
-  app.add_option("--max-ik-sessions", c.limits.max_ik_sessions, "Most IK sessions open at once, all clients together")
-      ->envname("ARMATURE_MAX_IK_SESSIONS")->check(CLI::NonNegativeNumber);
+  AddImportAndIkFlags(app, c.limits);
+  AddStreamAndSessionFlags(app, c.limits);
   double deform_cache_mb = static_cast<double>(c.limits.deform_cache_bytes) / (1 << 20);
   app.add_option("--deform-cache-mb", deform_cache_mb,
                  "Memory for factorizations kept between unary Deform calls with the same mesh, setup and "
                  "handle indices, in MiB (0: none)")
-      ->envname("ARMATURE_DEFORM_CACHE_MB")->check(CLI::NonNegativeNumber);
+      ->envname("ARMATURE_DEFORM_CACHE_MB")
+      ->check(CLI::NonNegativeNumber);
   AddWorkBudgetFlags(app, c.limits);
   const auto [assets_mb, image_mb] = AddMemoryFlags(app, c.limits);
   try {

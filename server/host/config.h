@@ -10,19 +10,19 @@ namespace armature::server {
 
 struct ServerConfig {
   std::string host = "127.0.0.1";  // this machine only; the image and Kubernetes set 0.0.0.0
-  int grpc_port = 50051;  // 0 picks a free port
-  int http_port = 8080;   // 0 picks a free port; -1 disables HTTP
+  int grpc_port = 50051;           // 0 picks a free port
+  int http_port = 8080;            // 0 picks a free port; -1 disables HTTP
   std::string data_dir = "armature-data";
-  std::string log_level = "info";  // trace, debug, info, warn, error
+  std::string log_level = "info";   // trace, debug, info, warn, error
   std::string log_format = "text";  // text or json
   bool demo = true;                 // seed demo assets into an empty data dir
   double shutdown_grace_seconds = 10;
-  std::string port_file;  // when set, {"grpc":…,"http":…} is written there once serving
+  std::string port_file;                  // when set, {"grpc":…,"http":…} is written there once serving
   std::vector<std::string> cors_origins;  // origins allowed to call the REST gateway from a browser ("*": any)
-  std::string web_dir;  // the viewer's files; empty: the installed or built location (DefaultWebDir)
-  std::string auth_token_file;  // when set, API calls need "authorization: Bearer <a token in it>"
-  std::string tls_cert_file;    // PEM certificate chain: TLS on the gRPC and HTTP ports
-  std::string tls_key_file;     // PEM private key of tls_cert_file
+  std::string web_dir;                    // the viewer's files; empty: the installed or built location (DefaultWebDir)
+  std::string auth_token_file;            // when set, API calls need "authorization: Bearer <a token in it>"
+  std::string tls_cert_file;              // PEM certificate chain: TLS on the gRPC and HTTP ports
+  std::string tls_key_file;               // PEM private key of tls_cert_file
   std::vector<std::string> trusted_proxies;  // --trust-forwarded-for: networks whose X-Forwarded-For is believed
   Limits limits;
 };

@@ -13,7 +13,8 @@ namespace pb = google::protobuf;
 namespace rv1 = grpc::reflection::v1;
 
 grpc::Status NotFound(const std::string& what, const std::string& name) {
-  return grpc::Status(grpc::StatusCode::NOT_FOUND, what + " '" + EscapeForMessage(name, 256) + "' is not known to this server");
+  return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                      what + " '" + EscapeForMessage(name, 256) + "' is not known to this server");
 }
 
 // `file` and, once each, every file it imports, directly or not: a client
@@ -38,7 +39,8 @@ ReflectionV1Service::ReflectionV1Service(std::vector<std::string> services)
     : pool_(pb::DescriptorPool::generated_pool()), services_(std::move(services)) {}
 
 grpc::Status ReflectionV1Service::ServerReflectionInfo(
-    grpc::ServerContext*, grpc::ServerReaderWriter<rv1::ServerReflectionResponse, rv1::ServerReflectionRequest>* stream) {
+    grpc::ServerContext*,
+    grpc::ServerReaderWriter<rv1::ServerReflectionResponse, rv1::ServerReflectionRequest>* stream) {
   rv1::ServerReflectionRequest request;
   while (stream->Read(&request))
     if (!stream->Write(Answer(request))) break;
@@ -62,7 +64,8 @@ rv1::ServerReflectionResponse ReflectionV1Service::Answer(const rv1::ServerRefle
       status = AllExtensionNumbers(request.all_extension_numbers_of_type(), &response);
       break;
     case rv1::ServerReflectionRequest::kListServices:
-      for (const std::string& name : services_) response.mutable_list_services_response()->add_service()->set_name(name);
+      for (const std::string& name : services_)
+        response.mutable_list_services_response()->add_service()->set_name(name);
       break;
     case rv1::ServerReflectionRequest::MESSAGE_REQUEST_NOT_SET:
       status = grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
@@ -100,7 +103,8 @@ grpc::Status ReflectionV1Service::FileContainingExtension(const rv1::ExtensionRe
   if (!type) return NotFound("message type", request.containing_type());
   const pb::FieldDescriptor* extension = pool_->FindExtensionByNumber(type, request.extension_number());
   if (!extension)
-    return NotFound("extension number " + std::to_string(request.extension_number()) + " of", request.containing_type());
+    return NotFound("extension number " + std::to_string(request.extension_number()) + " of",
+                    request.containing_type());
   AddFile(extension->file(), response);
   return grpc::Status::OK;
 }

@@ -26,7 +26,8 @@ class ReflectionV1Service final : public grpc::reflection::v1::ServerReflection:
 
   // One request's answer: a file_descriptor_response, the extension numbers,
   // the service list, or an error_response (NOT_FOUND naming what was asked).
-  grpc::reflection::v1::ServerReflectionResponse Answer(const grpc::reflection::v1::ServerReflectionRequest& request) const;
+  grpc::reflection::v1::ServerReflectionResponse Answer(
+      const grpc::reflection::v1::ServerReflectionRequest& request) const;
 
  private:
   grpc::Status FileByName(const std::string& name, grpc::reflection::v1::ServerReflectionResponse* response) const;

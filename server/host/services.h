@@ -32,7 +32,6 @@ ServiceEntry MakeService(Args&&... args) {
 
 // `tokens_verified`: the services sit behind an auth gate, so per-client
 // limits may count a caller by its token.
-std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics,
-                                       bool tokens_verified);
+std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, Metrics& metrics, bool tokens_verified);
 
 }  // namespace armature::server

@@ -116,8 +116,8 @@ Status LimitFromProto(const v1::JointLimit& in, int i, JointLimit& out) {
     if (!order.ok()) return order.status();
     out.order = *order;
     // Finiteness and min <= max are the engine's (ValidateJointLimit).
-    for (auto [values, name, target] : {std::tuple{&in.min_deg(), "min_deg", &out.min_deg},
-                                        std::tuple{&in.max_deg(), "max_deg", &out.max_deg}}) {
+    for (auto [values, name, target] :
+         {std::tuple{&in.min_deg(), "min_deg", &out.min_deg}, std::tuple{&in.max_deg(), "max_deg", &out.max_deg}}) {
       if (values->empty()) continue;
       if (values->size() != 3)
         return Status::InvalidArgument(f(name)() + ": expected 3 values (degrees, one per axis of `order`), got " +
@@ -144,8 +144,8 @@ Status OptionsFromProto(const v1::IkOptions& in, const Limits& limits, IkOptions
     return Status::ResourceExhausted("options.max_iterations: " + std::to_string(in.max_iterations()) +
                                      " is over the limit of " + std::to_string(limits.max_ik_iterations) +
                                      " (--max-ik-iterations)");
-  out.max_iterations = in.max_iterations() != 0 ? in.max_iterations()
-                                                 : std::min(out.max_iterations, limits.max_ik_iterations);
+  out.max_iterations =
+      in.max_iterations() != 0 ? in.max_iterations() : std::min(out.max_iterations, limits.max_ik_iterations);
   out.position_tolerance = in.position_tolerance();
   if (in.has_rotation_tolerance()) out.rotation_tolerance = in.rotation_tolerance();
   out.regularization = in.regularization();
@@ -209,8 +209,8 @@ static Status ValidateIkWork(const Skeleton& sk, const v1::SolveIkRequest& in, i
   const int64_t work = chain_joints * std::max(iterations, 1);
   if (work <= limits.max_ik_work) return Status::Ok();
   return Status::ResourceExhausted("effectors, options.max_iterations: " + std::to_string(chain_joints) +
-                                   " chain joints x " + std::to_string(iterations) + " iterations = " +
-                                   std::to_string(work) + " is over the limit of " +
+                                   " chain joints x " + std::to_string(iterations) +
+                                   " iterations = " + std::to_string(work) + " is over the limit of " +
                                    std::to_string(limits.max_ik_work) + " (--max-ik-work); ask for fewer");
 }
 
@@ -224,8 +224,8 @@ Status IkCallFromProto(const Catalog& catalog, const Limits& limits, const v1::S
   switch (in.start_case()) {
     case v1::SolveIkRequest::kStartPose:
       call.start.resize(sk.size());
-      ARMATURE_RETURN_IF_ERROR(ApiFieldNames(PoseFromArrays(sk, AsSpan(in.start_pose().rotations()),
-                                                            AsSpan(in.start_pose().translations()), call.start)));
+      ARMATURE_RETURN_IF_ERROR(ApiFieldNames(
+          PoseFromArrays(sk, AsSpan(in.start_pose().rotations()), AsSpan(in.start_pose().translations()), call.start)));
       break;
     case v1::SolveIkRequest::kFromClip:
       ARMATURE_RETURN_IF_ERROR(StartFromClip(catalog, in.from_clip(), *call.skeleton.part, call.start));
@@ -262,8 +262,7 @@ Status IkCallFromProto(const Catalog& catalog, const Limits& limits, const v1::S
   return Status::Ok();
 }
 
-Status ApplyTargetUpdates(const google::protobuf::RepeatedPtrField<v1::IkTargetUpdate>& updates,
-                          IkRequest& request) {
+Status ApplyTargetUpdates(const google::protobuf::RepeatedPtrField<v1::IkTargetUpdate>& updates, IkRequest& request) {
   for (int i = 0; i < updates.size(); ++i) {
     const v1::IkTargetUpdate& u = updates[i];
     auto f = [i](const char* name) { return [i, name] { return Indexed("targets", i) + "." + name; }; };

@@ -22,7 +22,7 @@ namespace armature::server {
 struct IkCall {
   PartRef<NamedSkeleton> skeleton;
   IkRequest request;
-  std::vector<Trs> start;  // empty = the rest pose
+  std::vector<Trs> start;                     // empty = the rest pose
   std::vector<uint8_t> body_root_candidates;  // request.body_root_candidates views it
 };
 
@@ -34,8 +34,7 @@ struct IkCall {
 Status IkCallFromProto(const Catalog& catalog, const Limits& limits, const v1::SolveIkRequest& in, IkCall& call);
 
 // New targets of a session message applied to `request`'s effectors.
-Status ApplyTargetUpdates(const google::protobuf::RepeatedPtrField<v1::IkTargetUpdate>& updates,
-                          IkRequest& request);
+Status ApplyTargetUpdates(const google::protobuf::RepeatedPtrField<v1::IkTargetUpdate>& updates, IkRequest& request);
 
 // The engine names the start pose "pose.…" (PoseFromArrays) and
 // "start_pose[i]"; the API calls it start_pose. Its free_root_rotation and

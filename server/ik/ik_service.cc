@@ -11,8 +11,7 @@
 namespace armature::server {
 
 grpc::ServerUnaryReactor* IkServiceImpl::SolveIk(grpc::CallbackServerContext* context,
-                                                 const v1::SolveIkRequest* request,
-                                                 v1::SolveIkResponse* response) {
+                                                 const v1::SolveIkRequest* request, v1::SolveIkResponse* response) {
   return RunUnary(context, "SolveIk", [&]() -> Status {
     return server::SolveIk(*store_.Snapshot(), limits_, *request, response, CallStopOf(*context));
   });

@@ -15,8 +15,8 @@ StatusOr<const Material*> MaterialOfMesh(const Catalog& catalog, const std::stri
   *found_name = ref->part->name;
   const auto& materials = ref->part->mesh->materials;
   if (index < 0 || static_cast<size_t>(index) >= materials.size())
-    return Status::InvalidArgument("material: " + std::to_string(index) + " is out of range (mesh '" +
-                                   ref->part->name + "' has " + std::to_string(materials.size()) + " materials)");
+    return Status::InvalidArgument("material: " + std::to_string(index) + " is out of range (mesh '" + ref->part->name +
+                                   "' has " + std::to_string(materials.size()) + " materials)");
   return materials[static_cast<size_t>(index)].get();
 }
 
@@ -66,8 +66,8 @@ Status GetMaterial(const Catalog& catalog, const v1::GetMaterialRequest& request
   return Status::Ok();
 }
 
-Status GetMaterialImage(const Catalog& catalog, const v1::GetMaterialImageRequest& request,
-                        v1::MaterialImage* response, const Limits& limits) {
+Status GetMaterialImage(const Catalog& catalog, const v1::GetMaterialImageRequest& request, v1::MaterialImage* response,
+                        const Limits& limits) {
   std::string mesh;
   ARMATURE_ASSIGN_OR_RETURN(auto found, MaterialOfMesh(catalog, request.mesh(), request.material(), &mesh));
   const Material& m = *found;

@@ -13,7 +13,7 @@ namespace armature::server {
 Status GetMaterial(const Catalog& catalog, const v1::GetMaterialRequest& request, v1::Material* response);
 // The image's bytes as stored; its index is checked against the material's
 // images and its size against the reply limit (imports cap it, max_image_bytes).
-Status GetMaterialImage(const Catalog& catalog, const v1::GetMaterialImageRequest& request,
-                        v1::MaterialImage* response, const Limits& limits);
+Status GetMaterialImage(const Catalog& catalog, const v1::GetMaterialImageRequest& request, v1::MaterialImage* response,
+                        const Limits& limits);
 
 }  // namespace armature::server

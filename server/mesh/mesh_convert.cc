@@ -95,8 +95,8 @@ Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool t
   return ValidateMeshReply(*ref->part->mesh, triangles, limits, rpc, encoding);
 }
 
-Status ValidateCharacterReply(const std::vector<const NamedMesh*>& meshes, const Limits& limits,
-                              const std::string& rpc, ReplyEncoding encoding) {
+Status ValidateCharacterReply(const std::vector<const NamedMesh*>& meshes, const Limits& limits, const std::string& rpc,
+                              ReplyEncoding encoding) {
   ReplyContent reply;
   size_t vertices = 0;
   for (const NamedMesh* mesh : meshes) {

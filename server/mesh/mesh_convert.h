@@ -65,7 +65,7 @@ Status ValidateMeshReply(const Catalog& catalog, const std::string& name, bool t
                          const std::string& rpc, ReplyEncoding encoding = ReplyEncoding::kProtobuf);
 
 // ValidateMeshReply for one answer carrying every mesh of `meshes` (a character, no triangles).
-Status ValidateCharacterReply(const std::vector<const NamedMesh*>& meshes, const Limits& limits,
-                              const std::string& rpc, ReplyEncoding encoding = ReplyEncoding::kProtobuf);
+Status ValidateCharacterReply(const std::vector<const NamedMesh*>& meshes, const Limits& limits, const std::string& rpc,
+                              ReplyEncoding encoding = ReplyEncoding::kProtobuf);
 
 }  // namespace armature::server

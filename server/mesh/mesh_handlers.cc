@@ -22,8 +22,7 @@ struct MeshWorkspace {
 
 }  // namespace
 
-Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request,
-                       v1::MeshGeometry* response) {
+Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request, v1::MeshGeometry* response) {
   auto ref = catalog.FindMesh(request.mesh());
   if (!ref.ok()) return ref.status().WithContext("mesh: ");
   const Mesh& mesh = *ref->part->mesh;
@@ -87,9 +86,9 @@ Status SkinMesh(const Catalog& catalog, const Limits& limits, const v1::SkinMesh
     ARMATURE_ASSIGN_OR_RETURN(auto skeleton_ref, catalog.FindSkeleton(named.skeleton));
     const Skeleton& skeleton = *skeleton_ref.part->skeleton;
     ws.local.resize(skeleton.size());
-    ARMATURE_RETURN_IF_ERROR(PoseFromArrays(skeleton, AsSpan(request.pose().rotations()),
-                                            AsSpan(request.pose().translations()), ws.local)
-                                 .WithContext("pose: "));
+    ARMATURE_RETURN_IF_ERROR(
+        PoseFromArrays(skeleton, AsSpan(request.pose().rotations()), AsSpan(request.pose().translations()), ws.local)
+            .WithContext("pose: "));
     auto [positions, normals] = OutputsOf(mesh, response);
     ARMATURE_RETURN_IF_ERROR(SkinPose(mesh, skeleton, ws.local, options, positions, normals, ws.skin));
   }
@@ -104,8 +103,7 @@ Status SkinCharacter(const Catalog& catalog, const Limits& limits, const v1::Ski
   if (!skeleton.ok()) return skeleton.status().WithContext("skeleton: ");
   const std::string& name = skeleton->part->name;
   const std::vector<const NamedMesh*> meshes = catalog.MeshesOf(name);
-  if (meshes.empty())
-    return Status::NotFound("skeleton: '" + name + "' has no meshes skinned to it (not a character)");
+  if (meshes.empty()) return Status::NotFound("skeleton: '" + name + "' has no meshes skinned to it (not a character)");
   v1::SkinMeshRequest each;
   each.set_clip(request.clip());
   each.set_time(request.time());
@@ -119,8 +117,8 @@ Status SkinCharacter(const Catalog& catalog, const Limits& limits, const v1::Ski
   for (const NamedMesh* mesh : meshes) {
     each.set_mesh(mesh->name);
     // The first mesh reports bad posing fields; naming the mesh tells which when only one fails.
-    ARMATURE_RETURN_IF_ERROR(SkinMesh(catalog, limits, each, response->add_meshes())
-                                 .WithContext("mesh '" + mesh->name + "': "));
+    ARMATURE_RETURN_IF_ERROR(
+        SkinMesh(catalog, limits, each, response->add_meshes()).WithContext("mesh '" + mesh->name + "': "));
   }
   return Status::Ok();
 }

@@ -11,8 +11,7 @@
 
 namespace armature::server {
 
-Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request,
-                       v1::MeshGeometry* response);
+Status GetMeshGeometry(const Catalog& catalog, const v1::GetMeshGeometryRequest& request, v1::MeshGeometry* response);
 // `limits` bounds a motion's layers and the answer's size.
 Status SkinMesh(const Catalog& catalog, const Limits& limits, const v1::SkinMeshRequest& request,
                 v1::SkinMeshResponse* response);

@@ -32,8 +32,7 @@ class MeshServiceImpl final : public v1::MeshService::CallbackService {
                                              v1::MaterialImage* response) override;
   grpc::ServerUnaryReactor* SkinMesh(grpc::CallbackServerContext* context, const v1::SkinMeshRequest* request,
                                      v1::SkinMeshResponse* response) override;
-  grpc::ServerUnaryReactor* SkinCharacter(grpc::CallbackServerContext* context,
-                                          const v1::SkinCharacterRequest* request,
+  grpc::ServerUnaryReactor* SkinCharacter(grpc::CallbackServerContext* context, const v1::SkinCharacterRequest* request,
                                           v1::SkinCharacterResponse* response) override;
   grpc::ServerWriteReactor<v1::SkinnedMeshFrame>* StreamSkinnedMesh(
       grpc::CallbackServerContext* context, const v1::StreamSkinnedMeshRequest* request) override;
@@ -47,7 +46,7 @@ class MeshServiceImpl final : public v1::MeshService::CallbackService {
   AssetStore& store_;
   const Limits& limits_;
   std::shared_ptr<StreamAdmission> streams_;  // shared with the other streaming RPCs
-  FrameScheduler scheduler_;  // paces StreamSkinnedMesh
+  FrameScheduler scheduler_;                  // paces StreamSkinnedMesh
 };
 
 }  // namespace armature::server

@@ -28,7 +28,8 @@ Status ValidateSkinSource(const v1::SkinMeshRequest& request) {
 }
 
 Status ValidateMaxInfluences(int max_influences) {
-  if (max_influences < 0 || max_influences > 8) return Status::InvalidArgument("max_influences: must be between 1 and 8");
+  if (max_influences < 0 || max_influences > 8)
+    return Status::InvalidArgument("max_influences: must be between 1 and 8");
   return Status::Ok();
 }
 

@@ -25,7 +25,8 @@ Status SkinnedMeshStreamPlan::Fill(uint64_t index, double t, WrapMode wrap, Fram
 }
 
 void SkinnedMeshStreamPlan::Done(uint64_t frames) const {
-  spdlog::debug("skinned stream of '{}' by '{}' done after {} frames", mesh_.part->name, mesh_clip_.clip_ref.part->name, frames);
+  spdlog::debug("skinned stream of '{}' by '{}' done after {} frames", mesh_.part->name, mesh_clip_.clip_ref.part->name,
+                frames);
 }
 
 }  // namespace armature::server

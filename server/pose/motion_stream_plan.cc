@@ -20,7 +20,10 @@ StatusOr<MotionStreamPlan> MotionStreamPlan::Make(const Catalog& catalog, const 
 
 MotionStreamPlan::MotionStreamPlan(StreamPacing pacing, MotionPlan plan, std::string skeleton, v1::Space space,
                                    std::vector<int> joints)
-    : pacing_(pacing), motion_(std::move(plan)), skeleton_(std::move(skeleton)), space_(space),
+    : pacing_(pacing),
+      motion_(std::move(plan)),
+      skeleton_(std::move(skeleton)),
+      space_(space),
       joints_(std::move(joints)) {
   ws_.Resize(motion_.skeleton().size());
 }

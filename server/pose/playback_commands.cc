@@ -20,8 +20,7 @@ Status PlayedMotion(const Catalog& catalog, const Limits& limits, const v1::Play
     for (const MotionLayer& l : motion.layers) name += (name.empty() ? "" : "+") + l.clip_name;
     return Status::Ok();
   }
-  if (play.clip().empty())
-    return Status::InvalidArgument(field + ": give a clip or a motion to play");
+  if (play.clip().empty()) return Status::InvalidArgument(field + ": give a clip or a motion to play");
   auto ref = catalog.FindClip(play.clip());
   if (!ref.ok()) return ref.status().WithContext(field + ".clip: ");
   motion = Motion();
@@ -81,10 +80,8 @@ StatusOr<PlaybackSetup> StartPlayback(const Catalog& catalog, const Limits& limi
 Status ApplyPlaybackCommand(const Catalog& catalog, const Limits& limits, const v1::PlaybackCommand& command,
                             uint64_t id, Playback& playback, std::map<uint64_t, std::string>& names) {
   switch (command.command_case()) {
-    case v1::PlaybackCommand::kStart:
-      return Status::InvalidArgument("start: only in the first message");
-    case v1::PlaybackCommand::kPlay:
-      return Play(catalog, limits, command.play(), "play", id, playback, names);
+    case v1::PlaybackCommand::kStart: return Status::InvalidArgument("start: only in the first message");
+    case v1::PlaybackCommand::kPlay: return Play(catalog, limits, command.play(), "play", id, playback, names);
     case v1::PlaybackCommand::kSetLayer: {
       const v1::PlaybackSetLayer& s = command.set_layer();
       if (!s.has_weight() && !s.has_speed())
@@ -101,16 +98,10 @@ Status ApplyPlaybackCommand(const Catalog& catalog, const Limits& limits, const 
       if (s.has_speed()) ARMATURE_RETURN_IF_ERROR(playback.SetLayerSpeed(layer, s.speed()).WithContext("set_layer."));
       return Status::Ok();
     }
-    case v1::PlaybackCommand::kPause:
-      playback.Pause();
-      return Status::Ok();
-    case v1::PlaybackCommand::kResume:
-      playback.Resume();
-      return Status::Ok();
-    case v1::PlaybackCommand::kSeek:
-      return playback.Seek(command.seek().time()).WithContext("seek.");
-    case v1::PlaybackCommand::COMMAND_NOT_SET:
-      break;
+    case v1::PlaybackCommand::kPause: playback.Pause(); return Status::Ok();
+    case v1::PlaybackCommand::kResume: playback.Resume(); return Status::Ok();
+    case v1::PlaybackCommand::kSeek: return playback.Seek(command.seek().time()).WithContext("seek.");
+    case v1::PlaybackCommand::COMMAND_NOT_SET: break;
   }
   return Status::InvalidArgument("command: empty (give one of play, set_layer, pause, resume, seek)");
 }

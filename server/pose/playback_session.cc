@@ -13,7 +13,8 @@ PlaybackSession::~PlaybackSession() {
 
 Status PlaybackSession::Start(const CallStop& /*call*/, const Request& first) {
   if (!first.has_start())
-    return Status::InvalidArgument("start: required in the first message (skeleton, fps, space, joints, optional play)");
+    return Status::InvalidArgument(
+        "start: required in the first message (skeleton, fps, space, joints, optional play)");
   ARMATURE_ASSIGN_OR_RETURN(setup_, StartPlayback(*catalog_(), limits_, first.start(), playback_, names_));
   return Status::Ok();
 }

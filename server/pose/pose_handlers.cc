@@ -131,8 +131,8 @@ Status ComputeFk(const Catalog& catalog, const v1::ComputeFkRequest& request, v1
   if (!joints.ok()) return joints.status();
   thread_local PoseWorkspace ws;
   ws.Resize(skeleton.size());
-  ARMATURE_RETURN_IF_ERROR(PoseFromArrays(skeleton, AsSpan(request.pose().rotations()),
-                                          AsSpan(request.pose().translations()), ws.local));
+  ARMATURE_RETURN_IF_ERROR(
+      PoseFromArrays(skeleton, AsSpan(request.pose().rotations()), AsSpan(request.pose().translations()), ws.local));
   response->set_skeleton(ref->part->name);
   for (int j : *joints) response->add_joints(j);
   PackPose(skeleton, v1::WORLD, *joints, ws, response->mutable_world());

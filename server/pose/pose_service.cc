@@ -40,9 +40,8 @@ grpc::ServerUnaryReactor* PoseServiceImpl::EvaluateMotion(grpc::CallbackServerCo
 grpc::ServerUnaryReactor* PoseServiceImpl::ComputeFk(grpc::CallbackServerContext* context,
                                                      const v1::ComputeFkRequest* request,
                                                      v1::ComputeFkResponse* response) {
-  return RunUnary(context, "ComputeFk", [&]() -> Status {
-    return server::ComputeFk(*store_.Snapshot(), *request, response);
-  });
+  return RunUnary(context, "ComputeFk",
+                  [&]() -> Status { return server::ComputeFk(*store_.Snapshot(), *request, response); });
 }
 
 grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::CallbackServerContext* context,
@@ -59,8 +58,8 @@ grpc::ServerWriteReactor<v1::PoseFrame>* PoseServiceImpl::StreamClip(grpc::Callb
                              ValidateEnum(request->space(), v1::Space_descriptor(), "space")})
       if (!st.ok()) return new FailedStream<v1::PoseFrame>(st);
     const auto catalog = store_.Snapshot();
-    if (request->has_motion()) return Play(MotionStreamPlan::Make(*catalog, limits_, *request, pacing), pacing,
-                                           std::move(*stream));
+    if (request->has_motion())
+      return Play(MotionStreamPlan::Make(*catalog, limits_, *request, pacing), pacing, std::move(*stream));
     return Play(ClipStreamPlan::Make(*catalog, limits_, *request, pacing), pacing, std::move(*stream));
   });
 }

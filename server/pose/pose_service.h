@@ -20,11 +20,13 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
  public:
   PoseServiceImpl(AssetStore& store, const Limits& limits, std::shared_ptr<SessionAdmission> sessions,
                   std::shared_ptr<StreamAdmission> streams, std::shared_ptr<HeavyCallPool> heavy)
-      : store_(store), limits_(limits), sessions_(std::move(sessions)), streams_(std::move(streams)),
+      : store_(store),
+        limits_(limits),
+        sessions_(std::move(sessions)),
+        streams_(std::move(streams)),
         heavy_(std::move(heavy)) {}
 
-  grpc::ServerUnaryReactor* EvaluateClip(grpc::CallbackServerContext* context,
-                                         const v1::EvaluateClipRequest* request,
+  grpc::ServerUnaryReactor* EvaluateClip(grpc::CallbackServerContext* context, const v1::EvaluateClipRequest* request,
                                          v1::EvaluateClipResponse* response) override;
   grpc::ServerUnaryReactor* EvaluateMotion(grpc::CallbackServerContext* context,
                                            const v1::EvaluateMotionRequest* request,
@@ -45,9 +47,9 @@ class PoseServiceImpl final : public v1::PoseService::CallbackService {
   AssetStore& store_;
   const Limits& limits_;
   std::shared_ptr<SessionAdmission> sessions_;  // shared with the IK and deformation sessions
-  std::shared_ptr<StreamAdmission> streams_;  // shared with the other streaming RPCs
-  std::shared_ptr<HeavyCallPool> heavy_;      // EvaluateClip and EvaluateMotion beyond a few milliseconds
-  FrameScheduler scheduler_;  // paces StreamClip and PlaybackSession
+  std::shared_ptr<StreamAdmission> streams_;    // shared with the other streaming RPCs
+  std::shared_ptr<HeavyCallPool> heavy_;        // EvaluateClip and EvaluateMotion beyond a few milliseconds
+  FrameScheduler scheduler_;                    // paces StreamClip and PlaybackSession
 };
 
 }  // namespace armature::server

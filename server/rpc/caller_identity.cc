@@ -22,7 +22,8 @@ std::string AuthorizationOf(const grpc::ServerContextBase& context) {
 std::string_view BearerTokenOf(std::string_view authorization) {
   authorization = Trim(authorization);
   constexpr std::string_view kScheme = "bearer";
-  if (authorization.size() <= kScheme.size() || (authorization[kScheme.size()] != ' ' && authorization[kScheme.size()] != '\t'))
+  if (authorization.size() <= kScheme.size() ||
+      (authorization[kScheme.size()] != ' ' && authorization[kScheme.size()] != '\t'))
     return {};
   for (size_t i = 0; i < kScheme.size(); ++i)
     if (std::tolower(static_cast<unsigned char>(authorization[i])) != kScheme[i]) return {};

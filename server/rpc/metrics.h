@@ -33,7 +33,7 @@ class Metrics {
  public:
   // Upper bounds of the latency histogram buckets, in seconds (+Inf is implied).
   static constexpr std::array<double, 16> kBuckets = {0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1,
-                                                      0.25,   0.5,   1,      2.5,   5,     10,    30,    60};
+                                                      0.25,   0.5,   1,      2.5,   5,    10,    30,   60};
 
   // A call began; `streaming` for client, server and bidi streams.
   void RpcStarted(std::string_view method, bool streaming);

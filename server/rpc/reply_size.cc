@@ -43,8 +43,8 @@ Status ValidateReplySize(const ReplyContent& reply, ReplyEncoding encoding, cons
                         reply.how + "), over the message limit of " + Mib(limit) + " (--max-message-mb); ask for less";
   const double binary = reply.Bytes(ReplyEncoding::kProtobuf);
   if (json && binary <= limit)
-    message += ", or for its binary encoding (" + Mib(binary) +
-               "): header Accept: application/x-protobuf, or call over gRPC";
+    message +=
+        ", or for its binary encoding (" + Mib(binary) + "): header Accept: application/x-protobuf, or call over gRPC";
   if (!alternative.empty()) message += ", or " + alternative;
   return Status::ResourceExhausted(message);
 }

@@ -80,15 +80,15 @@ Status ValidateMotion(const v1::Motion& motion, const Limits& limits, const std:
   if (motion.layers().empty())
     return Status::InvalidArgument(field + ".layers: the motion is empty (give at least one layer)");
   if (motion.layers_size() > limits.max_motion_layers)
-    return Status::InvalidArgument(field + ".layers: " + std::to_string(motion.layers_size()) +
-                                   " layers, at most " + std::to_string(limits.max_motion_layers));
+    return Status::InvalidArgument(field + ".layers: " + std::to_string(motion.layers_size()) + " layers, at most " +
+                                   std::to_string(limits.max_motion_layers));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(motion.sync(), v1::Motion::Sync_descriptor(), field + ".sync"));
   ARMATURE_RETURN_IF_ERROR(
       ValidateEnum(motion.root_motion(), v1::Motion::RootMotion_descriptor(), field + ".rootMotion"));
   for (int i = 0; i < motion.layers_size(); ++i) {
     const v1::MotionLayer& l = motion.layers(i);
-    const std::string where = field + ".layers[" + std::to_string(i) + "]" +
-                              (l.clip().empty() ? "" : " (clip '" + l.clip() + "')");
+    const std::string where =
+        field + ".layers[" + std::to_string(i) + "]" + (l.clip().empty() ? "" : " (clip '" + l.clip() + "')");
     ARMATURE_RETURN_IF_ERROR(ValidateRequired(l.clip(), where + ".clip"));
     if (l.has_weight() && !(l.weight() >= 0 && l.weight() <= 1))
       return Status::InvalidArgument(where + ": weight " + std::to_string(l.weight()) + " is outside [0, 1]");
@@ -106,8 +106,8 @@ Status ValidateMotion(const v1::Motion& motion, const Limits& limits, const std:
                                      " mask joints (give one per joint, or none)");
     for (int k = 0; k < l.mask_weights_size(); ++k)
       if (!(l.mask_weights(k) >= 0 && l.mask_weights(k) <= 1))
-        return Status::InvalidArgument(where + ".maskWeights[" + std::to_string(k) + "]: " +
-                                       std::to_string(l.mask_weights(k)) + " is outside [0, 1]");
+        return Status::InvalidArgument(where + ".maskWeights[" + std::to_string(k) +
+                                       "]: " + std::to_string(l.mask_weights(k)) + " is outside [0, 1]");
   }
   return Status::Ok();
 }
@@ -139,8 +139,8 @@ StatusOr<std::array<Axis, 3>> ParseEulerOrder(const std::string& order, const st
   std::array<Axis, 3> axes = {Axis::kX, Axis::kY, Axis::kZ};
   if (order.empty()) return axes;
   auto bad = [&] {
-    return Status::InvalidArgument(field + ": expected X, Y and Z once each, in the order they apply, such as \"ZXY\", got \"" +
-                                   order + "\"");
+    return Status::InvalidArgument(
+        field + ": expected X, Y and Z once each, in the order they apply, such as \"ZXY\", got \"" + order + "\"");
   };
   if (order.size() != 3) return bad();
   bool seen[3] = {false, false, false};  // an axis twice ("XXX", "XYX") is no Tait-Bryan order

@@ -1,9 +1,10 @@
 """The C++ sources follow .clang-format: clang-format --dry-run on each,
 listing the files it would change (fix: clang-format -i FILE).
 
-usage: check_format.py REPO_ROOT [CLANG_FORMAT]
+usage: check_format.py REPO_ROOT [CLANG_FORMAT]   (make format rewrites them)
 """
 import os
+import shutil
 import subprocess
 import sys
 
@@ -21,6 +22,9 @@ def sources(root):
 
 
 def main(root, tool):
+    if shutil.which(tool) is None:
+        print(f"check_format: {tool} not found (scripts/setup.sh test installs it)")
+        return 1
     files = list(sources(root))
     bad = []
     for i in range(0, len(files), 100):

@@ -16,7 +16,7 @@ StatusOr<std::unique_ptr<int>> MakeInt(int v) {
 }
 
 StatusOr<int> Doubled(int v) {
-  ARMATURE_ASSIGN_OR_RETURN(auto p, MakeInt(v));  // move-only value
+  ARMATURE_ASSIGN_OR_RETURN(auto p, MakeInt(v));            // move-only value
   ARMATURE_ASSIGN_OR_RETURN(const auto q, MakeInt(v + 1));  // two on one scope
   return *p + *q - 1;
 }

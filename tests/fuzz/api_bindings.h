@@ -17,9 +17,9 @@ inline const std::vector<server::gateway::HttpBinding>& ApiBindings() {
   static const auto* bindings = [] {
     // The generated files register themselves only when linked in: name one
     // message of each file with services.
-    for (const auto* d : {v1::ImportAssetRequest::descriptor(), v1::DeformRequest::descriptor(),
-                          v1::SolveIkRequest::descriptor(), v1::GetMeshRequest::descriptor(),
-                          v1::EvaluateClipRequest::descriptor()})
+    for (const auto* d :
+         {v1::ImportAssetRequest::descriptor(), v1::DeformRequest::descriptor(), v1::SolveIkRequest::descriptor(),
+          v1::GetMeshRequest::descriptor(), v1::EvaluateClipRequest::descriptor()})
       if (d->file()->service_count() == 0) std::abort();
     auto* out = new std::vector<server::gateway::HttpBinding>();
     for (const auto* service : server::gateway::GeneratedServicesIn("armature"))

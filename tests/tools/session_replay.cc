@@ -38,7 +38,8 @@ bool Replay(const std::vector<std::string>& lines, Open open, std::vector<double
   for (size_t i = 0; i < requests.size(); ++i) {
     const auto start = std::chrono::steady_clock::now();
     if (!stream->Write(requests[i]) || !stream->Read(&answer)) break;
-    if (i > 0) ms->push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    if (i > 0)
+      ms->push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
   stream->WritesDone();
   const grpc::Status status = stream->Finish();

@@ -15,7 +15,9 @@ client::Client CliContext::MakeClient() const {
   return client::Client(o);
 }
 
-std::string CliContext::Target() const { return server.empty() ? client::ClientOptions::FromEnvironment().target : server; }
+std::string CliContext::Target() const {
+  return server.empty() ? client::ClientOptions::FromEnvironment().target : server;
+}
 
 nlohmann::json ToJson(const google::protobuf::Message& message) {
   std::string out;

@@ -17,7 +17,7 @@ struct CliContext {
   std::string token;
   std::string ca_file;
   double timeout_seconds = 30;
-  bool json = false;        // --json: print JSON instead of text
+  bool json = false;         // --json: print JSON instead of text
   std::function<int()> run;  // set by the chosen subcommand
 
   client::Client MakeClient() const;

@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
   app.add_option("--token", ctx.token, "Bearer token (default $ARMATURE_TOKEN)");
   app.add_option("--ca-file", ctx.ca_file, "Use TLS, trusting this CA certificate (default $ARMATURE_CA_FILE)");
   app.add_option("--timeout", ctx.timeout_seconds, "Deadline of each call, in seconds")
-      ->capture_default_str()->check(PositiveNumber());
+      ->capture_default_str()
+      ->check(PositiveNumber());
   app.add_flag("--json", ctx.json, "Print JSON instead of text (import and info always print JSON)");
   app.require_subcommand(1);
 

@@ -36,23 +36,11 @@ std::shared_ptr<grpc::Channel> MakeChannel(const ClientOptions& o) {
 }  // namespace
 
 const char* StatusCodeName(grpc::StatusCode code) {
-  static const char* const kNames[] = {"OK",
-                                       "CANCELLED",
-                                       "UNKNOWN",
-                                       "INVALID_ARGUMENT",
-                                       "DEADLINE_EXCEEDED",
-                                       "NOT_FOUND",
-                                       "ALREADY_EXISTS",
-                                       "PERMISSION_DENIED",
-                                       "RESOURCE_EXHAUSTED",
-                                       "FAILED_PRECONDITION",
-                                       "ABORTED",
-                                       "OUT_OF_RANGE",
-                                       "UNIMPLEMENTED",
-                                       "INTERNAL",
-                                       "UNAVAILABLE",
-                                       "DATA_LOSS",
-                                       "UNAUTHENTICATED"};
+  static const char* const kNames[] = {
+      "OK",        "CANCELLED",      "UNKNOWN",           "INVALID_ARGUMENT",   "DEADLINE_EXCEEDED",
+      "NOT_FOUND", "ALREADY_EXISTS", "PERMISSION_DENIED", "RESOURCE_EXHAUSTED", "FAILED_PRECONDITION",
+      "ABORTED",   "OUT_OF_RANGE",   "UNIMPLEMENTED",     "INTERNAL",           "UNAVAILABLE",
+      "DATA_LOSS", "UNAUTHENTICATED"};
   const int i = static_cast<int>(code);
   return i >= 0 && i <= 16 ? kNames[i] : "UNKNOWN";
 }
@@ -72,10 +60,13 @@ ClientOptions ClientOptions::FromEnvironment() {
 Client::Client(ClientOptions options) : Client(MakeChannel(options), options) {}
 
 Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
-    : options_(std::move(options)), channel_(std::move(channel)),
-      assets_(v1::AssetService::NewStub(channel_)), poses_(v1::PoseService::NewStub(channel_)),
+    : options_(std::move(options)),
+      channel_(std::move(channel)),
+      assets_(v1::AssetService::NewStub(channel_)),
+      poses_(v1::PoseService::NewStub(channel_)),
       ik_(v1::IkService::NewStub(channel_)),
-      meshes_(v1::MeshService::NewStub(channel_)), deform_(v1::DeformService::NewStub(channel_)),
+      meshes_(v1::MeshService::NewStub(channel_)),
+      deform_(v1::DeformService::NewStub(channel_)),
       authoring_(v1::AuthoringService::NewStub(channel_)) {}
 
 void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
@@ -84,8 +75,8 @@ void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
   if (!options_.token.empty()) context.AddMetadata("authorization", "Bearer " + options_.token);
 }
 
-v1::ImportAssetResponse Client::ImportFile(const std::filesystem::path& path, const std::string& name,
-                                           bool replace, bool allow_outside_resources, const std::string& format) {
+v1::ImportAssetResponse Client::ImportFile(const std::filesystem::path& path, const std::string& name, bool replace,
+                                           bool allow_outside_resources, const std::string& format) {
   UploadFile main{path.filename().string(), ReadFileOrThrow(path)};
   std::vector<UploadFile> resources;
   const bool gltf = format.empty() ? path.extension() == ".gltf" : format == "gltf";
@@ -146,9 +137,7 @@ v1::ClipInfo Client::GetClip(const std::string& clip) {
   r.set_clip(clip);
   return Call(&v1::AssetService::Stub::GetClip, *assets_, r);
 }
-v1::ListSkeletonsResponse Client::ListSkeletons() {
-  return Call(&v1::AssetService::Stub::ListSkeletons, *assets_, {});
-}
+v1::ListSkeletonsResponse Client::ListSkeletons() { return Call(&v1::AssetService::Stub::ListSkeletons, *assets_, {}); }
 v1::Skeleton Client::GetSkeleton(const std::string& skeleton) {
   v1::GetSkeletonRequest r;
   r.set_skeleton(skeleton);
@@ -187,8 +176,8 @@ std::unique_ptr<S> Client::OpenSession(std::unique_ptr<S> session, Open open, co
 std::unique_ptr<IkSession> Client::OpenIkSession(const v1::SolveIkRequest& start) {
   v1::IkSessionRequest first;
   *first.mutable_start() = start;
-  return OpenSession(std::unique_ptr<IkSession>(new IkSession()),
-                     [this](grpc::ClientContext* c) { return ik_->IkSession(c); }, first);
+  return OpenSession(
+      std::unique_ptr<IkSession>(new IkSession()), [this](grpc::ClientContext* c) { return ik_->IkSession(c); }, first);
 }
 
 v1::DeformResponse Client::Deform(const v1::DeformRequest& r) {
@@ -198,8 +187,9 @@ v1::DeformResponse Client::Deform(const v1::DeformRequest& r) {
 std::unique_ptr<DeformSession> Client::OpenDeformSession(const v1::DeformSessionStart& start) {
   v1::DeformSessionRequest first;
   *first.mutable_start() = start;
-  return OpenSession(std::unique_ptr<DeformSession>(new DeformSession()),
-                     [this](grpc::ClientContext* c) { return deform_->DeformSession(c); }, first);
+  return OpenSession(
+      std::unique_ptr<DeformSession>(new DeformSession()),
+      [this](grpc::ClientContext* c) { return deform_->DeformSession(c); }, first);
 }
 
 template <class Request, class Response>
@@ -215,7 +205,8 @@ void Session<Request, Response>::Fail() {
   closed_ = true;
   grpc::Status status = stream_->Finish();
   if (status.ok())
-    status = grpc::Status(grpc::StatusCode::UNKNOWN, std::string("the server ended the ") + what_ + " without an answer");
+    status =
+        grpc::Status(grpc::StatusCode::UNKNOWN, std::string("the server ended the ") + what_ + " without an answer");
   throw ClientError(status);
 }
 
@@ -225,8 +216,7 @@ void Session<Request, Response>::Close() {
   closed_ = true;
   stream_->WritesDone();
   Response extra;
-  while (stream_->Read(&extra)) {
-  }
+  while (stream_->Read(&extra)) {}
   Check(stream_->Finish());
 }
 
@@ -235,8 +225,7 @@ Session<Request, Response>::~Session() {
   if (closed_ || !stream_) return;
   context_->TryCancel();
   Response extra;
-  while (stream_->Read(&extra)) {
-  }
+  while (stream_->Read(&extra)) {}
   (void)stream_->Finish();
 }
 
@@ -267,8 +256,7 @@ void ReadStream(grpc::ClientContext& context, grpc::ClientReader<Frame>& reader,
   while (reader.Read(&frame)) {
     if (!on_frame(frame)) {
       context.TryCancel();
-      while (reader.Read(&frame)) {
-      }
+      while (reader.Read(&frame)) {}
       reader.Finish();
       return;
     }

@@ -49,16 +49,18 @@ std::string OutsideReason(const std::string& path) {
 // The file `decoded` names, for a uri the user allowed to point anywhere.
 fs::path OutsidePath(const fs::path& folder, const std::string& decoded) {
   std::string p = decoded;
-  if (p.rfind("file://", 0) == 0) p = p.substr(7);  // file:///etc/x → /etc/x (an empty host)
-  else if (p.rfind("file:", 0) == 0) p = p.substr(5);
+  if (p.rfind("file://", 0) == 0)
+    p = p.substr(7);  // file:///etc/x → /etc/x (an empty host)
+  else if (p.rfind("file:", 0) == 0)
+    p = p.substr(5);
   return fs::path(p).is_absolute() ? fs::path(p) : folder / p;
 }
 
 std::string ReadOrThrow(const fs::path& path, const std::string& uri) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
-    throw ClientError(grpc::Status(grpc::StatusCode::NOT_FOUND,
-                                   "cannot read " + path.string() + " (buffer uri '" + uri + "')"));
+    throw ClientError(
+        grpc::Status(grpc::StatusCode::NOT_FOUND, "cannot read " + path.string() + " (buffer uri '" + uri + "')"));
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -93,9 +95,10 @@ std::vector<UploadFile> GltfResources(const fs::path& gltf_path, const std::stri
         if (ec || end != real_folder.end()) reason = "a link out of the folder";
       }
       if (!reason.empty())
-        throw Invalid(gltf_path.filename().string() + ": buffer uri '" + uri + "' (" + reason +
-                      ") is not in the .gltf's folder (" + folder.string() +
-                      ") or its subfolders, the only files uploaded; pass --allow-outside-resources to upload it anyway");
+        throw Invalid(
+            gltf_path.filename().string() + ": buffer uri '" + uri + "' (" + reason +
+            ") is not in the .gltf's folder (" + folder.string() +
+            ") or its subfolders, the only files uploaded; pass --allow-outside-resources to upload it anyway");
     }
     resources.push_back({uri, ReadOrThrow(path, uri)});
   }

@@ -29,8 +29,8 @@ constexpr std::string_view kPrefixes[] = {"mixamorig_", "mixamorig", "cc_base_",
 // "middle_01" (and "little", "pinkie") read alike, so the fingers pair by name.
 std::string CanonicalFinger(const std::string& base) {
   constexpr std::pair<std::string_view, std::string_view> kFingers[] = {
-      {"thumb", "thumb"}, {"index", "index"},   {"middle", "middle"}, {"mid", "middle"},
-      {"ring", "ring"},   {"pinky", "pinky"},   {"pinkie", "pinky"},  {"little", "pinky"}};
+      {"thumb", "thumb"}, {"index", "index"}, {"middle", "middle"}, {"mid", "middle"},
+      {"ring", "ring"},   {"pinky", "pinky"}, {"pinkie", "pinky"},  {"little", "pinky"}};
   std::string_view rest = base;
   if (StartsWith(rest, "hand") && rest.size() > 4) rest.remove_prefix(4);
   for (const auto& [word, canonical] : kFingers)
@@ -67,8 +67,20 @@ std::vector<std::string> Tokens(std::string_view s) {
 }
 
 enum class Part : unsigned char {
-  kNone, kHips, kNeck, kHead, kClavicle, kShoulder, kUpperArm, kForeArm, kHand,
-  kThigh, kSideHip, kShin, kFoot, kToe,
+  kNone,
+  kHips,
+  kNeck,
+  kHead,
+  kClavicle,
+  kShoulder,
+  kUpperArm,
+  kForeArm,
+  kHand,
+  kThigh,
+  kSideHip,
+  kShin,
+  kFoot,
+  kToe,
 };
 
 struct Synonym {
@@ -79,18 +91,16 @@ struct Synonym {
 
 constexpr Synonym kSynonyms[] = {
     {"hips", Part::kHips, 0},         {"pelvis", Part::kHips, 0},       {"hip", Part::kHips, 1},
-    {"neck", Part::kNeck, 0},         {"necktwist", Part::kNeck, 1},         {"head", Part::kHead, 0},
+    {"neck", Part::kNeck, 0},         {"necktwist", Part::kNeck, 1},    {"head", Part::kHead, 0},
     {"clavicle", Part::kClavicle, 0}, {"collar", Part::kClavicle, 0},   {"collarbone", Part::kClavicle, 0},
-    {"shoulder", Part::kShoulder, 0},
-    {"upperarm", Part::kUpperArm, 0}, {"uparm", Part::kUpperArm, 0},    {"arm", Part::kUpperArm, 1},
-    {"forearm", Part::kForeArm, 0},   {"lowerarm", Part::kForeArm, 0},  {"elbow", Part::kForeArm, 1},
-    {"hand", Part::kHand, 0},         {"wrist", Part::kHand, 1},        {"palm", Part::kHand, 2},
-    {"upleg", Part::kThigh, 0},       {"upperleg", Part::kThigh, 0},    {"thigh", Part::kThigh, 0},
-    {"lowerleg", Part::kShin, 0},     {"calf", Part::kShin, 0},         {"shin", Part::kShin, 0},
-    {"knee", Part::kShin, 1},         {"leg", Part::kShin, 2},
-    {"foot", Part::kFoot, 0},         {"ankle", Part::kFoot, 1},
-    {"toebase", Part::kToe, 0},       {"toe", Part::kToe, 0},           {"toes", Part::kToe, 0},
-    {"ball", Part::kToe, 1},
+    {"shoulder", Part::kShoulder, 0}, {"upperarm", Part::kUpperArm, 0}, {"uparm", Part::kUpperArm, 0},
+    {"arm", Part::kUpperArm, 1},      {"forearm", Part::kForeArm, 0},   {"lowerarm", Part::kForeArm, 0},
+    {"elbow", Part::kForeArm, 1},     {"hand", Part::kHand, 0},         {"wrist", Part::kHand, 1},
+    {"palm", Part::kHand, 2},         {"upleg", Part::kThigh, 0},       {"upperleg", Part::kThigh, 0},
+    {"thigh", Part::kThigh, 0},       {"lowerleg", Part::kShin, 0},     {"calf", Part::kShin, 0},
+    {"shin", Part::kShin, 0},         {"knee", Part::kShin, 1},         {"leg", Part::kShin, 2},
+    {"foot", Part::kFoot, 0},         {"ankle", Part::kFoot, 1},        {"toebase", Part::kToe, 0},
+    {"toe", Part::kToe, 0},           {"toes", Part::kToe, 0},          {"ball", Part::kToe, 1},
 };
 
 struct Candidate {
@@ -131,7 +141,8 @@ std::vector<Candidate> ReadCandidates(const Skeleton& skeleton) {
       if (syn.base != key.base) continue;
       Part part = syn.part;
       if (part == Part::kHips && key.side != BodySide::kCenter) part = Part::kSideHip;
-      out.push_back({static_cast<int>(j), part, key.side, syn.rank * 1000 + (key.number < 0 ? 0 : 1 + std::min(key.number, 998))});
+      out.push_back({static_cast<int>(j), part, key.side,
+                     syn.rank * 1000 + (key.number < 0 ? 0 : 1 + std::min(key.number, 998))});
       break;
     }
   }
@@ -200,8 +211,8 @@ void PairChains(const std::vector<int>& source, const std::vector<int>& target, 
   if (n == 0 || m == 0) return;
   int last = -1;
   for (size_t i = 0; i < m; ++i) {
-    const int k = static_cast<int>(std::lround(static_cast<double>(i + 1) * static_cast<double>(n) /
-                                               static_cast<double>(m))) - 1;
+    const int k =
+        static_cast<int>(std::lround(static_cast<double>(i + 1) * static_cast<double>(n) / static_cast<double>(m))) - 1;
     if (k <= last || k < 0) continue;
     pairs.push_back({source[static_cast<size_t>(k)], target[i]});
     last = k;

@@ -38,8 +38,8 @@ V Hermite(const V& p0, const V& m0, const V& p1, const V& m1, double u) {
 // Samples a vector-valued key sequence. `value(k)` reads key k; `in(k)` and
 // `out(k)` its glTF tangents when `has_tangents`.
 template <class V, class ValueAt, class InAt, class OutAt>
-V SampleKeys(std::span<const double> times, const ValueAt& value, bool has_tangents, const InAt& in,
-             const OutAt& out, double t, Interpolation mode) {
+V SampleKeys(std::span<const double> times, const ValueAt& value, bool has_tangents, const InAt& in, const OutAt& out,
+             double t, Interpolation mode) {
   const KeySpan s = Locate(times, t);
   if (s.k0 == s.k1 || mode == Interpolation::kStep) return value(s.k0);
   if (mode == Interpolation::kLinear) return V(value(s.k0) + s.u * (value(s.k1) - value(s.k0)));
@@ -92,9 +92,10 @@ Status ValidateTimes(const std::vector<double>& times, const std::string& where)
   for (size_t k = 0; k < times.size(); ++k) {
     if (!std::isfinite(times[k])) return Status::InvalidArgument(KeyError(where, k, "time is not finite"));
     if (k > 0 && !(times[k] > times[k - 1]))
-      return Status::InvalidArgument(KeyError(where, k, "time " + std::to_string(times[k]) +
-                                                            " does not increase (previous key at " +
-                                                            std::to_string(times[k - 1]) + ")"));
+      return Status::InvalidArgument(KeyError(where, k,
+                                              "time " + std::to_string(times[k]) +
+                                                  " does not increase (previous key at " +
+                                                  std::to_string(times[k - 1]) + ")"));
   }
   return Status::Ok();
 }
@@ -123,8 +124,7 @@ Status ValidateTrack(const Track<V>& track, const std::string& where, const Chec
     return Status::InvalidArgument(where + ": in/out tangents must both be empty or have one per key (" +
                                    std::to_string(n) + ")");
   for (size_t k = 0; k < n; ++k) {
-    if (std::string e = check_value(track.values[k]); !e.empty())
-      return Status::InvalidArgument(KeyError(where, k, e));
+    if (std::string e = check_value(track.values[k]); !e.empty()) return Status::InvalidArgument(KeyError(where, k, e));
     if (!track.in_tangents.empty() && (!Finite(track.in_tangents[k]) || !Finite(track.out_tangents[k])))
       return Status::InvalidArgument(KeyError(where, k, "tangent is not finite"));
   }
@@ -135,7 +135,8 @@ std::string CheckVec3(const Eigen::Vector3d& v) { return Finite(v) ? "" : "value
 
 std::string CheckUnitQuaternion(const Eigen::Quaterniond& q) {
   if (!q.coeffs().allFinite()) return "rotation is not finite";
-  if (std::abs(q.norm() - 1.0) > 1e-3) return "rotation is not a unit quaternion (norm " + std::to_string(q.norm()) + ")";
+  if (std::abs(q.norm() - 1.0) > 1e-3)
+    return "rotation is not a unit quaternion (norm " + std::to_string(q.norm()) + ")";
   return "";
 }
 
@@ -162,11 +163,12 @@ Status Clip::Validate() const {
     ARMATURE_RETURN_IF_ERROR(ValidateTimes(w.times, where));
     ARMATURE_RETURN_IF_ERROR(CheckInterpolation(w.interpolation, where));
     const size_t plain = w.times.size() * w.targets;
-    const bool ok_size = w.values.size() == plain ||
-                         (w.interpolation == Interpolation::kCubic && w.values.size() == 3 * plain);
+    const bool ok_size =
+        w.values.size() == plain || (w.interpolation == Interpolation::kCubic && w.values.size() == 3 * plain);
     if (!ok_size)
-      return Status::InvalidArgument(where + ": " + std::to_string(w.values.size()) + " values, expected keys × targets = " +
-                                     std::to_string(plain) + (w.interpolation == Interpolation::kCubic ? " (or 3× that)" : ""));
+      return Status::InvalidArgument(where + ": " + std::to_string(w.values.size()) +
+                                     " values, expected keys × targets = " + std::to_string(plain) +
+                                     (w.interpolation == Interpolation::kCubic ? " (or 3× that)" : ""));
     for (size_t k = 0; k < w.values.size(); ++k)
       if (!std::isfinite(w.values[k]))
         return Status::InvalidArgument(where + ": value " + std::to_string(k) + " is not finite");
@@ -188,11 +190,11 @@ Status CheckSampleArguments(const Clip& clip, double time, const SampleOptions& 
   if (!clip.skeleton) return Status::InvalidArgument("clip has no skeleton");
   const Skeleton& sk = *clip.skeleton;
   if (out_size != sk.size())
-    return Status::InvalidArgument("output has room for " + std::to_string(out_size) + " transforms, the skeleton has " +
-                                   std::to_string(sk.size()) + " joints");
+    return Status::InvalidArgument("output has room for " + std::to_string(out_size) +
+                                   " transforms, the skeleton has " + std::to_string(sk.size()) + " joints");
   if (clip.joints.size() != sk.size())
-    return Status::InvalidArgument("clip has " + std::to_string(clip.joints.size()) + " joint tracks, the skeleton has " +
-                                   std::to_string(sk.size()) + " joints");
+    return Status::InvalidArgument("clip has " + std::to_string(clip.joints.size()) +
+                                   " joint tracks, the skeleton has " + std::to_string(sk.size()) + " joints");
   if (!std::isfinite(time)) return Status::InvalidArgument("time is not finite");
   if (options.interpolation) ARMATURE_RETURN_IF_ERROR(CheckInterpolation(*options.interpolation, "sample options"));
   if (options.wrap != WrapMode::kClamp && options.wrap != WrapMode::kLoop)

@@ -34,8 +34,8 @@ std::vector<double> UniformTimes(const Clip& clip) {
 
 template <class V>
 bool InGroup(const Track<V>& track, const std::vector<double>& times) {
-  return track.empty() || (track.times == times && track.in_tangents.empty() &&
-                           track.interpolation != Interpolation::kCubic);
+  return track.empty() ||
+         (track.times == times && track.in_tangents.empty() && track.interpolation != Interpolation::kCubic);
 }
 
 // Lanes of the joints in `joints` for one property; `value(jt, k)` writes key
@@ -191,7 +191,8 @@ void SampleLanes(const CompiledLanes& lanes, const Segment& seg, LaneMode mode, 
 // which agree at interior keys when the neighbouring segments are equally
 // long. Empty when they do not agree (uneven times): CUBIC then samples the
 // source.
-std::vector<float> BuildRotationControls(const Clip& clip, const CompiledLanes& lanes, const std::vector<double>& times) {
+std::vector<float> BuildRotationControls(const Clip& clip, const CompiledLanes& lanes,
+                                         const std::vector<double>& times) {
   const size_t n = times.size(), frame_stride = lanes.groups * 16;
   std::vector<float> controls(lanes.keys.size());
   for (size_t g = 0; g < lanes.groups; ++g)
@@ -236,8 +237,7 @@ size_t LaneBytes(const CompiledLanes& l) {
 size_t CompiledClip::KeyBytes() const {
   return times.size() * sizeof(double) + LaneBytes(rotations) +
          (controls_ready_.load(std::memory_order_acquire) ? rotation_controls_.size() * sizeof(float) : 0) +
-         LaneBytes(translations) + LaneBytes(scales) +
-         fallback_joints.size() * sizeof(uint32_t);
+         LaneBytes(translations) + LaneBytes(scales) + fallback_joints.size() * sizeof(uint32_t);
 }
 
 const std::vector<float>& CompiledClip::RotationControls() const {
@@ -304,13 +304,12 @@ Status SampleCompiledClip(const CompiledClip& compiled, double time, const Sampl
   const double t = WrapTime(time, clip.duration, options.wrap);
   if (compiled.times.size() >= 2) {
     const Segment seg = Locate(compiled, t);
-    const LaneMode mode = !options.interpolation                            ? LaneMode::kOwn
+    const LaneMode mode = !options.interpolation                             ? LaneMode::kOwn
                           : *options.interpolation == Interpolation::kStep   ? LaneMode::kStep
                           : *options.interpolation == Interpolation::kLinear ? LaneMode::kLinear
                                                                              : LaneMode::kCubic;
-    SampleLanes(compiled.rotations, seg, mode, controls ? controls->data() : nullptr, [&](uint32_t j, const float* v) {
-      out[j].rotation = Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
-    });
+    SampleLanes(compiled.rotations, seg, mode, controls ? controls->data() : nullptr,
+                [&](uint32_t j, const float* v) { out[j].rotation = Eigen::Quaterniond(v[3], v[0], v[1], v[2]); });
     SampleLanes(compiled.translations, seg, mode, nullptr,
                 [&](uint32_t j, const float* v) { out[j].translation = Eigen::Vector3d(v[0], v[1], v[2]); });
     SampleLanes(compiled.scales, seg, mode, nullptr,

@@ -34,7 +34,6 @@ inline v4 Load4(const float* p) {
   return r;
 }
 
-
 inline v4 Select(v4i mask, v4 yes, v4 no) { return mask ? yes : no; }
 
 inline v4 Max(v4 x, v4 y) { return Select(x > y, x, y); }

@@ -35,8 +35,8 @@ Status SampleClipOnto(const Clip& clip, std::span<const int> map, const Skeleton
   if (!clip.skeleton) return Status::InvalidArgument("clip has no skeleton");
   if (map.size() != target.size() || out.size() != target.size())
     return Status::InvalidArgument("joint map of " + std::to_string(map.size()) + " and output of " +
-                                   std::to_string(out.size()) + " for a skeleton of " +
-                                   std::to_string(target.size()) + " joints");
+                                   std::to_string(out.size()) + " for a skeleton of " + std::to_string(target.size()) +
+                                   " joints");
   // SampleClip's checks.
   if (clip.joints.size() != clip.skeleton->size())
     return Status::InvalidArgument("clip has " + std::to_string(clip.joints.size()) +

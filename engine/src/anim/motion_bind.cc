@@ -45,8 +45,10 @@ Status MaskWeights(const Skeleton& sk, const std::vector<MaskJoint>& mask, const
     entry[j] = m.weight;
   }
   for (size_t j = 0; j < sk.size(); ++j) {  // parents come before children
-    if (entry[j] >= 0) out[j] = entry[j];
-    else if (sk.parents[j] >= 0) out[j] = out[sk.parents[j]];
+    if (entry[j] >= 0)
+      out[j] = entry[j];
+    else if (sk.parents[j] >= 0)
+      out[j] = out[sk.parents[j]];
   }
   return Status::Ok();
 }
@@ -168,7 +170,8 @@ StatusOr<MotionPlan> BindMotion(const Motion& motion) {
     for (double& w : b.joint_weight) w *= l.weight;
     if (l.mode == LayerMode::kAdditive) {
       b.reference.resize(sk.size());
-      for (size_t j = 0; j < sk.size(); ++j) b.reference[j] = SampleClipJoint(*l.clip, b.clip_joint[j], l.reference_time);
+      for (size_t j = 0; j < sk.size(); ++j)
+        b.reference[j] = SampleClipJoint(*l.clip, b.clip_joint[j], l.reference_time);
     }
     if (l.mode == LayerMode::kOverride && plan.phase_layer < 0) plan.phase_layer = static_cast<int>(i);
     plan.clips.push_back(l.clip);

@@ -33,11 +33,11 @@ Status Playback::Play(const Motion& motion, double crossfade, uint64_t id) {
   if (sk.names != skeleton_->names) {
     size_t j = 0;
     while (j < sk.size() && j < skeleton_->size() && sk.names[j] == skeleton_->names[j]) ++j;
-    return Status::InvalidArgument(
-        "layers[0] (clip '" + (motion.layers.empty() ? std::string() : motion.layers[0].clip_name) +
-        "'): its skeleton is not the session's: joint " + std::to_string(j) + " is '" +
-        (j < sk.size() ? sk.names[j] : std::string("(none)")) + "', the session's is '" +
-        (j < skeleton_->size() ? skeleton_->names[j] : std::string("(none)")) + "'");
+    return Status::InvalidArgument("layers[0] (clip '" +
+                                   (motion.layers.empty() ? std::string() : motion.layers[0].clip_name) +
+                                   "'): its skeleton is not the session's: joint " + std::to_string(j) + " is '" +
+                                   (j < sk.size() ? sk.names[j] : std::string("(none)")) + "', the session's is '" +
+                                   (j < skeleton_->size() ? skeleton_->names[j] : std::string("(none)")) + "'");
   }
   std::vector<Entry> before = motions_;
   if (crossfade == 0) motions_.clear();

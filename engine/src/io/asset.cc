@@ -66,8 +66,7 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
   if (rest.substr(0, 9) == "HIERARCHY") return AssetFormat::kBvh;
   if (!rest.empty() && rest[0] == '{' && rest.substr(0, 4096).find("\"asset\"") != std::string_view::npos)
     return AssetFormat::kGltf;
-  if (rest.substr(0, 2) == "v " || rest.substr(0, 1) == "#" || rest.substr(0, 2) == "o ")
-    return AssetFormat::kObj;
+  if (rest.substr(0, 2) == "v " || rest.substr(0, 1) == "#" || rest.substr(0, 2) == "o ") return AssetFormat::kObj;
   return Status::InvalidArgument("cannot tell the file's format from its name '" + EscapeForMessage(filename) +
                                  "' or content; pass format (bvh, gltf, glb or obj)");
 }

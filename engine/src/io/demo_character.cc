@@ -81,8 +81,8 @@ Tube Capsule(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r0, doub
 }
 
 // An ellipsoid with half-length c along `direction` from its centre.
-Tube Ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& direction, const Eigen::Vector3d& hint,
-               double c, double ru, double rv, int rings, int segments) {
+Tube Ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& direction, const Eigen::Vector3d& hint, double c,
+               double ru, double rv, int rings, int segments) {
   Tube t = Along(centre, direction, hint);
   t.origin = centre - c * t.axis;
   t.segments = segments;
@@ -100,7 +100,7 @@ Tube Torso(double hips_y) {
   struct Key {
     double y, width, depth;
   };
-  static constexpr Key kKeys[] = {{-16, 11.5, 8.5}, {-6, 13, 10}, {6, 11.5, 9}, {18, 11, 8.5},
+  static constexpr Key kKeys[] = {{-16, 11.5, 8.5}, {-6, 13, 10},  {6, 11.5, 9}, {18, 11, 8.5},
                                   {30, 12, 10},     {42, 11.5, 9}, {48, 9, 7}};
   constexpr int kRings = 34;
   const double bottom = kKeys[0].y, top = std::end(kKeys)[-1].y;
@@ -135,9 +135,9 @@ void AddTube(const Tube& t, Mesh& mesh) {
     }
     for (int k = 0; k < t.segments; ++k) {
       const double phi = 2 * kPi * k / t.segments;
-      mesh.positions.push_back((centre + section.ru * superellipse(std::cos(phi)) * t.u +
-                                section.rv * superellipse(std::sin(phi)) * t.v)
-                                   .cast<float>());
+      mesh.positions.push_back(
+          (centre + section.ru * superellipse(std::cos(phi)) * t.u + section.rv * superellipse(std::sin(phi)) * t.v)
+              .cast<float>());
     }
   }
   // Quads between consecutive sections, counter-clockwise seen from outside;
@@ -184,8 +184,8 @@ Mesh MakeBody(const Skeleton& skeleton) {
   AddTube(Torso(at("Hips").y()), mesh);
   AddTube(Capsule(at("Neck") - Eigen::Vector3d(0, 1, 0), at("Head") + Eigen::Vector3d(0, 2, 0), 5.0, 4.5), mesh);
   const Eigen::Vector3d crown = end_site("Head");
-  AddTube(Ellipsoid(at("Head") + Eigen::Vector3d(0, 9, 1.5), crown - at("Head"), Eigen::Vector3d::UnitX(), 11, 8.5,
-                    9.5, 20, 28),
+  AddTube(Ellipsoid(at("Head") + Eigen::Vector3d(0, 9, 1.5), crown - at("Head"), Eigen::Vector3d::UnitX(), 11, 8.5, 9.5,
+                    20, 28),
           mesh);
   for (const std::string side : {"Left", "Right"}) {
     auto j = [&](const char* name) { return at((side + name).c_str()); };
@@ -199,8 +199,7 @@ Mesh MakeBody(const Skeleton& skeleton) {
     AddTube(Capsule(shoulder, j("Elbow"), 4.6, 3.6), mesh);
     AddTube(Capsule(j("Elbow"), j("Wrist"), 3.5, 2.7), mesh);
     const Eigen::Vector3d hand = end_site((side + "Wrist").c_str()) - j("Wrist");
-    AddTube(Ellipsoid(j("Wrist") + hand / 2, hand, Eigen::Vector3d::UnitX(), hand.norm() / 2, 2.0, 4.0, 12, 20),
-            mesh);
+    AddTube(Ellipsoid(j("Wrist") + hand / 2, hand, Eigen::Vector3d::UnitX(), hand.norm() / 2, 2.0, 4.0, 12, 20), mesh);
   }
   mesh.normals = ComputeVertexNormals(mesh.positions, mesh.triangles);
   return mesh;
@@ -224,7 +223,8 @@ void AddSkeleton(const Skeleton& skeleton, tinygltf::Model& model) {
     tinygltf::Node node;
     node.name = skeleton.names[j];
     const Trs& rest = skeleton.rest[j];
-    if (!rest.translation.isZero()) node.translation = {rest.translation.x(), rest.translation.y(), rest.translation.z()};
+    if (!rest.translation.isZero())
+      node.translation = {rest.translation.x(), rest.translation.y(), rest.translation.z()};
     if (!rest.rotation.coeffs().isApprox(Eigen::Quaterniond::Identity().coeffs()))
       node.rotation = {rest.rotation.x(), rest.rotation.y(), rest.rotation.z(), rest.rotation.w()};
     model.nodes.push_back(node);
@@ -267,8 +267,8 @@ void AddSkinnedMesh(const Mesh& mesh, GlbWriter& glb) {
 
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
-  primitive.attributes["POSITION"] = glb.Add(positions, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n,
-                                             TINYGLTF_TARGET_ARRAY_BUFFER, lo, hi);
+  primitive.attributes["POSITION"] =
+      glb.Add(positions, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, TINYGLTF_TARGET_ARRAY_BUFFER, lo, hi);
   primitive.attributes["NORMAL"] =
       glb.Add(normals, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, TINYGLTF_TARGET_ARRAY_BUFFER);
   primitive.attributes["JOINTS_0"] =
@@ -321,8 +321,8 @@ void AddAnimation(const Clip& clip, GlbWriter& glb) {
     for (const auto& [keys, accessor] : inputs)
       if (keys == t) return accessor;
     const std::vector<float> f(t.begin(), t.end());
-    inputs.emplace_back(t, glb.Add(f, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, f.size(), 0, {f.front()},
-                                   {f.back()}));
+    inputs.emplace_back(
+        t, glb.Add(f, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, f.size(), 0, {f.front()}, {f.back()}));
     return inputs.back().second;
   };
   const Skeleton& skeleton = *clip.skeleton;
@@ -340,7 +340,8 @@ void AddAnimation(const Clip& clip, GlbWriter& glb) {
     const Vec3Track& translation = clip.joints[j].translation;
     if (translation.empty()) continue;
     std::vector<float> xyz;
-    for (const Eigen::Vector3d& p : translation.values) xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
+    for (const Eigen::Vector3d& p : translation.values)
+      xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
     sampler(glb.Add(xyz, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, translation.values.size(), 0), int(j),
             "translation", times(translation.times));
   }

@@ -41,14 +41,21 @@ const std::vector<JointCurve>& Curves() {
       {"Head", 1, {{0.00, -3}, {0.50, -3}}, false},
       // The hip's yaw undoes the pelvis yaw (≈ −5°·cos 2π·phase) so the
       // stance foot does not twist with the pelvis.
-      {"LeftHip", -1,
-       {{0.00, 25, 5}, {0.15, 20, 2.94}, {0.30, 6, -1.55}, {0.50, -10, -5}, {0.60, -6, -4.05}, {0.75, 18, 0},
+      {"LeftHip",
+       -1,
+       {{0.00, 25, 5},
+        {0.15, 20, 2.94},
+        {0.30, 6, -1.55},
+        {0.50, -10, -5},
+        {0.60, -6, -4.05},
+        {0.75, 18, 0},
         {0.88, 27, 3.65}},
        true},
-      {"LeftKnee", 1,
-       {{0.00, 3}, {0.12, 17}, {0.35, 5}, {0.50, 8}, {0.62, 40}, {0.72, 62}, {0.85, 32}, {0.95, 4}}, true},
-      {"LeftAnkle", -1,
-       {{0.00, 0}, {0.08, -6}, {0.35, 8}, {0.48, 10}, {0.62, -18}, {0.75, 0}, {0.90, 2}}, true},
+      {"LeftKnee",
+       1,
+       {{0.00, 3}, {0.12, 17}, {0.35, 5}, {0.50, 8}, {0.62, 40}, {0.72, 62}, {0.85, 32}, {0.95, 4}},
+       true},
+      {"LeftAnkle", -1, {{0.00, 0}, {0.08, -6}, {0.35, 8}, {0.48, 10}, {0.62, -18}, {0.75, 0}, {0.90, 2}}, true},
       {"LeftToe", -1, {{0.00, 0}, {0.40, 0}, {0.55, 22}, {0.65, 10}, {0.75, 0}}, true},
       {"LeftShoulder", -1, {{0.00, -15, 0, 6}, {0.25, 0, 0, 6}, {0.50, 15, 0, 6}, {0.75, 0, 0, 6}}, true},
       {"LeftElbow", -1, {{0.00, 10}, {0.25, 16}, {0.50, 25}, {0.75, 16}}, true},
@@ -123,7 +130,8 @@ QuatTrack RotationKeys(const JointCurve& curve, double phase_shift, double mirro
   track.interpolation = Interpolation::kCubic;
   const Axis axes[3] = {Axis::kY, Axis::kX, Axis::kZ};
   RepeatOverCycles(curve.keys, phase_shift, [&](double t, const PoseKey& k) {
-    const double angles[3] = {mirror * k.yaw * kDegree, curve.flex_sign * k.flex * kDegree, mirror * k.abduct * kDegree};
+    const double angles[3] = {mirror * k.yaw * kDegree, curve.flex_sign * k.flex * kDegree,
+                              mirror * k.abduct * kDegree};
     track.times.push_back(t);
     track.values.push_back(EulerToQuaternion(axes, angles));
   });

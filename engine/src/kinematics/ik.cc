@@ -17,7 +17,8 @@ Status SolveIk(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& 
     case IkSolver::kCcd: SolveCcd(skeleton, request, workspace, result); break;
     case IkSolver::kFabrik: SolveFabrik(skeleton, request, workspace, result); break;
     case IkSolver::kAim: SolveAim(skeleton, request, workspace, result); break;
-    default: return Status::InvalidArgument("solver: unknown value " + std::to_string(static_cast<int>(request.solver)));
+    default:
+      return Status::InvalidArgument("solver: unknown value " + std::to_string(static_cast<int>(request.solver)));
   }
   return Status::Ok();
 }

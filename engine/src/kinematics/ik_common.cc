@@ -45,7 +45,7 @@ void RotateJointInWorld(const Skeleton& skeleton, const IkRequest& request, IkWo
 }
 
 std::optional<Eigen::Vector3d> HingeAxis(const Skeleton& skeleton, const IkRequest& request, const IkWorkspace& ws,
-                                        int joint) {
+                                         int joint) {
   const int l = ws.limit_of[joint];
   if (l < 0 || request.limits[l].kind != JointLimit::Kind::kSwingTwist || request.limits[l].cone_deg != 0)
     return std::nullopt;

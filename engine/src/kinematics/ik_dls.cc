@@ -14,14 +14,14 @@ namespace {
 
 using namespace ik_dls;
 
-constexpr double kMaxStep = 1.5;     // largest change of one coordinate per step (radians, chain lengths)
-constexpr double kSlow = 1e-3;       // an accepted step lowering the cost by less than this fraction is slow
-constexpr int kSlowSteps = 3;        // slow steps in a row that make a stall
+constexpr double kMaxStep = 1.5;         // largest change of one coordinate per step (radians, chain lengths)
+constexpr double kSlow = 1e-3;           // an accepted step lowering the cost by less than this fraction is slow
+constexpr int kSlowSteps = 3;            // slow steps in a row that make a stall
 constexpr double kInitialDamping = 0.1;  // μ₀ relative to the largest diagonal of JᵀJ
 constexpr double kOffBound = 0.2;        // fraction of its range a coordinate starting on a bound moves in
-constexpr int kSettleIterations = 30;  // at most, after the targets are reached
-constexpr double kSettleStep = 0.3;     // largest coordinate change of one settling move
-constexpr int kProgressWindow = 8;  // iterations over which the cost must at least halve
+constexpr int kSettleIterations = 30;    // at most, after the targets are reached
+constexpr double kSettleStep = 0.3;      // largest coordinate change of one settling move
+constexpr int kProgressWindow = 8;       // iterations over which the cost must at least halve
 
 // Solves a x = b in place for symmetric positive definite `a` by Cholesky
 // (Eigen's LLT). Small systems (a limb: 1 to 12 unknowns) use the
@@ -119,8 +119,10 @@ bool Perturb(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws
 // Coordinates on a bound stay put.
 void ProjectedStep(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws, double alpha) {
   BuildJacobian(skeleton, request, ws);
-  if (alpha > 0) StartOffsets(skeleton, ws);
-  else ws.regularization.setZero();
+  if (alpha > 0)
+    StartOffsets(skeleton, ws);
+  else
+    ws.regularization.setZero();
   ForEachCoordinateOnBound(ws, [&](int col, int) {
     ws.jacobian.col(col).setZero();
     ws.regularization[col] = 0.0;

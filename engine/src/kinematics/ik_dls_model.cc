@@ -148,10 +148,10 @@ void Setup(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& ws) 
       ws.dls_paths.push_back(static_cast<int>(
           std::lower_bound(ws.free_joints.begin(), ws.free_joints.end(), ws.paths[k]) - ws.free_joints.begin()));
     if (e.translated_root >= 0)
-      ws.dls_paths.push_back(free_count + static_cast<int>(std::lower_bound(ws.translated_roots.begin(),
-                                                                            ws.translated_roots.end(),
-                                                                            e.translated_root) -
-                                                           ws.translated_roots.begin()));
+      ws.dls_paths.push_back(
+          free_count +
+          static_cast<int>(std::lower_bound(ws.translated_roots.begin(), ws.translated_roots.end(), e.translated_root) -
+                           ws.translated_roots.begin()));
     ws.dls_path_end[i] = static_cast<int>(ws.dls_paths.size());
     rows += (e.has_position ? 3 : 0) + (e.has_rotation ? 3 : 0);
   }

@@ -79,7 +79,7 @@ void RotateJointInWorld(const Skeleton& skeleton, const IkRequest& request, IkWo
 // The world axis of a hinge (a swing-twist limit with a zero cone), if
 // `joint` is one.
 std::optional<Eigen::Vector3d> HingeAxis(const Skeleton& skeleton, const IkRequest& request, const IkWorkspace& ws,
-                                        int joint);
+                                         int joint);
 
 // Turns `joint` about the world `axis` through its origin, within its
 // limit, so that the world point `from` moves towards `to` (seen along the

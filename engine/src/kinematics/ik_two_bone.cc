@@ -14,12 +14,11 @@ using ik_internal::RotateJointInWorld;
 using ik_internal::UpdateWorldOf;
 
 // The component of `v` perpendicular to unit `axis`.
-Eigen::Vector3d Perpendicular(const Eigen::Vector3d& v, const Eigen::Vector3d& axis) {
-  return v - v.dot(axis) * axis;
-}
+Eigen::Vector3d Perpendicular(const Eigen::Vector3d& v, const Eigen::Vector3d& axis) { return v - v.dot(axis) * axis; }
 
 Eigen::Vector3d AnyPerpendicular(const Eigen::Vector3d& v) {
-  const Eigen::Vector3d other = std::abs(v.normalized().x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d other =
+      std::abs(v.normalized().x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   return v.cross(other).normalized();
 }
 
@@ -44,8 +43,8 @@ void SolveOne(const Skeleton& skeleton, const IkRequest& request, IkWorkspace& w
   const double l2 = (end_point - ws.world_position[mid]).norm();
   const Eigen::Vector3d to_goal = goal - a;
   const double distance = to_goal.norm();
-  const double reach = std::clamp(SoftenedReach(distance, l1 + l2, request.options.softness), std::abs(l1 - l2),
-                                  l1 + l2);
+  const double reach =
+      std::clamp(SoftenedReach(distance, l1 + l2, request.options.softness), std::abs(l1 - l2), l1 + l2);
 
   const Eigen::Vector3d upper_bone = ws.world_position[mid] - a;
   const Eigen::Vector3d lower_bone = end_point - ws.world_position[mid];

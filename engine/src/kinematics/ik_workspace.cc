@@ -89,17 +89,13 @@ Status ResolveEffector(const Skeleton& skeleton, const IkRequest& request, size_
   }
   if (in.target_rotation) {
     const double n = in.target_rotation->norm();
-    if (!Finite(n) || n < 1e-9)
-      return fail(".target_rotation: not finite or a zero quaternion");
+    if (!Finite(n) || n < 1e-9) return fail(".target_rotation: not finite or a zero quaternion");
     out.has_rotation = true;
     out.target_rotation = Eigen::Quaterniond(in.target_rotation->coeffs() / n);
   }
-  if (!out.has_position && !out.has_rotation)
-    return fail(": needs a target_position or a target_rotation");
-  if (!Finite(in.position_weight) || in.position_weight < 0)
-    return fail(".position_weight: negative or not finite");
-  if (!Finite(in.rotation_weight) || in.rotation_weight < 0)
-    return fail(".rotation_weight: negative or not finite");
+  if (!out.has_position && !out.has_rotation) return fail(": needs a target_position or a target_rotation");
+  if (!Finite(in.position_weight) || in.position_weight < 0) return fail(".position_weight: negative or not finite");
+  if (!Finite(in.rotation_weight) || in.rotation_weight < 0) return fail(".rotation_weight: negative or not finite");
   out.position_weight = in.position_weight;
   out.rotation_weight = in.rotation_weight;
   if (in.pole && !in.pole->allFinite()) return fail(".pole: not finite");
@@ -110,13 +106,10 @@ Status ResolveEffector(const Skeleton& skeleton, const IkRequest& request, size_
   if (solver == IkSolver::kAim) {
     if (out.has_rotation) return fail(".target_rotation: not used by the aim solver");
     if (!in.local_offset.isZero()) return fail(".local_offset: aim turns about the joint's origin; must be zero");
-    if (!in.aim_axis.allFinite() || in.aim_axis.norm() < 1e-12)
-      return fail(".aim_axis: zero length or not finite");
+    if (!in.aim_axis.allFinite() || in.aim_axis.norm() < 1e-12) return fail(".aim_axis: zero length or not finite");
     if (in.up_hint) {
-      if (!in.up_hint->allFinite() || in.up_hint->norm() < 1e-12)
-        return fail(".up_hint: zero length or not finite");
-      if (!in.up_axis.allFinite() || in.up_axis.norm() < 1e-12)
-        return fail(".up_axis: zero length or not finite");
+      if (!in.up_hint->allFinite() || in.up_hint->norm() < 1e-12) return fail(".up_hint: zero length or not finite");
+      if (!in.up_axis.allFinite() || in.up_axis.norm() < 1e-12) return fail(".up_axis: zero length or not finite");
       if (in.up_axis.normalized().cross(in.aim_axis.normalized()).norm() < 1e-6)
         return fail(".up_axis: parallel to aim_axis");
     }
@@ -133,9 +126,8 @@ Status ResolveLimits(const Skeleton& skeleton, const IkRequest& request, IkWorks
   ws.limit_of.assign(skeleton.size(), -1);
   for (size_t i = 0; i < request.limits.size(); ++i) {
     // The field name is only built on failure: this runs per request.
-    ARMATURE_ASSIGN_OR_RETURN(
-        const int joint,
-        Resolve(skeleton, ws, request.limits[i].joint, [&] { return Indexed("limits", i) + ".joint"; }));
+    ARMATURE_ASSIGN_OR_RETURN(const int joint, Resolve(skeleton, ws, request.limits[i].joint,
+                                                       [&] { return Indexed("limits", i) + ".joint"; }));
     if (ws.limit_of[joint] >= 0)
       return Status::InvalidArgument(Indexed("limits", i) + ".joint: '" + request.limits[i].joint +
                                      "' is already limited by " + Indexed("limits", ws.limit_of[joint]));
@@ -173,8 +165,8 @@ Status MarkFreeJoints(const Skeleton& skeleton, const IkRequest& request, IkWork
   for (size_t i = 0; i < ws.effectors.size(); ++i) {
     const IkWorkspace::Effector& e = ws.effectors[i];
     if (root >= 0 && !IsAncestorOrSelf(skeleton, root, e.joint))
-      return Status::InvalidArgument("root: '" + request.root + "' is not an ancestor of " +
-                                     Indexed("effectors", i) + ".joint '" + skeleton.names[e.joint] + "'");
+      return Status::InvalidArgument("root: '" + request.root + "' is not an ancestor of " + Indexed("effectors", i) +
+                                     ".joint '" + skeleton.names[e.joint] + "'");
     const bool own_rotation_matters = e.has_rotation || !e.offset.isZero();
     int depth = 0;
     const int stop = root >= 0 ? root : e.body_root;
@@ -263,9 +255,11 @@ Status CheckTwoBone(const Skeleton& skeleton, const IkWorkspace& ws) {
                                      skeleton.names[l1 < 1e-12 ? upper : mid] + "' has no length");
     for (int j : {upper, mid, e.has_rotation ? e.joint : -1})
       if (j >= 0 && ws.limit_of[j] >= 0)
-        return Status::InvalidArgument(Indexed("limits", ws.limit_of[j]) + ".joint: the two-bone solver does not "
-                                       "apply limits ('" + skeleton.names[j] + "' is in " +
-                                       Indexed("effectors", i) + "'s chain); use dls, ccd or fabrik");
+        return Status::InvalidArgument(Indexed("limits", ws.limit_of[j]) +
+                                       ".joint: the two-bone solver does not "
+                                       "apply limits ('" +
+                                       skeleton.names[j] + "' is in " + Indexed("effectors", i) +
+                                       "'s chain); use dls, ccd or fabrik");
   }
   return Status::Ok();
 }
@@ -333,7 +327,7 @@ Status PrepareIkWorkspace(const Skeleton& skeleton, const IkRequest& request, Ik
       }
     ws.chain_length = longest > 0 ? longest : 1.0;
     ARMATURE_RETURN_IF_ERROR(request.solver == IkSolver::kTwoBone ? CheckTwoBone(skeleton, ws)
-                                                                   : CheckAim(skeleton, ws));
+                                                                  : CheckAim(skeleton, ws));
   } else {
     ARMATURE_RETURN_IF_ERROR(MarkFreeJoints(skeleton, request, ws));
     MarkFreeRoots(request, ws);

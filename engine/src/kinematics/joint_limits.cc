@@ -138,8 +138,7 @@ Eigen::Vector3d ClampEuler(const JointLimit& limit, const Eigen::Quaterniond& de
   const double pi = std::numbers::pi;
   for (double b : proper ? std::array<double, 2>{0.0, pi} : std::array<double, 2>{-pi / 2, pi / 2}) {
     const double middle = ClampAngle(b, lo[1], hi[1]);
-    if (std::abs(std::remainder(middle - b, kTwoPi)) > 1e-12 ||
-        std::abs(std::remainder(first[1] - b, kTwoPi)) > 1e-3)
+    if (std::abs(std::remainder(middle - b, kTwoPi)) > 1e-12 || std::abs(std::remainder(first[1] - b, kTwoPi)) > 1e-3)
       continue;
     const Eigen::Quaterniond rb = AxisRotation(a1, middle);
     const Eigen::Quaterniond about_a0 = delta * rb.conjugate();
@@ -211,8 +210,7 @@ Eigen::Quaterniond SampleWithinLimit(const JointLimit& limit, const Eigen::Vecto
   const double swing = limit.cone_deg * kDegToRad * std::sqrt(u[1]);
   const double twist = (limit.twist_min_deg + u[2] * (limit.twist_max_deg - limit.twist_min_deg)) * kDegToRad;
   const Eigen::Vector3d swing_axis = std::cos(phi) * e1 + std::sin(phi) * e2;
-  return Eigen::Quaterniond(Eigen::AngleAxisd(swing, swing_axis)) *
-         Eigen::Quaterniond(Eigen::AngleAxisd(twist, axis));
+  return Eigen::Quaterniond(Eigen::AngleAxisd(swing, swing_axis)) * Eigen::Quaterniond(Eigen::AngleAxisd(twist, axis));
 }
 
 }  // namespace armature

@@ -66,9 +66,9 @@ bool QuaternionToEuler(const Eigen::Quaterniond& q, std::span<const Axis> axes, 
   Axis a2 = n >= 3 ? axes[2] : static_cast<Axis>(3 - static_cast<int>(a0) - static_cast<int>(a1));
   bool invertible = n <= 3 && a0 != a1 && a1 != a2;
   if (a0 == a1) a1 = static_cast<Axis>((static_cast<int>(a0) + 1) % 3);
-  if (a1 == a2) a2 = static_cast<Axis>((static_cast<int>(a1) + 1) % 3 == static_cast<int>(a0)
-                                           ? (static_cast<int>(a1) + 2) % 3
-                                           : (static_cast<int>(a1) + 1) % 3);
+  if (a1 == a2)
+    a2 = static_cast<Axis>((static_cast<int>(a1) + 1) % 3 == static_cast<int>(a0) ? (static_cast<int>(a1) + 2) % 3
+                                                                                  : (static_cast<int>(a1) + 1) % 3);
 
   const Eigen::Matrix3d r = qn.toRotationMatrix();
   const Eigen::Vector3d e = r.eulerAngles(static_cast<int>(a0), static_cast<int>(a1), static_cast<int>(a2));
@@ -76,9 +76,13 @@ bool QuaternionToEuler(const Eigen::Quaterniond& q, std::span<const Axis> axes, 
   // The other solution of the same rotation.
   double s2[3];
   if (a0 == a2) {  // proper Euler: (a+π, −b, c+π)
-    s2[0] = e[0] + std::numbers::pi; s2[1] = -e[1]; s2[2] = e[2] + std::numbers::pi;
+    s2[0] = e[0] + std::numbers::pi;
+    s2[1] = -e[1];
+    s2[2] = e[2] + std::numbers::pi;
   } else {  // Tait–Bryan: (a+π, π−b, c+π)
-    s2[0] = e[0] + std::numbers::pi; s2[1] = std::numbers::pi - e[1]; s2[2] = e[2] + std::numbers::pi;
+    s2[0] = e[0] + std::numbers::pi;
+    s2[1] = std::numbers::pi - e[1];
+    s2[2] = e[2] + std::numbers::pi;
   }
   const size_t m = std::min<size_t>(n, 3);
   double* best = s1;

@@ -34,7 +34,8 @@ std::vector<std::vector<Segment>> Bones(const Skeleton& skeleton, const std::vec
   std::vector<std::vector<Segment>> bones(n);
   for (size_t c = 0; c < n; ++c) {
     const int p = skeleton.parents[c];
-    if (p >= 0) bones[static_cast<size_t>(p)].push_back({world[static_cast<size_t>(p)].translation(), world[c].translation()});
+    if (p >= 0)
+      bones[static_cast<size_t>(p)].push_back({world[static_cast<size_t>(p)].translation(), world[c].translation()});
   }
   for (size_t j = 0; j < n; ++j) {
     if (j < skeleton.end_sites.size() && skeleton.end_sites[j])
@@ -144,7 +145,8 @@ Status HeatWeights(const Mesh& mesh, const std::vector<std::vector<Segment>>& bo
     double best = std::numeric_limits<double>::infinity();
     for (size_t j = 0; j < joints; ++j) {
       const Nearest q = NearestOnJoint(bones[j], p);
-      if (q.distance < nearest_any_distance[i]) nearest_any_distance[i] = q.distance, nearest_any[i] = static_cast<int>(j);
+      if (q.distance < nearest_any_distance[i])
+        nearest_any_distance[i] = q.distance, nearest_any[i] = static_cast<int>(j);
       const bool visible = (q.point - p).dot(normal) < 1e-9 * q.distance;
       if (visible && q.distance < best) best = q.distance, nearest[i] = static_cast<int>(j);
     }
@@ -178,7 +180,8 @@ Status HeatWeights(const Mesh& mesh, const std::vector<std::vector<Segment>>& bo
   // Vertices on no triangle have no area; give them a unit mass so H binds them.
   for (double& a : area)
     if (!(a > 0)) a = 1;
-  for (size_t i = 0; i < n; ++i) system.coeffRef(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) += area[i] * h[i];
+  for (size_t i = 0; i < n; ++i)
+    system.coeffRef(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) += area[i] * h[i];
   system.makeCompressed();
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
   if (solver.info() != Eigen::Success)

@@ -14,9 +14,9 @@ Status BlendshapeJob::Validate() const { return CheckOutputs(mesh, weights, posi
 
 Status BlendshapeJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
-  return RunVertexPipeline({mesh, {}, weights, SkinningMethod::kLinear, false, parallel, positions, normals, workspace});
+  return RunVertexPipeline(
+      {mesh, {}, weights, SkinningMethod::kLinear, false, parallel, positions, normals, workspace});
 }
-
 
 StatusOr<MorphTarget> MorphTargetFromShape(const Mesh& base, std::string name, std::span<const float> positions,
                                            std::span<const float> normals, float tolerance) {
@@ -30,8 +30,8 @@ StatusOr<MorphTarget> MorphTargetFromShape(const Mesh& base, std::string name, s
   MorphTarget target;
   target.name = std::move(name);
   for (size_t v = 0; v < n; ++v) {
-    const Eigen::Vector3f dp = Eigen::Vector3f(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]) -
-                               base.positions[v];
+    const Eigen::Vector3f dp =
+        Eigen::Vector3f(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]) - base.positions[v];
     Eigen::Vector3f dn = Eigen::Vector3f::Zero();
     if (!normals.empty())
       dn = Eigen::Vector3f(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]) - base.normals[v];

@@ -53,7 +53,8 @@ Status CheckMesh(const Mesh& mesh) {
                                    " vertices");
   ARMATURE_RETURN_IF_ERROR(CheckVectors(mesh.normals, "normals"));
   if (!mesh.uvs.empty() && mesh.uvs.size() != n)
-    return Status::InvalidArgument("uvs: " + std::to_string(mesh.uvs.size()) + " for " + std::to_string(n) + " vertices");
+    return Status::InvalidArgument("uvs: " + std::to_string(mesh.uvs.size()) + " for " + std::to_string(n) +
+                                   " vertices");
   for (size_t i = 0; i < mesh.uvs.size(); ++i)
     if (!mesh.uvs[i].allFinite()) return Status::InvalidArgument("uvs[" + std::to_string(i) + "] is not finite");
   if (mesh.triangles.size() % 3 != 0) return Status::InvalidArgument("triangles: index count is not a multiple of 3");
@@ -83,8 +84,8 @@ Status CheckMesh(const Mesh& mesh) {
       return Status::InvalidArgument("influence arrays disagree with influence_offsets");
     for (size_t i = 0; i < total; ++i) {
       if (mesh.influence_joints[i] >= mesh.joints.size())
-        return Status::InvalidArgument("influence_joints[" + std::to_string(i) + "] = " +
-                                       std::to_string(mesh.influence_joints[i]) + " is out of range (" +
+        return Status::InvalidArgument("influence_joints[" + std::to_string(i) +
+                                       "] = " + std::to_string(mesh.influence_joints[i]) + " is out of range (" +
                                        std::to_string(mesh.joints.size()) + " joints)");
       const float w = mesh.influence_weights[i];
       if (!std::isfinite(w) || w < 0)
@@ -136,8 +137,10 @@ Status NormalizeInfluences(Mesh& mesh, std::vector<std::string>* warnings) {
       // The same joint listed twice (JOINTS_0 and JOINTS_1) adds up.
       auto same = std::find_if(vertex.begin(), vertex.end(),
                                [&](const auto& p) { return p.second == mesh.influence_joints[i]; });
-      if (same != vertex.end()) same->first += w;
-      else vertex.emplace_back(w, mesh.influence_joints[i]);
+      if (same != vertex.end())
+        same->first += w;
+      else
+        vertex.emplace_back(w, mesh.influence_joints[i]);
       sum += w;
     }
     if (vertex.empty())
@@ -204,7 +207,8 @@ void BuildLayout(Mesh& mesh) {
         const uint16_t joint = real ? static_cast<uint16_t>(mesh.influence_joints[src]) : pivot;
         l.joints.push_back(joint);
         l.weights.push_back(real ? mesh.influence_weights[src] : 0.f);
-        const auto [it, added] = slot_of.try_emplace(uint32_t{pivot} << 16 | joint, static_cast<uint32_t>(l.pairs.size()));
+        const auto [it, added] =
+            slot_of.try_emplace(uint32_t{pivot} << 16 | joint, static_cast<uint32_t>(l.pairs.size()));
         if (added) l.pairs.emplace_back(pivot, joint);
         l.pair_offsets.push_back(8 * it->second);
       }
@@ -252,7 +256,8 @@ std::vector<size_t> Mesh::influence_histogram() const {
 
 Status FinalizeMesh(Mesh& mesh, std::vector<std::string>* warnings) {
   ARMATURE_RETURN_IF_ERROR(CheckMesh(mesh).WithContext("mesh '" + mesh.name + "': "));
-  if (mesh.skinned()) ARMATURE_RETURN_IF_ERROR(NormalizeInfluences(mesh, warnings).WithContext("mesh '" + mesh.name + "': "));
+  if (mesh.skinned())
+    ARMATURE_RETURN_IF_ERROR(NormalizeInfluences(mesh, warnings).WithContext("mesh '" + mesh.name + "': "));
   BuildLayout(mesh);
   return Status::Ok();
 }

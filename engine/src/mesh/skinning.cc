@@ -13,7 +13,6 @@ using skinning_internal::CheckOutputs;
 using skinning_internal::Grow;
 using skinning_internal::RunVertexPipeline;
 
-
 Status SkinningJob::Validate() const {
   ARMATURE_RETURN_IF_ERROR(CheckOutputs(mesh, morph_weights, positions, normals, workspace));
   for (size_t k = 0; k < mesh->joints.size(); ++k)
@@ -29,9 +28,8 @@ Status SkinningJob::Run() const {
   return RunVertexPipeline({mesh, joint_world, morph_weights, method, true, parallel, positions, normals, workspace});
 }
 
-Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs> local,
-                const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
-                SkinningWorkspace& workspace) {
+Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs> local, const SkinningOptions& options,
+                std::span<float> positions, std::span<float> normals, SkinningWorkspace& workspace) {
   if (local.size() != skeleton.size())
     return Status::InvalidArgument("pose has " + std::to_string(local.size()) + " joints, skeleton has " +
                                    std::to_string(skeleton.size()));
@@ -105,12 +103,12 @@ Status SkinClip(const Mesh& mesh, const CompiledClip& compiled, double time, con
   return SkinSampled(mesh, skeleton, *compiled.source, time, sample, options, positions, normals, workspace);
 }
 
-Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip,
-                    double time, const SampleOptions& sample, const SkinningOptions& options,
-                    std::span<float> positions, std::span<float> normals, SkinningWorkspace& workspace) {
+Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip, double time,
+                    const SampleOptions& sample, const SkinningOptions& options, std::span<float> positions,
+                    std::span<float> normals, SkinningWorkspace& workspace) {
   Grow(workspace.local, skeleton.size());
-  ARMATURE_RETURN_IF_ERROR(SampleClipOnto(clip, map, skeleton, time, sample,
-                                          std::span<Trs>(workspace.local.data(), skeleton.size())));
+  ARMATURE_RETURN_IF_ERROR(
+      SampleClipOnto(clip, map, skeleton, time, sample, std::span<Trs>(workspace.local.data(), skeleton.size())));
   return SkinSampled(mesh, skeleton, clip, time, sample, options, positions, normals, workspace);
 }
 

@@ -22,8 +22,10 @@ void SkinRange(const KernelInput& in, uint32_t begin, uint32_t end) { generic::S
 
 void SkinRange(const KernelInput& in, uint32_t begin, uint32_t end) {
   static const bool use_avx2 = avx2::Available();
-  if (use_avx2) avx2::SkinRange(in, begin, end);
-  else generic::SkinRange(in, begin, end);
+  if (use_avx2)
+    avx2::SkinRange(in, begin, end);
+  else
+    generic::SkinRange(in, begin, end);
 }
 
 }  // namespace armature::skinning_internal

@@ -16,8 +16,8 @@ namespace armature::skinning_internal {
 struct KernelInput {
   const SkinningLayout::Group* groups = nullptr;
   size_t group_count = 0;
-  const uint32_t* order = nullptr;   // runtime index → mesh vertex
-  const uint16_t* joints = nullptr;  // skin joint per influence
+  const uint32_t* order = nullptr;         // runtime index → mesh vertex
+  const uint16_t* joints = nullptr;        // skin joint per influence
   const uint32_t* pair_offsets = nullptr;  // DQS: per influence, 8 × its (heaviest joint, joint) pair
   const float* weights = nullptr;
   // Source geometry in runtime order (the rest layout or the morphed copy).
@@ -25,13 +25,13 @@ struct KernelInput {
   const float *nx = nullptr, *ny = nullptr, *nz = nullptr;  // null: no normals
   bool unit_normals = false;  // the source normals are unit length (rest normals, no normal morph)
   SkinningMethod method = SkinningMethod::kLinear;
-  bool skin = true;  // false: copy the (morphed) rest geometry
+  bool skin = true;                         // false: copy the (morphed) rest geometry
   const float* matrices = nullptr;          // 16 floats (4 columns) per skin joint
   const float* normal_matrices = nullptr;   // same layout; null: normals use `matrices`
   const float* dual_quaternions = nullptr;  // 8 floats (real x y z w, dual x y z w) per pair slot, sign-aligned
   const float* stretch = nullptr;           // 16 floats per joint; null: every joint is rigid
-  float* positions = nullptr;  // mesh vertex order, 3 per vertex
-  float* normals = nullptr;    // null: skip normals
+  float* positions = nullptr;               // mesh vertex order, 3 per vertex
+  float* normals = nullptr;                 // null: skip normals
 };
 
 // Skins runtime vertices [begin, end) with the fastest kernels the CPU runs.

@@ -13,7 +13,6 @@ namespace armature::skinning_internal {
 
 namespace {
 
-
 // Below this many vertices one core is faster than handing work to another.
 constexpr size_t kParallelVertices = 16384;
 
@@ -59,8 +58,8 @@ Eigen::Affine3d SkinMatrix(const Mesh& mesh, std::span<const Eigen::Affine3d> wo
 }
 
 // LBS joint data; returns whether normals need their own matrices.
-Status PrepareLinear(const Mesh& mesh, std::span<const Eigen::Affine3d> world, bool normals,
-                     SkinningWorkspace& ws, bool* normal_matrices) {
+Status PrepareLinear(const Mesh& mesh, std::span<const Eigen::Affine3d> world, bool normals, SkinningWorkspace& ws,
+                     bool* normal_matrices) {
   const size_t n = mesh.joints.size();
   Grow(ws.matrices, n);
   bool similar = true;
@@ -95,8 +94,8 @@ Status PrepareDualQuaternion(const Mesh& mesh, std::span<const Eigen::Affine3d> 
     const Eigen::Matrix3d l = m.linear();
     Eigen::Matrix3d rotation = l;
     Eigen::Matrix3d stretch = Eigen::Matrix3d::Identity();
-    const bool rigid = (l.transpose() * l - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-5 &&
-                       l.determinant() > 0;
+    const bool rigid =
+        (l.transpose() * l - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-5 && l.determinant() > 0;
     if (!rigid) {  // polar decomposition L = R·S, a reflection carried by S
       rotation = NearestRotation(l.transpose());
       stretch = rotation.transpose() * l;
@@ -147,9 +146,6 @@ void MorphRange(const SkinningLayout& l, std::span<const float> weights, bool no
     }
   }
 }
-
-
-
 
 }  // namespace
 
@@ -235,6 +231,5 @@ Status RunVertexPipeline(const VertexPipeline& d) {
   });
   return Status::Ok();
 }
-
 
 }  // namespace armature::skinning_internal

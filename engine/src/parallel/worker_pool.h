@@ -31,7 +31,8 @@ class WorkerPool {
   template <class Fn>
   void Run(size_t chunks, Fn&& fn) {
     using F = std::remove_reference_t<Fn>;
-    RunImpl(chunks, [](void* f, size_t i) { (*static_cast<F*>(f))(i); }, const_cast<void*>(static_cast<const void*>(&fn)));
+    RunImpl(
+        chunks, [](void* f, size_t i) { (*static_cast<F*>(f))(i); }, const_cast<void*>(static_cast<const void*>(&fn)));
   }
 
  private:

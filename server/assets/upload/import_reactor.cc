@@ -23,7 +23,8 @@ ImportReactor::ImportReactor(grpc::CallbackServerContext* context, AssetStore& s
 }
 
 void ImportReactor::OnReadDone(bool ok) {
-  GuardCallback(context_, "ImportAsset", [&] { ReadDone(ok); }, [this](grpc::Status st) { End(st); });
+  GuardCallback(
+      context_, "ImportAsset", [&] { ReadDone(ok); }, [this](grpc::Status st) { End(st); });
 }
 
 void ImportReactor::ReadDone(bool ok) {
@@ -53,7 +54,8 @@ void ImportReactor::Complete() {
   auto stored = store_.Import(std::move(*import));
   if (stored.ok()) {
     *response_->mutable_asset() = AssetInfoOf(**stored);
-    for (const std::string& w : (*stored)->contents.warnings) response_->add_warnings(IsValidUtf8(w) ? w : EscapeForMessage(w, 4096));
+    for (const std::string& w : (*stored)->contents.warnings)
+      response_->add_warnings(IsValidUtf8(w) ? w : EscapeForMessage(w, 4096));
   }
   End(ToGrpcStatus(stored.status()));
 }

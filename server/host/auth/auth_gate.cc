@@ -105,11 +105,9 @@ class GatedService final : public grpc::Service {
       : inner_(std::move(inner)) {
     for (int i = 0; i < service.method_count(); ++i) {
       const google::protobuf::MethodDescriptor& m = *service.method(i);
-      const RpcMethod::RpcType type = m.client_streaming()
-                                          ? (m.server_streaming() ? RpcMethod::BIDI_STREAMING
-                                                                  : RpcMethod::CLIENT_STREAMING)
-                                          : (m.server_streaming() ? RpcMethod::SERVER_STREAMING
-                                                                  : RpcMethod::NORMAL_RPC);
+      const RpcMethod::RpcType type =
+          m.client_streaming() ? (m.server_streaming() ? RpcMethod::BIDI_STREAMING : RpcMethod::CLIENT_STREAMING)
+                               : (m.server_streaming() ? RpcMethod::SERVER_STREAMING : RpcMethod::NORMAL_RPC);
       // gRPC's generated services add their methods in the .proto's order.
       const std::string& path = paths_.emplace_back("/" + service.full_name() + "/" + m.name());
       AddMethod(new grpc::internal::RpcServiceMethod(path.c_str(), type, nullptr));
@@ -130,8 +128,7 @@ class GatedService final : public grpc::Service {
 
 }  // namespace
 
-StatusOr<std::unique_ptr<grpc::Service>> GateService(std::unique_ptr<grpc::Service> inner,
-                                                     const std::string& full_name,
+StatusOr<std::unique_ptr<grpc::Service>> GateService(std::unique_ptr<grpc::Service> inner, const std::string& full_name,
                                                      std::shared_ptr<const BearerTokens> tokens) {
   const auto* descriptor = google::protobuf::DescriptorPool::generated_pool()->FindServiceByName(full_name);
   if (descriptor == nullptr) return Status::InvalidArgument("auth gate: unknown service '" + full_name + "'");

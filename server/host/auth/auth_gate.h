@@ -26,8 +26,7 @@ namespace armature::server {
 // `full_name` (e.g. "armature.v1.AssetService"), so each call needs one of
 // `tokens`. INVALID_ARGUMENT if the name is unknown to the generated
 // descriptor pool or the service has non-callback methods.
-StatusOr<std::unique_ptr<grpc::Service>> GateService(std::unique_ptr<grpc::Service> inner,
-                                                     const std::string& full_name,
+StatusOr<std::unique_ptr<grpc::Service>> GateService(std::unique_ptr<grpc::Service> inner, const std::string& full_name,
                                                      std::shared_ptr<const BearerTokens> tokens);
 
 }  // namespace armature::server

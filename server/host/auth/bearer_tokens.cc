@@ -36,8 +36,7 @@ StatusOr<std::shared_ptr<const BearerTokens>> BearerTokens::FromFile(const std::
   return FromText(*text, file.string());
 }
 
-StatusOr<std::shared_ptr<const BearerTokens>> BearerTokens::FromText(std::string_view text,
-                                                                      std::string_view source) {
+StatusOr<std::shared_ptr<const BearerTokens>> BearerTokens::FromText(std::string_view text, std::string_view source) {
   auto tokens = std::shared_ptr<BearerTokens>(new BearerTokens());
   std::istringstream lines{std::string(text)};
   int line_number = 0;

@@ -10,8 +10,7 @@ namespace armature::server::gateway {
 namespace {
 // Request headers a browser page may send to the gateway (gRPC-Web clients
 // add x-grpc-web and x-user-agent), and response headers it may read.
-constexpr char kAllowedHeaders[] =
-    "authorization, content-type, grpc-timeout, x-request-id, x-grpc-web, x-user-agent";
+constexpr char kAllowedHeaders[] = "authorization, content-type, grpc-timeout, x-request-id, x-grpc-web, x-user-agent";
 constexpr char kExposedHeaders[] = "x-request-id, grpc-status, grpc-message";
 }  // namespace
 

@@ -25,7 +25,8 @@ void DropBrotli(httplib::Headers& headers) {
       if (comma == std::string::npos) comma = it->second.size();
       std::string token = it->second.substr(start, comma - start);
       const size_t first = token.find_first_not_of(" \t");
-      const std::string coding = first == std::string::npos ? "" : token.substr(first, token.find_first_of(" \t;", first) - first);
+      const std::string coding =
+          first == std::string::npos ? "" : token.substr(first, token.find_first_of(" \t;", first) - first);
       if (!coding.empty() && coding != "br") kept += (kept.empty() ? "" : ", ") + token.substr(first);
       start = comma + 1;
     }
@@ -59,8 +60,7 @@ void AnswerException(const httplib::Request& req, httplib::Response& res, std::e
     what = "out of memory";
   } catch (const std::exception& e) {
     what = EscapeForMessage(e.what(), 1024);
-  } catch (...) {
-  }
+  } catch (...) {}
   const std::string id = req.has_header("x-request-id") ? EscapeForMessage(req.get_header_value("x-request-id")) : "-";
   spdlog::error("gateway: {} {} (request {}): {}", req.method, EscapeForMessage(req.path, 256), id, what);
   if (out_of_memory)
@@ -73,9 +73,13 @@ void AnswerException(const httplib::Request& req, httplib::Response& res, std::e
 
 Gateway::Gateway(RouteTable routes, const std::vector<const pb::ServiceDescriptor*>& services,
                  pb::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel, GatewayOptions options)
-    : calls_(std::move(options), factory, std::move(channel)), cors_(calls_.options().cors_origins),
-      routes_(std::move(routes)), openapi_(OpenApiDocument(routes_.bindings(), {}).dump(2)), rest_(routes_, calls_),
-      grpc_web_(services, calls_), websocket_(routes_, calls_) {}
+    : calls_(std::move(options), factory, std::move(channel)),
+      cors_(calls_.options().cors_origins),
+      routes_(std::move(routes)),
+      openapi_(OpenApiDocument(routes_.bindings(), {}).dump(2)),
+      rest_(routes_, calls_),
+      grpc_web_(services, calls_),
+      websocket_(routes_, calls_) {}
 
 StatusOr<std::unique_ptr<Gateway>> Gateway::Create(const std::vector<const pb::ServiceDescriptor*>& services,
                                                    pb::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel,
@@ -89,9 +93,8 @@ void Gateway::Register(httplib::Server& http) {
   RegisterPreRouting(http);
   http.set_error_handler(Server::HandlerWithResponse(AnswerHttplibError));
   http.set_exception_handler(AnswerException);
-  http.Get("/openapi.json", [this](const httplib::Request&, httplib::Response& res) {
-    res.set_content(openapi_, "application/json");
-  });
+  http.Get("/openapi.json",
+           [this](const httplib::Request&, httplib::Response& res) { res.set_content(openapi_, "application/json"); });
   // gRPC-Web first: its paths would otherwise reach the REST routes below.
   http.Post(R"(/[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+)+/[A-Za-z0-9_]+)",
             [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
@@ -135,7 +138,8 @@ void Gateway::RegisterPreRouting(httplib::Server& http) {
   });
 }
 
-void Gateway::HandleApiRequest(const httplib::Request& req, httplib::Response& res, const httplib::ContentReader* reader) {
+void Gateway::HandleApiRequest(const httplib::Request& req, httplib::Response& res,
+                               const httplib::ContentReader* reader) {
   auto path = RequestPath::Parse(req.target);
   if (!path.ok()) return WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT, path.status().message());
   if (IsWebSocketUpgrade(req)) return websocket_.Handle(req, res, *path);

@@ -41,9 +41,9 @@ class Gateway {
   // Compiles the bindings of every method of `services`. INVALID_ARGUMENT for
   // a malformed rule or two methods claiming the same HTTP method and path.
   // `factory` makes the request and response messages (generated or dynamic).
-  static StatusOr<std::unique_ptr<Gateway>> Create(const std::vector<const google::protobuf::ServiceDescriptor*>& services,
-                                                   google::protobuf::MessageFactory* factory,
-                                                   std::shared_ptr<grpc::Channel> channel, GatewayOptions options);
+  static StatusOr<std::unique_ptr<Gateway>> Create(
+      const std::vector<const google::protobuf::ServiceDescriptor*>& services,
+      google::protobuf::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel, GatewayOptions options);
   Gateway(const Gateway&) = delete;  // the handlers hold its routes and call factory
   Gateway& operator=(const Gateway&) = delete;
 

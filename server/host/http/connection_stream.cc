@@ -52,7 +52,8 @@ bool ConnectionStream::HeadTimedOut() const { return in_head_ && head_bytes_ > 0
 
 bool ConnectionStream::Wait(short events, std::chrono::milliseconds timeout) const {
   // Rounded up, so a wait cut by the deadline ends at or after it, never just before.
-  if (in_head_) timeout = std::min(timeout, std::chrono::ceil<std::chrono::milliseconds>(head_deadline_ - Clock::now()));
+  if (in_head_)
+    timeout = std::min(timeout, std::chrono::ceil<std::chrono::milliseconds>(head_deadline_ - Clock::now()));
   if (timeout.count() <= 0) return false;
   pollfd p{fd_, events, 0};
   const int r = ::poll(&p, 1, static_cast<int>(std::min<int64_t>(timeout.count(), INT_MAX)));

@@ -36,9 +36,10 @@ milliseconds Ms(time_t sec, time_t usec) { return milliseconds(sec * 1000 + usec
 // A whole response on a connection about to close (best effort: the client may be gone).
 void Answer(httplib::Stream& stream, const char* status_line, grpc::StatusCode code, const std::string& message) {
   const std::string body = gateway::ErrorJson(code, message) + "\n";
-  const std::string response = std::string("HTTP/1.1 ") + status_line +
-                               "\r\nContent-Type: application/json\r\nConnection: close\r\nContent-Length: " +
-                               std::to_string(body.size()) + "\r\n\r\n" + body;
+  const std::string response =
+      std::string("HTTP/1.1 ") + status_line +
+      "\r\nContent-Type: application/json\r\nConnection: close\r\nContent-Length: " + std::to_string(body.size()) +
+      "\r\n\r\n" + body;
   for (size_t sent = 0; sent < response.size();) {
     const ssize_t n = stream.write(response.data() + sent, response.size() - sent);
     if (n <= 0) return;
@@ -51,8 +52,7 @@ void Answer(httplib::Stream& stream, const char* status_line, grpc::StatusCode c
 // answer before the client has read it. With `linger`, what the client
 // still sends is read and dropped for that long (or until it closes too).
 void CloseQuietly(int fd, milliseconds linger = milliseconds(0)) {
-  for (char sink[4096]; ::recv(fd, sink, sizeof(sink), MSG_DONTWAIT) > 0;) {
-  }
+  for (char sink[4096]; ::recv(fd, sink, sizeof(sink), MSG_DONTWAIT) > 0;) {}
   if (linger.count() > 0) {
     ::shutdown(fd, SHUT_WR);
     const auto until = Clock::now() + linger;
@@ -128,9 +128,10 @@ class GuardedHttpServer final : public Base {
       if (!stream.HeadDone()) {
         *timed_out = !ok && stream.HeadTimedOut();
         if (*timed_out)
-          Answer(stream, "408 Request Timeout", grpc::StatusCode::DEADLINE_EXCEEDED,
-                 fmt::format("the request head (request line and headers) took longer than --http-head-timeout ({:g} s)",
-                             static_cast<double>(limits_.head_timeout.count()) / 1000));
+          Answer(
+              stream, "408 Request Timeout", grpc::StatusCode::DEADLINE_EXCEEDED,
+              fmt::format("the request head (request line and headers) took longer than --http-head-timeout ({:g} s)",
+                          static_cast<double>(limits_.head_timeout.count()) / 1000));
         return false;
       }
       if (!ok || connection_closed) break;

@@ -46,17 +46,22 @@ HttpServer::HttpServer(size_t max_threads, const std::string& tls_cert_file, con
 HttpServer::~HttpServer() { Stop(); }
 
 bool HttpServer::ServeDirectory(const std::string& dir) {
-  for (const auto& [ext, type] : {std::pair{"js", "text/javascript"}, {"mjs", "text/javascript"},
-                                  {"css", "text/css"}, {"html", "text/html"}, {"json", "application/json"},
-                                  {"map", "application/json"}, {"svg", "image/svg+xml"}, {"png", "image/png"}})
+  for (const auto& [ext, type] : {std::pair{"js", "text/javascript"},
+                                  {"mjs", "text/javascript"},
+                                  {"css", "text/css"},
+                                  {"html", "text/html"},
+                                  {"json", "application/json"},
+                                  {"map", "application/json"},
+                                  {"svg", "image/svg+xml"},
+                                  {"png", "image/png"}})
     http_->set_file_extension_and_mimetype_mapping(ext, type);
   // The API reference (docs/index.html, rendered from /openapi.json) at /docs as well as /docs/.
   http_->Get("/docs", [](const httplib::Request&, httplib::Response& res) { res.set_redirect("/docs/"); });
   // Cross-origin isolated (everything the viewer loads is its own origin's):
   // its timers then tick in 5 µs, not 100 µs, which the session round trips
   // it reports (0.3-1 ms) need.
-  return http_->set_mount_point("/", dir, {{"Cross-Origin-Opener-Policy", "same-origin"},
-                                           {"Cross-Origin-Embedder-Policy", "require-corp"}});
+  return http_->set_mount_point(
+      "/", dir, {{"Cross-Origin-Opener-Policy", "same-origin"}, {"Cross-Origin-Embedder-Policy", "require-corp"}});
 }
 
 int HttpServer::Start(const std::string& host, int port) {

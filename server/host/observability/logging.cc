@@ -89,8 +89,7 @@ void LogFields(spdlog::level::level_enum level, std::string_view message, std::s
   if (!spdlog::should_log(level)) return;
   if (g_json) {
     nlohmann::json object = nlohmann::json::object();
-    for (const LogField& f : fields)
-      std::visit([&](const auto& v) { object[std::string(f.key)] = v; }, f.value);
+    for (const LogField& f : fields) std::visit([&](const auto& v) { object[std::string(f.key)] = v; }, f.value);
     return LogEvent(level, message, object);
   }
   std::string line;

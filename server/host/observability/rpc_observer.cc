@@ -51,7 +51,9 @@ class RpcObserver final : public grpc::experimental::Interceptor {
   RpcObserver(grpc::experimental::ServerRpcInfo* info, Metrics& metrics)
       : info_(info),
         metrics_(metrics),
-        method_(info->method() == nullptr ? "" : info->method()[0] == '/' ? info->method() + 1 : info->method()),
+        method_(info->method() == nullptr  ? ""
+                : info->method()[0] == '/' ? info->method() + 1
+                                           : info->method()),
         label_(MetricLabelOf(method_)),
         streaming_(info->type() != grpc::experimental::ServerRpcInfo::Type::UNARY),
         health_(method_.starts_with("grpc.health.v1.")) {}
@@ -69,8 +71,7 @@ class RpcObserver final : public grpc::experimental::Interceptor {
       started_ = true;
       metrics_.RpcStarted(label_, streaming_);
     }
-    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_INITIAL_METADATA) &&
-        !request_id_.empty())
+    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_INITIAL_METADATA) && !request_id_.empty())
       methods->GetSendInitialMetadata()->emplace("x-request-id", request_id_);
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS) && started_ && !finished_)
       Finish(methods->GetSendStatus());
@@ -117,8 +118,7 @@ class RpcObserver final : public grpc::experimental::Interceptor {
 
 }  // namespace
 
-grpc::experimental::Interceptor* RpcObserverFactory::CreateServerInterceptor(
-    grpc::experimental::ServerRpcInfo* info) {
+grpc::experimental::Interceptor* RpcObserverFactory::CreateServerInterceptor(grpc::experimental::ServerRpcInfo* info) {
   return new RpcObserver(info, metrics_);
 }
 

@@ -43,7 +43,6 @@ struct PoseWorkspace {
 // Writes the joints listed in `joints` of the pose in `ws.local` into `out`:
 // LOCAL gives local TRS (scales only when some differ from 1); WORLD gives
 // world positions and rotations.
-void PackPose(const Skeleton& skeleton, v1::Space space, std::span<const int> joints, PoseWorkspace& ws,
-              v1::Pose* out);
+void PackPose(const Skeleton& skeleton, v1::Space space, std::span<const int> joints, PoseWorkspace& ws, v1::Pose* out);
 
 }  // namespace armature::server

@@ -38,8 +38,12 @@ class PacedStreamReactor final : public grpc::ServerWriteReactor<typename Plan::
   // place (--max-streams-per-client) until gRPC is done with the call. Sends
   // the first frame.
   PacedStreamReactor(FrameScheduler& scheduler, StreamPacing pacing, Plan plan, StreamAdmission::Ticket stream)
-      : scheduler_(scheduler), pacing_(pacing), plan_(std::move(plan)), clip_duration_(plan_.duration()),
-        start_(std::chrono::steady_clock::now()), stream_ticket_(std::move(stream)) {
+      : scheduler_(scheduler),
+        pacing_(pacing),
+        plan_(std::move(plan)),
+        clip_duration_(plan_.duration()),
+        start_(std::chrono::steady_clock::now()),
+        stream_ticket_(std::move(stream)) {
     std::lock_guard lock(mu_);
     if (FillNext()) Write();
   }

@@ -37,9 +37,9 @@ StatusOr<SessionAdmission::Ticket> SessionAdmission::Admit(const grpc::ServerCon
     if (mine >= limits_.max_sessions_per_client) {
       const int held = mine;
       if (held == 0) per_client_.erase(client);
-      return Refused(kind,
-                     "this client already has " + std::to_string(held) + " sessions (IK, deformation and playback) open",
-                     "--max-sessions-per-client", limits_.max_sessions_per_client, "close one and retry");
+      return Refused(
+          kind, "this client already has " + std::to_string(held) + " sessions (IK, deformation and playback) open",
+          "--max-sessions-per-client", limits_.max_sessions_per_client, "close one and retry");
     }
     ++mine;
     ++of_kind;

@@ -48,7 +48,9 @@
 namespace armature::server {
 
 template <class Session>
-concept PacedSession = requires { typename Session::Frame; };
+concept PacedSession = requires {
+  typename Session::Frame;
+};
 
 // What a session writes: its answers, or its paced frames.
 template <class Session>
@@ -203,9 +205,9 @@ class SessionReactor final
   void ScheduleNextFrame() {
     if (cancelled_) return End(grpc::Status::CANCELLED);
     // Frame k is due at start + k/fps; a late frame goes at once.
-    const auto due = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                  std::chrono::duration<double>(static_cast<double>(session_->frames()) /
-                                                                session_->fps()));
+    const auto due =
+        start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                     std::chrono::duration<double>(static_cast<double>(session_->frames()) / session_->fps()));
     if (!FillNext()) return;
     refs_.fetch_add(1, std::memory_order_relaxed);
     runners_.scheduler->Schedule(due, [this] {
@@ -228,8 +230,10 @@ class SessionReactor final
       if (st.ok()) {
         ReadNext();  // reading paused on a full queue resumes
         auto more = session_->NextFrame(read_closed_, &output_);
-        if (!more.ok()) st = more.status();
-        else if (!*more) return End(grpc::Status::OK), false;
+        if (!more.ok())
+          st = more.status();
+        else if (!*more)
+          return End(grpc::Status::OK), false;
       }
     } catch (...) {
       st = StatusOfCurrentException(context_, Session::kName);

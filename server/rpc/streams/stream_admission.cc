@@ -4,8 +4,7 @@
 
 namespace armature::server {
 
-StatusOr<StreamAdmission::Ticket> StreamAdmission::Admit(const grpc::ServerContextBase& context,
-                                                         std::string_view rpc) {
+StatusOr<StreamAdmission::Ticket> StreamAdmission::Admit(const grpc::ServerContextBase& context, std::string_view rpc) {
   std::string client = ClientIdentityOf(context, tokens_verified_);
   {
     std::lock_guard lock(mu_);
@@ -17,8 +16,8 @@ StatusOr<StreamAdmission::Ticket> StreamAdmission::Admit(const grpc::ServerConte
     const int held = it == per_client_.end() ? 0 : it->second;
     if (held >= limit_)
       return Status::ResourceExhausted(std::string(rpc) + ": this client already has " + std::to_string(held) +
-                                       " streams open, the limit --max-streams-per-client (" +
-                                       std::to_string(limit_) + "); close one and retry");
+                                       " streams open, the limit --max-streams-per-client (" + std::to_string(limit_) +
+                                       "); close one and retry");
     ++per_client_[client];
     ++total_;
   }

@@ -39,7 +39,7 @@ class HeavyCallPool {
   const size_t threads_;
   const size_t queue_;
   std::atomic<size_t> admitted_{0};  // running or waiting
-  ElasticThreadPool pool_;  // last: destroyed first, running what is queued
+  ElasticThreadPool pool_;           // last: destroyed first, running what is queued
 };
 
 }  // namespace armature::server

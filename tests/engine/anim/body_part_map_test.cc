@@ -98,7 +98,8 @@ void AddFingers(std::vector<std::pair<std::string, std::string>>& j, const std::
   for (bool left : {true, false})
     for (const std::string& f : fingers)
       for (int k = 1; k <= 3; ++k)
-        j.push_back({name(left, f, k), k == 1 ? (left ? hand_of_side_left : hand_of_side_right) : name(left, f, k - 1)});
+        j.push_back(
+            {name(left, f, k), k == 1 ? (left ? hand_of_side_left : hand_of_side_right) : name(left, f, k - 1)});
 }
 
 std::shared_ptr<Skeleton> Mixamo(bool fingers = false) {
@@ -111,9 +112,14 @@ std::shared_ptr<Skeleton> Mixamo(bool fingers = false) {
                                                         {"mixamorig:HeadTop_End", "mixamorig:Head"}};
   for (std::string s : {"Left", "Right"}) {
     const std::string m = "mixamorig:" + s;
-    j.insert(j.end(), {{m + "Shoulder", "mixamorig:Spine2"}, {m + "Arm", m + "Shoulder"}, {m + "ForeArm", m + "Arm"},
-                       {m + "Hand", m + "ForeArm"}, {m + "UpLeg", "mixamorig:Hips"}, {m + "Leg", m + "UpLeg"},
-                       {m + "Foot", m + "Leg"}, {m + "ToeBase", m + "Foot"}});
+    j.insert(j.end(), {{m + "Shoulder", "mixamorig:Spine2"},
+                       {m + "Arm", m + "Shoulder"},
+                       {m + "ForeArm", m + "Arm"},
+                       {m + "Hand", m + "ForeArm"},
+                       {m + "UpLeg", "mixamorig:Hips"},
+                       {m + "Leg", m + "UpLeg"},
+                       {m + "Foot", m + "Leg"},
+                       {m + "ToeBase", m + "Foot"}});
   }
   if (fingers)
     AddFingers(j, "mixamorig:LeftHand", "mixamorig:RightHand", {"Thumb", "Index", "Middle", "Ring", "Pinky"},
@@ -124,17 +130,25 @@ std::shared_ptr<Skeleton> Mixamo(bool fingers = false) {
 }
 
 std::shared_ptr<Skeleton> CharacterCreator(bool fingers = false) {
-  std::vector<std::pair<std::string, std::string>> j = {
-      {"CC_Base_BoneRoot", ""},          {"CC_Base_Hip", "CC_Base_BoneRoot"},
-      {"CC_Base_Pelvis", "CC_Base_Hip"}, {"CC_Base_Waist", "CC_Base_Hip"},
-      {"CC_Base_Spine01", "CC_Base_Waist"}, {"CC_Base_Spine02", "CC_Base_Spine01"},
-      {"CC_Base_NeckTwist01", "CC_Base_Spine02"}, {"CC_Base_NeckTwist02", "CC_Base_NeckTwist01"},
-      {"CC_Base_Head", "CC_Base_NeckTwist02"}};
+  std::vector<std::pair<std::string, std::string>> j = {{"CC_Base_BoneRoot", ""},
+                                                        {"CC_Base_Hip", "CC_Base_BoneRoot"},
+                                                        {"CC_Base_Pelvis", "CC_Base_Hip"},
+                                                        {"CC_Base_Waist", "CC_Base_Hip"},
+                                                        {"CC_Base_Spine01", "CC_Base_Waist"},
+                                                        {"CC_Base_Spine02", "CC_Base_Spine01"},
+                                                        {"CC_Base_NeckTwist01", "CC_Base_Spine02"},
+                                                        {"CC_Base_NeckTwist02", "CC_Base_NeckTwist01"},
+                                                        {"CC_Base_Head", "CC_Base_NeckTwist02"}};
   for (std::string s : {"L", "R"}) {
     const std::string m = "CC_Base_" + s + "_";
-    j.insert(j.end(), {{m + "Clavicle", "CC_Base_Spine02"}, {m + "Upperarm", m + "Clavicle"},
-                       {m + "Forearm", m + "Upperarm"}, {m + "Hand", m + "Forearm"}, {m + "Thigh", "CC_Base_Pelvis"},
-                       {m + "Calf", m + "Thigh"}, {m + "Foot", m + "Calf"}, {m + "ToeBase", m + "Foot"}});
+    j.insert(j.end(), {{m + "Clavicle", "CC_Base_Spine02"},
+                       {m + "Upperarm", m + "Clavicle"},
+                       {m + "Forearm", m + "Upperarm"},
+                       {m + "Hand", m + "Forearm"},
+                       {m + "Thigh", "CC_Base_Pelvis"},
+                       {m + "Calf", m + "Thigh"},
+                       {m + "Foot", m + "Calf"},
+                       {m + "ToeBase", m + "Foot"}});
   }
   if (fingers)
     AddFingers(j, "CC_Base_L_Hand", "CC_Base_R_Hand", {"Thumb", "Index", "Mid", "Ring", "Pinky"},
@@ -174,14 +188,22 @@ TEST(BodyPartMap, MapsMixamoOntoCharacterCreator) {
   ASSERT_TRUE(map.ok()) << map.status().message();
   const auto pairs = Pairs(*source, *target, *map);
   const std::map<std::string, std::string> expected = {
-      {"CC_Base_Hip", "mixamorig:Hips"},           {"CC_Base_Waist", "mixamorig:Spine"},
-      {"CC_Base_Spine01", "mixamorig:Spine1"},     {"CC_Base_Spine02", "mixamorig:Spine2"},
-      {"CC_Base_NeckTwist01", "mixamorig:Neck"},   {"CC_Base_Head", "mixamorig:Head"},
-      {"CC_Base_L_Clavicle", "mixamorig:LeftShoulder"}, {"CC_Base_L_Upperarm", "mixamorig:LeftArm"},
-      {"CC_Base_L_Forearm", "mixamorig:LeftForeArm"},   {"CC_Base_L_Hand", "mixamorig:LeftHand"},
-      {"CC_Base_L_Thigh", "mixamorig:LeftUpLeg"},       {"CC_Base_L_Calf", "mixamorig:LeftLeg"},
-      {"CC_Base_L_Foot", "mixamorig:LeftFoot"},         {"CC_Base_L_ToeBase", "mixamorig:LeftToeBase"},
-      {"CC_Base_R_Thigh", "mixamorig:RightUpLeg"},      {"CC_Base_R_Upperarm", "mixamorig:RightArm"},
+      {"CC_Base_Hip", "mixamorig:Hips"},
+      {"CC_Base_Waist", "mixamorig:Spine"},
+      {"CC_Base_Spine01", "mixamorig:Spine1"},
+      {"CC_Base_Spine02", "mixamorig:Spine2"},
+      {"CC_Base_NeckTwist01", "mixamorig:Neck"},
+      {"CC_Base_Head", "mixamorig:Head"},
+      {"CC_Base_L_Clavicle", "mixamorig:LeftShoulder"},
+      {"CC_Base_L_Upperarm", "mixamorig:LeftArm"},
+      {"CC_Base_L_Forearm", "mixamorig:LeftForeArm"},
+      {"CC_Base_L_Hand", "mixamorig:LeftHand"},
+      {"CC_Base_L_Thigh", "mixamorig:LeftUpLeg"},
+      {"CC_Base_L_Calf", "mixamorig:LeftLeg"},
+      {"CC_Base_L_Foot", "mixamorig:LeftFoot"},
+      {"CC_Base_L_ToeBase", "mixamorig:LeftToeBase"},
+      {"CC_Base_R_Thigh", "mixamorig:RightUpLeg"},
+      {"CC_Base_R_Upperarm", "mixamorig:RightArm"},
   };
   for (const auto& [t, s] : expected) EXPECT_EQ(pairs.count(t) ? pairs.at(t) : "(unmapped)", s) << t;
   EXPECT_EQ(pairs.count("CC_Base_NeckTwist02"), 0u);
@@ -199,10 +221,22 @@ TEST(BodyPartMap, MapsCmuOntoTheDemoCharacterByTopologyWhereNamesDisagree) {
   const auto pairs = Pairs(*source, *target, *map);
   // The demo's "LeftShoulder" is its upper arm (no other joint is), CMU's the clavicle.
   const std::map<std::string, std::string> expected = {
-      {"Hips", "Hips"},          {"Spine", "Spine"},         {"Chest", "Spine1"},         {"Neck", "Neck"},
-      {"Head", "Head"},          {"LeftHip", "LeftUpLeg"},   {"LeftKnee", "LeftLeg"},     {"LeftAnkle", "LeftFoot"},
-      {"LeftToe", "LeftToeBase"}, {"LeftShoulder", "LeftArm"}, {"LeftElbow", "LeftForeArm"}, {"LeftWrist", "LeftHand"},
-      {"RightHip", "RightUpLeg"}, {"RightKnee", "RightLeg"},  {"RightShoulder", "RightArm"}, {"RightWrist", "RightHand"},
+      {"Hips", "Hips"},
+      {"Spine", "Spine"},
+      {"Chest", "Spine1"},
+      {"Neck", "Neck"},
+      {"Head", "Head"},
+      {"LeftHip", "LeftUpLeg"},
+      {"LeftKnee", "LeftLeg"},
+      {"LeftAnkle", "LeftFoot"},
+      {"LeftToe", "LeftToeBase"},
+      {"LeftShoulder", "LeftArm"},
+      {"LeftElbow", "LeftForeArm"},
+      {"LeftWrist", "LeftHand"},
+      {"RightHip", "RightUpLeg"},
+      {"RightKnee", "RightLeg"},
+      {"RightShoulder", "RightArm"},
+      {"RightWrist", "RightHand"},
   };
   for (const auto& [t, s] : expected) EXPECT_EQ(pairs.count(t) ? pairs.at(t) : "(unmapped)", s) << t;
   EXPECT_EQ(map->pairs.size(), target->size());
@@ -221,14 +255,27 @@ TEST(BodyPartMap, MapsCmuOntoRobotExpressive) {
   const auto pairs = Pairs(*source, *target, *map);
   // Mesh nodes named like bones ("LegL", "ArmL", "HandL", "FootL_1") lose to the bones.
   const std::map<std::string, std::string> expected = {
-      {"Hips", "Hips"},          {"Abdomen", "Spine"},         {"Torso_1", "Spine1"},   {"Neck", "Neck"},
-      {"Head", "Head"},          {"UpperLegL", "LeftUpLeg"},   {"LowerLegL", "LeftLeg"}, {"FootL", "LeftFoot"},
-      {"ShoulderL", "LeftShoulder"}, {"UpperArmL", "LeftArm"}, {"LowerArmL", "LeftForeArm"},
-      {"UpperLegR", "RightUpLeg"}, {"LowerLegR", "RightLeg"}, {"FootR", "RightFoot"}, {"UpperArmR", "RightArm"},
-      {"LowerArmR", "RightForeArm"}, {"ThumbL", "LThumb"},
+      {"Hips", "Hips"},
+      {"Abdomen", "Spine"},
+      {"Torso_1", "Spine1"},
+      {"Neck", "Neck"},
+      {"Head", "Head"},
+      {"UpperLegL", "LeftUpLeg"},
+      {"LowerLegL", "LeftLeg"},
+      {"FootL", "LeftFoot"},
+      {"ShoulderL", "LeftShoulder"},
+      {"UpperArmL", "LeftArm"},
+      {"LowerArmL", "LeftForeArm"},
+      {"UpperLegR", "RightUpLeg"},
+      {"LowerLegR", "RightLeg"},
+      {"FootR", "RightFoot"},
+      {"UpperArmR", "RightArm"},
+      {"LowerArmR", "RightForeArm"},
+      {"ThumbL", "LThumb"},
   };
   for (const auto& [t, s] : expected) EXPECT_EQ(pairs.count(t) ? pairs.at(t) : "(unmapped)", s) << t;
-  for (const char* mesh_node : {"LegL", "ArmL", "HandL", "FootL_1", "LowerLegL_end"}) EXPECT_EQ(pairs.count(mesh_node), 0u) << mesh_node;
+  for (const char* mesh_node : {"LegL", "ArmL", "HandL", "FootL_1", "LowerLegL_end"})
+    EXPECT_EQ(pairs.count(mesh_node), 0u) << mesh_node;
   const std::string hand = pairs.count("Palm1L") ? "Palm1L" : pairs.count("Palm2L") ? "Palm2L" : "Palm3L";
   EXPECT_EQ(pairs.count(hand) ? pairs.at(hand) : "", "LeftHand");
 }
@@ -243,7 +290,8 @@ TEST(BodyPartMap, ExplicitPairsOverrideAndBadOnesAreNamed) {
   EXPECT_EQ(pairs.at("CC_Base_NeckTwist02"), "mixamorig:Spine1");
   EXPECT_EQ(pairs.count("CC_Base_Spine01"), 0u);  // its automatic source now drives NeckTwist02
 
-  auto unknown = MapJointsByBodyParts(*source, *target, std::vector<JointNamePair>{{"mixamorig:Spine1", "CC_Base_Spine3"}});
+  auto unknown =
+      MapJointsByBodyParts(*source, *target, std::vector<JointNamePair>{{"mixamorig:Spine1", "CC_Base_Spine3"}});
   ASSERT_EQ(unknown.status().code(), StatusCode::kInvalidArgument);
   EXPECT_NE(unknown.status().message().find("map[0].target"), std::string::npos) << unknown.status().message();
   EXPECT_NE(unknown.status().message().find("CC_Base_Spine3"), std::string::npos);
@@ -252,8 +300,9 @@ TEST(BodyPartMap, ExplicitPairsOverrideAndBadOnesAreNamed) {
       *source, *target,
       std::vector<JointNamePair>{{"mixamorig:Spine1", "CC_Base_Head"}, {"mixamorig:Spine2", "CC_Base_Head"}});
   ASSERT_EQ(twice.status().code(), StatusCode::kInvalidArgument);
-  EXPECT_NE(twice.status().message().find("map[1]: target joint 'CC_Base_Head' is already mapped from 'mixamorig:Spine1'"),
-            std::string::npos)
+  EXPECT_NE(
+      twice.status().message().find("map[1]: target joint 'CC_Base_Head' is already mapped from 'mixamorig:Spine1'"),
+      std::string::npos)
       << twice.status().message();
 
   auto source_twice = MapJointsByBodyParts(

@@ -167,7 +167,8 @@ TEST(SampleClip, SquadPassesThroughKeysWithFlippedSigns) {
   q.values = {ExpQuaternion({0.1, 0.2, 0.3}), ExpQuaternion({0.8, -0.4, 0.1}), ExpQuaternion({-0.2, 1.1, 0.5}),
               ExpQuaternion({0.3, 0.3, -0.9})};
   q.values[2].coeffs() *= -1;  // same rotation, other hemisphere
-  for (size_t k = 0; k < q.times.size(); ++k) EXPECT_LT(AngleBetween(Sample(c, q.times[k]).rotation, q.values[k]), 1e-12);
+  for (size_t k = 0; k < q.times.size(); ++k)
+    EXPECT_LT(AngleBetween(Sample(c, q.times[k]).rotation, q.values[k]), 1e-12);
   for (double t = 0; t <= 2.5; t += 0.05) EXPECT_NEAR(Sample(c, t).rotation.norm(), 1.0, 1e-12);
 }
 
@@ -206,8 +207,10 @@ TEST(SampleClip, CubicIsC1AcrossUnevenKeys) {
   SampleOptions linear;
   linear.interpolation = Interpolation::kLinear;
   const double t = q.times[2];
-  const Eigen::Vector3d lin_before = LogQuaternion(Sample(c, t - h, linear).rotation.conjugate() * Sample(c, t, linear).rotation) / h;
-  const Eigen::Vector3d lin_after = LogQuaternion(Sample(c, t, linear).rotation.conjugate() * Sample(c, t + h, linear).rotation) / h;
+  const Eigen::Vector3d lin_before =
+      LogQuaternion(Sample(c, t - h, linear).rotation.conjugate() * Sample(c, t, linear).rotation) / h;
+  const Eigen::Vector3d lin_after =
+      LogQuaternion(Sample(c, t, linear).rotation.conjugate() * Sample(c, t + h, linear).rotation) / h;
   EXPECT_GT((lin_before - lin_after).norm(), 0.1);
 }
 
@@ -234,7 +237,7 @@ TEST(SampleClip, OptionOverridesTrackInterpolation) {
   step.interpolation = Interpolation::kStep;
   EXPECT_EQ(Sample(c, 0.5, step).translation.x(), 0.0);
   c.joints[0].scale = UnevenTrack(Interpolation::kStep);
-  EXPECT_EQ(Sample(c, 0.5).scale.x(), 0.0);  // the track's own STEP
+  EXPECT_EQ(Sample(c, 0.5).scale.x(), 0.0);                         // the track's own STEP
   EXPECT_NEAR(Sample(c, 0.5).translation.x(), 25.0 / 24.0, 1e-12);  // the track's own CUBIC
 }
 

@@ -92,7 +92,7 @@ TEST(CompiledClipTest, FastSlerpIsWithinTheStatedBound) {
   for (int pair = 0; pair < 400; ++pair) {
     Eigen::Quaterniond a = RandomRotation(rng), b = RandomRotation(rng);
     if (pair % 4 == 1) b = Eigen::Quaterniond(a.coeffs() + 0.01 * b.coeffs()).normalized();  // small arcs
-    if (pair % 4 == 2) b = Eigen::Quaterniond(-b.coeffs());  // the other hemisphere
+    if (pair % 4 == 2) b = Eigen::Quaterniond(-b.coeffs());                                  // the other hemisphere
     if (std::abs(a.dot(b)) < 1e-4) continue;
     track.values = {a, b};
     auto compiled = CompileClip(clip);
@@ -121,7 +121,8 @@ TEST(CompiledClipTest, LinearRotationKeepsConstantAngularSpeed) {
   QuatTrack& track = clip->joints[0].rotation;
   track.times = {0, 2};
   const double total = 0.9 * std::numbers::pi;
-  track.values = {Eigen::Quaterniond::Identity(), Eigen::Quaterniond(Eigen::AngleAxisd(total, Eigen::Vector3d::UnitY()))};
+  track.values = {Eigen::Quaterniond::Identity(),
+                  Eigen::Quaterniond(Eigen::AngleAxisd(total, Eigen::Vector3d::UnitY()))};
   auto compiled = CompileClip(clip);
   ASSERT_TRUE(compiled.ok());
   std::vector<Trs> pose(1);
@@ -237,7 +238,8 @@ TEST(CompiledClipTest, UnevenTimesKeepDirectIndexingAndSampleCubicFromTheSource)
     ExpectSamePose(**compiled, t, {}, 1e-6, 1e-6);
     ExpectSamePose(**compiled, t, {.interpolation = Interpolation::kCubic}, 0, 0);
   }
-  for (double key : clip->joints[0].rotation.times) ExpectSamePose(**compiled, key, {.interpolation = Interpolation::kStep}, 1e-6, 1e-6);
+  for (double key : clip->joints[0].rotation.times)
+    ExpectSamePose(**compiled, key, {.interpolation = Interpolation::kStep}, 1e-6, 1e-6);
 }
 
 // The control points are computed on the first CUBIC sample, once, even when

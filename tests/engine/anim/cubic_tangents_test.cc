@@ -54,7 +54,9 @@ TEST(CubicTangents, FilledRotationTangentsGiveAC1CurveThroughTheKeys) {
   const double h = 1e-5;
   for (size_t k = 1; k + 1 < 4; ++k) {
     const double t = r.times[k];
-    auto at = [&](double s) { return Eigen::Vector4d(SameHemisphere(Sample(track, s).rotation, r.values[k]).coeffs()); };
+    auto at = [&](double s) {
+      return Eigen::Vector4d(SameHemisphere(Sample(track, s).rotation, r.values[k]).coeffs());
+    };
     const Eigen::Vector4d left = (at(t) - at(t - h)) / h, right = (at(t + h) - at(t)) / h;
     EXPECT_LT((left - right).norm(), 1e-3 * std::max(1.0, left.norm())) << "key " << k;
   }

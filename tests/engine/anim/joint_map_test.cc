@@ -61,7 +61,7 @@ TEST(JointMap, SampleClipOntoTakesTracksByNameAndTheTargetsRest) {
   clip.skeleton = source;
   clip.joints.resize(3);
   clip.duration = 2;
-  clip.joints[0].rotation = {{0, 2}, {Rz(0), Rz(90)}};                                      // source "tip"
+  clip.joints[0].rotation = {{0, 2}, {Rz(0), Rz(90)}};                                          // source "tip"
   clip.joints[1].translation = {{0, 2}, {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(4, 0, 0)}};  // source "root"
   std::vector<int> map;
   ASSERT_TRUE(MapJointsByName(*target, *source, "t", map).ok());

@@ -86,8 +86,8 @@ void ExpectNoJumpAtLoopPoints(const std::shared_ptr<const Clip>& clip) {
   for (int loop = 1; loop <= 3; ++loop) {
     const LoopSteps s = StepsAround(plan, loop * d, d, h);
     ASSERT_GT(s.largest_inside, 0);
-    EXPECT_LE(s.across, 1.5 * s.largest_inside) << "loop " << loop << ": across " << s.across
-                                                << ", largest step inside " << s.largest_inside;
+    EXPECT_LE(s.across, 1.5 * s.largest_inside)
+        << "loop " << loop << ": across " << s.across << ", largest step inside " << s.largest_inside;
   }
 }
 

@@ -41,8 +41,8 @@ std::shared_ptr<Skeleton> Chain(std::vector<std::string> names = {"hips", "spine
 
 // A clip on `skeleton` whose joints in `animated` rotate about Z from
 // `from` to `to` degrees and translate x from `x0` to `x1` over one second.
-std::shared_ptr<Clip> Ramp(std::shared_ptr<const Skeleton> skeleton, std::vector<int> animated, double from,
-                           double to, double x0 = 0, double x1 = 0) {
+std::shared_ptr<Clip> Ramp(std::shared_ptr<const Skeleton> skeleton, std::vector<int> animated, double from, double to,
+                           double x0 = 0, double x1 = 0) {
   auto c = std::make_shared<Clip>();
   c->skeleton = skeleton;
   c->joints.resize(skeleton->size());
@@ -139,7 +139,7 @@ TEST(BlendMotion, OnlyLayersWithATrackTakePart) {
   m.layers = {Layer(Ramp(sk, {0}, 40, 40), 1.0), Layer(Ramp(sk, {0, 3}, 0, 80), 0.5)};
   const auto out = Blend(m, 1.0);
   EXPECT_NEAR(AngleZ(out[0].rotation), 40 + (80 - 40) / 3.0, 1e-9);  // share 0.5/1.5
-  EXPECT_NEAR(AngleZ(out[3].rotation), 40, 1e-9);                     // 80° · 0.5, rest for the other half
+  EXPECT_NEAR(AngleZ(out[3].rotation), 40, 1e-9);                    // 80° · 0.5, rest for the other half
 }
 
 TEST(BlendMotion, WeightZeroLayerIsSkipped) {
@@ -155,8 +155,7 @@ TEST(BlendMotion, WeightZeroLayerIsSkipped) {
 TEST(BlendMotion, AdditiveLayerAddsTheWeightedDeltaFromItsReference) {
   auto sk = Chain();
   Motion m;
-  m.layers = {Layer(Ramp(sk, {0}, 30, 30, 1, 1), 1.0),
-              Layer(Ramp(sk, {0}, 10, 50, 0, 4), 0.5, LayerMode::kAdditive)};
+  m.layers = {Layer(Ramp(sk, {0}, 30, 30, 1, 1), 1.0), Layer(Ramp(sk, {0}, 10, 50, 0, 4), 0.5, LayerMode::kAdditive)};
   const auto out = Blend(m, 1.0);
   EXPECT_NEAR(AngleZ(out[0].rotation), 50, 1e-9);
   EXPECT_NEAR(out[0].translation.x(), 3, 1e-12);
@@ -211,7 +210,8 @@ TEST(BindMotion, ErrorsNameTheLayerAndTheProblem) {
     auto plan = BindMotion(m);
     ASSERT_FALSE(plan.ok());
     EXPECT_EQ(plan.status().code(), code) << plan.status().message();
-    for (const auto& p : parts) EXPECT_NE(plan.status().message().find(p), std::string::npos) << plan.status().message();
+    for (const auto& p : parts)
+      EXPECT_NE(plan.status().message().find(p), std::string::npos) << plan.status().message();
   };
   expect_error(Motion{}, StatusCode::kInvalidArgument, {"empty"});
   Motion m;

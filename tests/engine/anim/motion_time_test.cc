@@ -148,8 +148,8 @@ TEST(RootMotion, AccumulateComposesTheLoopsYaw) {
   auto c = TimeRamp(1.0);
   c->joints[0].translation.values = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 1)};
   c->joints[0].rotation.times = {0, 1};
-  c->joints[0].rotation.values = {Eigen::Quaterniond::Identity(),
-                                  Eigen::Quaterniond(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()))};
+  c->joints[0].rotation.values = {Eigen::Quaterniond::Identity(), Eigen::Quaterniond(Eigen::AngleAxisd(
+                                                                      std::numbers::pi / 2, Eigen::Vector3d::UnitY()))};
   Motion m;
   m.layers = {Layer(c)};
   m.root_motion = RootMotion::kAccumulate;
@@ -157,8 +157,9 @@ TEST(RootMotion, AccumulateComposesTheLoopsYaw) {
   EXPECT_NEAR(plan.layers[0].loop_yaw, std::numbers::pi / 2, 1e-12);
   const Trs two = Blend(plan, 2.0)[0];
   EXPECT_NEAR((two.translation - Eigen::Vector3d(1, 0, 1)).norm(), 0, 1e-12);
-  EXPECT_NEAR(two.rotation.angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY()))),
-              0, 1e-9);
+  EXPECT_NEAR(
+      two.rotation.angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitY()))),
+      0, 1e-9);
   // Half way through the second loop: z 0.5 in the loop's turned frame, from (0,0,1).
   const Trs mid = Blend(plan, 1.5)[0];
   EXPECT_NEAR((mid.translation - Eigen::Vector3d(0.5, 0, 1)).norm(), 0, 1e-12);

@@ -72,14 +72,14 @@ TEST_F(PlaybackTest, CrossfadeRampsTheWeightsLinearlyWhileBothRun) {
   for (int i = 0; i < 3; ++i) playback.Advance(kDt);  // A at 0.3 s
   ASSERT_TRUE(playback.Play(b, 0.5, 2).ok());
   // Frame k after the play: a = 0.2k, tA = 0.3 + 0.1k, tB = 0.1k.
-  struct Row { double weight_a, weight_b, x, y; };
+  struct Row {
+    double weight_a, weight_b, x, y;
+  };
   const Row rows[] = {
       {1.0, 0.0, 0.30, 0.00},  // the fade starts: B at its time 0, weight 0
       {0.8, 0.2, 0.32, 0.04},  // 0.8·0.4, 0.2·(2·0.1)
       {0.6, 0.4, 0.30, 0.16},  // 0.6·0.5, 0.4·0.4
-      {0.4, 0.6, 0.24, 0.36},
-      {0.2, 0.8, 0.14, 0.64},
-      {0.0, 1.0, 0.00, 1.00},  // over: B alone at 0.5 s
+      {0.4, 0.6, 0.24, 0.36}, {0.2, 0.8, 0.14, 0.64}, {0.0, 1.0, 0.00, 1.00},  // over: B alone at 0.5 s
       {0.0, 1.0, 0.00, 1.20},
   };
   for (int k = 0; k < 7; ++k) {

@@ -72,8 +72,7 @@ Eigen::MatrixX3d Moved(const LaplacianModel& model, const std::vector<uint32_t>&
 struct BasisAndBackSubstitution {
   StatusOr<DeformationSolver> basis, back;
 };
-BasisAndBackSubstitution BothDragUpdates(std::shared_ptr<const LaplacianModel> model,
-                                         const DeformationConstraints& c) {
+BasisAndBackSubstitution BothDragUpdates(std::shared_ptr<const LaplacianModel> model, const DeformationConstraints& c) {
   DeformationSolverOptions basis, back;
   basis.drag_update = DragUpdate::kHandleBasis;
   back.drag_update = DragUpdate::kBackSubstitution;

@@ -16,29 +16,32 @@ namespace {
 
 // Root with 6 channels, a channel-less "Chest" and a 3-channel "Neck".
 std::string Bvh(const std::string& frames_line, const std::string& frame_lines, const std::string& chest = "Chest") {
-  return "HIERARCHY\n"                                                        // 1
-         "ROOT Hips\n"                                                        // 2
-         "{\n"                                                                // 3
-         "  OFFSET 0 0 0\n"                                                   // 4
+  return "HIERARCHY\n"                                                                 // 1
+         "ROOT Hips\n"                                                                 // 2
+         "{\n"                                                                         // 3
+         "  OFFSET 0 0 0\n"                                                            // 4
          "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"  // 5
-         "  JOINT " + chest + "\n"                                            // 6
-         "  {\n"                                                              // 7
-         "    OFFSET 0 5 0\n"                                                 // 8
-         "    JOINT Neck\n"                                                   // 9
-         "    {\n"                                                            // 10
-         "      OFFSET 0 1 0\n"                                               // 11
-         "      CHANNELS 3 Zrotation Xrotation Yrotation\n"                  // 12
-         "      End Site\n"                                                   // 13
-         "      {\n"                                                          // 14
-         "        OFFSET 0 3 0\n"                                             // 15
-         "      }\n"                                                          // 16
-         "    }\n"                                                            // 17
-         "  }\n"                                                              // 18
-         "}\n"                                                                // 19
-         "MOTION\n"                                                           // 20
-         + frames_line + "\n"                                                 // 21
-         "Frame Time: 0.1\n"                                                  // 22
-         + frame_lines;                                                       // 23…
+         "  JOINT " +
+         chest +
+         "\n"                                                // 6
+         "  {\n"                                             // 7
+         "    OFFSET 0 5 0\n"                                // 8
+         "    JOINT Neck\n"                                  // 9
+         "    {\n"                                           // 10
+         "      OFFSET 0 1 0\n"                              // 11
+         "      CHANNELS 3 Zrotation Xrotation Yrotation\n"  // 12
+         "      End Site\n"                                  // 13
+         "      {\n"                                         // 14
+         "        OFFSET 0 3 0\n"                            // 15
+         "      }\n"                                         // 16
+         "    }\n"                                           // 17
+         "  }\n"                                             // 18
+         "}\n"                                               // 19
+         "MOTION\n"                                          // 20
+         + frames_line +
+         "\n"                 // 21
+         "Frame Time: 0.1\n"  // 22
+         + frame_lines;       // 23…
 }
 
 const std::string kTwoFrames = "0 1 2 3 4 5 6 7 8\n1 2 3 4 5 6 7 8 9\n";
@@ -62,8 +65,7 @@ TEST(BvhHardening, FewerFrameLinesThanDeclaredIsStillAnError) {
   auto d = ParseBvh(Bvh("Frames: 3", kTwoFrames));
   ASSERT_FALSE(d.ok());
   EXPECT_EQ(d.status().code(), StatusCode::kInvalidArgument);
-  EXPECT_NE(d.status().message().find("file ends after 2 of the 3 frames that 'Frames:' on line 21"),
-            std::string::npos)
+  EXPECT_NE(d.status().message().find("file ends after 2 of the 3 frames that 'Frames:' on line 21"), std::string::npos)
       << d.status().message();
 }
 
@@ -91,7 +93,8 @@ TEST(BvhHardening, FrameLimitIsAppliedAtTheFramesLine) {
   auto d = ParseBvh(Bvh("Frames: 5000000", kTwoFrames));
   ASSERT_FALSE(d.ok());
   EXPECT_EQ(d.status().code(), StatusCode::kResourceExhausted);
-  EXPECT_EQ(d.status().message(), "line 21: 5000000 frames (Frames:) is over the import limit max_clip_frames = 1000000");
+  EXPECT_EQ(d.status().message(),
+            "line 21: 5000000 frames (Frames:) is over the import limit max_clip_frames = 1000000");
 
   ImportLimits limits;
   limits.max_clip_frames = 1;
@@ -131,7 +134,9 @@ TEST(BvhHardening, ManyChannelLessJointsCostNoKeys) {
 }
 
 TEST(BvhHardening, JointNamesMustBeUtf8) {
-  auto d = ParseBvh(Bvh("Frames: 2", kTwoFrames, "Ch\xff" "est"));
+  auto d = ParseBvh(Bvh("Frames: 2", kTwoFrames,
+                        "Ch\xff"
+                        "est"));
   ASSERT_FALSE(d.ok());
   EXPECT_EQ(d.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(d.status().message(), "line 6: joint name 'Ch\\xffest' is not valid UTF-8");

@@ -13,13 +13,13 @@
 namespace armature {
 namespace {
 
+using testing::EnginePositionsAt;
 using testing::EngineWorldPositions;
+using testing::MakeTestBvh;
 using testing::MaxDistance;
+using testing::ParseExpectOk;
 using testing::RefBvh;
 using testing::RefJoint;
-using testing::MakeTestBvh;
-using testing::EnginePositionsAt;
-using testing::ParseExpectOk;
 
 class BvhChannelOrder : public ::testing::TestWithParam<std::string> {};
 
@@ -80,10 +80,12 @@ TEST(Bvh, ClipHasRotationAndTranslationTracksOnlyForJointsWithThoseChannels) {
   EXPECT_EQ(c.default_interpolation, Interpolation::kLinear);
   ASSERT_EQ(c.joints.size(), ref.joints.size());
   for (size_t j = 0; j < ref.joints.size(); ++j) {
-    const bool has_position = std::any_of(ref.joints[j].channels.begin(), ref.joints[j].channels.end(),
-                                          [](const std::string& ch) { return ch.find("position") != std::string::npos; });
-    const bool has_rotation = std::any_of(ref.joints[j].channels.begin(), ref.joints[j].channels.end(),
-                                          [](const std::string& ch) { return ch.find("rotation") != std::string::npos; });
+    const bool has_position =
+        std::any_of(ref.joints[j].channels.begin(), ref.joints[j].channels.end(),
+                    [](const std::string& ch) { return ch.find("position") != std::string::npos; });
+    const bool has_rotation =
+        std::any_of(ref.joints[j].channels.begin(), ref.joints[j].channels.end(),
+                    [](const std::string& ch) { return ch.find("rotation") != std::string::npos; });
     EXPECT_EQ(c.joints[j].rotation.times.size(), has_rotation ? 5u : 0u) << ref.joints[j].name;
     EXPECT_EQ(c.joints[j].translation.times.size(), has_position ? 5u : 0u) << ref.joints[j].name;
     EXPECT_TRUE(c.joints[j].scale.empty());
@@ -103,13 +105,17 @@ TEST(Bvh, ToleratesCaseCrlfAndBracesOnTheNameLine) {
   const std::string text = testing::WriteRefBvh(ref);
   std::string odd;
   for (size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == '\n') odd += "\r\n";
-    else odd += text[i];
+    if (text[i] == '\n')
+      odd += "\r\n";
+    else
+      odd += text[i];
   }
   for (const std::string& from : {"position", "rotation", "OFFSET", "CHANNELS", "End Site", "Frame Time", "JOINT"}) {
     std::string to = from;
-    for (char& ch : to) ch = static_cast<char>(from == "position" || from == "rotation" ? std::toupper(ch) : std::tolower(ch));
-    for (size_t p = odd.find(from); p != std::string::npos; p = odd.find(from, p + to.size())) odd.replace(p, from.size(), to);
+    for (char& ch : to)
+      ch = static_cast<char>(from == "position" || from == "rotation" ? std::toupper(ch) : std::tolower(ch));
+    for (size_t p = odd.find(from); p != std::string::npos; p = odd.find(from, p + to.size()))
+      odd.replace(p, from.size(), to);
   }
   // "ROOT Hips {" on one line.
   odd.replace(odd.find("ROOT Hips\r\n{"), 12, "ROOT Hips {");
@@ -118,12 +124,14 @@ TEST(Bvh, ToleratesCaseCrlfAndBracesOnTheNameLine) {
   ASSERT_TRUE(a.clip && b.clip);
   EXPECT_EQ(a.skeleton->names, b.skeleton->names);
   EXPECT_EQ(a.skeleton->channels, b.skeleton->channels);
-  for (size_t f = 0; f < 4; ++f) EXPECT_EQ(MaxDistance(EnginePositionsAt(a, f * 0.05), EnginePositionsAt(b, f * 0.05)), 0.0);
+  for (size_t f = 0; f < 4; ++f)
+    EXPECT_EQ(MaxDistance(EnginePositionsAt(a, f * 0.05), EnginePositionsAt(b, f * 0.05)), 0.0);
 }
 
 TEST(Bvh, ZeroFramesIsASkeletonWithEmptyTracks) {
-  const std::string text = "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n}\n"
-                           "MOTION\nFrames: 0\nFrame Time: 0.1\n";
+  const std::string text =
+      "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n}\n"
+      "MOTION\nFrames: 0\nFrame Time: 0.1\n";
   const BvhData d = ParseExpectOk(text);
   ASSERT_TRUE(d.clip);
   EXPECT_EQ(d.clip->frame_count, 0u);
@@ -133,26 +141,26 @@ TEST(Bvh, ZeroFramesIsASkeletonWithEmptyTracks) {
 
 // A two-joint file; the line numbers are those in the comments.
 const char* kSmall =
-    "HIERARCHY\n"                                                          // 1
-    "ROOT Hips\n"                                                          // 2
-    "{\n"                                                                  // 3
-    "  OFFSET 0 0 0\n"                                                     // 4
+    "HIERARCHY\n"                                                                 // 1
+    "ROOT Hips\n"                                                                 // 2
+    "{\n"                                                                         // 3
+    "  OFFSET 0 0 0\n"                                                            // 4
     "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"  // 5
-    "  JOINT Chest\n"                                                      // 6
-    "  {\n"                                                                // 7
-    "    OFFSET 0 5 0\n"                                                   // 8
-    "    CHANNELS 3 Zrotation Xrotation Yrotation\n"                      // 9
-    "    End Site\n"                                                       // 10
-    "    {\n"                                                              // 11
-    "      OFFSET 0 3 0\n"                                                 // 12
-    "    }\n"                                                              // 13
-    "  }\n"                                                                // 14
-    "}\n"                                                                  // 15
-    "MOTION\n"                                                             // 16
-    "Frames: 2\n"                                                          // 17
-    "Frame Time: 0.1\n"                                                    // 18
-    "0 1 2 3 4 5 6 7 8\n"                                                  // 19
-    "1 2 3 4 5 6 7 8 9\n";                                                 // 20
+    "  JOINT Chest\n"                                                             // 6
+    "  {\n"                                                                       // 7
+    "    OFFSET 0 5 0\n"                                                          // 8
+    "    CHANNELS 3 Zrotation Xrotation Yrotation\n"                              // 9
+    "    End Site\n"                                                              // 10
+    "    {\n"                                                                     // 11
+    "      OFFSET 0 3 0\n"                                                        // 12
+    "    }\n"                                                                     // 13
+    "  }\n"                                                                       // 14
+    "}\n"                                                                         // 15
+    "MOTION\n"                                                                    // 16
+    "Frames: 2\n"                                                                 // 17
+    "Frame Time: 0.1\n"                                                           // 18
+    "0 1 2 3 4 5 6 7 8\n"                                                         // 19
+    "1 2 3 4 5 6 7 8 9\n";                                                        // 20
 
 std::string Replace(std::string s, const std::string& from, const std::string& to) {
   const size_t p = s.find(from);
@@ -200,7 +208,8 @@ TEST(BvhErrors, HierarchyMistakesNameTheLine) {
   ExpectError(Replace(kSmall, "CHANNELS 3 Zrotation", "CHANNELS 3 Wrotation"), "line 9: unknown channel 'Wrotation'");
   ExpectError(Replace(kSmall, "CHANNELS 3", "CHANNELS three"), "line 9: channel count 'three' is not a whole number");
   ExpectError(Replace(kSmall, "CHANNELS 3", "CHANNELS -3"), "line 9: channel count '-3'");
-  ExpectError(Replace(kSmall, "Zposition Zrotation", "Xposition Zrotation"), "line 5: channel Xposition is listed twice");
+  ExpectError(Replace(kSmall, "Zposition Zrotation", "Xposition Zrotation"),
+              "line 5: channel Xposition is listed twice");
   ExpectError(Replace(kSmall, "JOINT Chest", "JOINT Hips"), "line 6: duplicate joint name 'Hips' (first on line 2)");
   ExpectError(Replace(kSmall, "JOINT Chest", "JOINT"), "line 6: joint has no name");
   ExpectError(Replace(kSmall, "  JOINT Chest\n  {", "  JOINT Chest\n  ("), "line 7: expected {, found '('");
@@ -228,7 +237,8 @@ TEST(BvhErrors, MotionMistakesNameTheLine) {
   ExpectError(Replace(kSmall, "Frame Time: 0.1", "Frame Time: nan"), "line 18: frame time 'nan'");
   ExpectError(Replace(kSmall, "Frame Time: 0.1", "Frame Time: fast"), "line 18: frame time 'fast'");
   ExpectError(Replace(kSmall, "1 2 3 4 5 6 7 8 9", "1 2 3 4 5 6 7 8"), "line 20: frame 1 has 8 values, expected 9");
-  ExpectError(Replace(kSmall, "1 2 3 4 5 6 7 8 9", "1 2 3 4 5 6 7 8 9 10"), "line 20: frame 1 has 10 values, expected 9");
+  ExpectError(Replace(kSmall, "1 2 3 4 5 6 7 8 9", "1 2 3 4 5 6 7 8 9 10"),
+              "line 20: frame 1 has 10 values, expected 9");
   ExpectError(Replace(kSmall, "0 1 2 3 4", "0 1 2 nan 4"), "line 19: frame 0 value 4 'nan' is not finite");
   ExpectError(Replace(kSmall, "0 1 2 3 4", "0 1 2 -inf 4"), "line 19: frame 0 value 4 '-inf' is not finite");
   ExpectError(Replace(kSmall, "0 1 2 3 4", "0 1 2 1e999 4"), "line 19: frame 0 value 4 '1e999' is not a number");
@@ -236,7 +246,8 @@ TEST(BvhErrors, MotionMistakesNameTheLine) {
 }
 
 TEST(BvhErrors, AcceptsBlankLinesAndSignedNumbers) {
-  const BvhData d = ParseExpectOk(Replace(Replace(kSmall, "0 1 2 3 4", "\n\n+0 1 2 -.5e1 4"), "Frames: 2", "Frames:   2"));
+  const BvhData d =
+      ParseExpectOk(Replace(Replace(kSmall, "0 1 2 3 4", "\n\n+0 1 2 -.5e1 4"), "Frames: 2", "Frames:   2"));
   ASSERT_TRUE(d.clip);
   EXPECT_NEAR(d.clip->joints[0].translation.values[0].x(), 0.0, 1e-15);
 }

@@ -202,7 +202,8 @@ TEST_F(DemoCharacter, AnimationIsTheDemoWalkByReferenceFk) {
   // Frames, between frames, and both ends.
   for (double t : {0.0, 0.01, 0.5, 0.77, 1.234, 2.0, 2.51, 2.99, 3.0}) {
     ASSERT_TRUE(SampleClip(walk, t, {}, local).ok());
-    const double d = testing::MaxDistance(testing::EngineWorldPositions(sk, local), testing::RefWorldPositionsAt(reference, t));
+    const double d =
+        testing::MaxDistance(testing::EngineWorldPositions(sk, local), testing::RefWorldPositionsAt(reference, t));
     EXPECT_LT(d, tolerance) << "t = " << t;
   }
   // It walks: the root travels kDemoWalkSpeed along +Z.

@@ -51,10 +51,10 @@ Eigen::Quaterniond Expected(const std::string& axes, std::vector<double> degrees
 TEST_F(DemoWalk, SkeletonAndClipShape) {
   EXPECT_TRUE(sk().Validate().ok());
   EXPECT_TRUE(walk_.clip->Validate().ok());
-  const std::vector<std::string> names = {
-      "Hips",  "LeftHip", "LeftKnee", "LeftAnkle",    "LeftToe",   "RightHip",  "RightKnee",
-      "RightAnkle", "RightToe", "Spine", "Chest",     "Neck",      "Head",      "LeftShoulder",
-      "LeftElbow",  "LeftWrist", "RightShoulder", "RightElbow", "RightWrist"};
+  const std::vector<std::string> names = {"Hips",      "LeftHip",       "LeftKnee",   "LeftAnkle",    "LeftToe",
+                                          "RightHip",  "RightKnee",     "RightAnkle", "RightToe",     "Spine",
+                                          "Chest",     "Neck",          "Head",       "LeftShoulder", "LeftElbow",
+                                          "LeftWrist", "RightShoulder", "RightElbow", "RightWrist"};
   EXPECT_EQ(sk().names, names);
   EXPECT_EQ(sk().channels[0].size(), 6u);
   for (size_t j = 1; j < sk().size(); ++j) EXPECT_EQ(sk().channels[j].size(), 3u);
@@ -104,8 +104,8 @@ TEST_F(DemoWalk, RootAdvancesAtWalkingSpeedAndBobs) {
     low = std::min(low, Root(f).y());
     high = std::max(high, Root(f).y());
   }
-  EXPECT_NEAR(low, kDemoWalkHipHeight - 1.5, 1e-9);   // double support, keyed
-  EXPECT_GT(high, kDemoWalkHipHeight + 1.4);          // mid-stance, between frames of the key
+  EXPECT_NEAR(low, kDemoWalkHipHeight - 1.5, 1e-9);  // double support, keyed
+  EXPECT_GT(high, kDemoWalkHipHeight + 1.4);         // mid-stance, between frames of the key
   EXPECT_LE(high, kDemoWalkHipHeight + 1.5 + 1e-9);
 }
 

@@ -317,8 +317,7 @@ TEST(GltfExport, RefusesBeyondTheByteLimitBeforeWriting) {
       GltfExportByteEstimate(*walk.clip, {}, true) + 6 * GltfExportOptions{}.animation_name.size();
   auto refused = ExportGltf(*walk.clip, {}, {.max_bytes = estimate - 1});
   EXPECT_EQ(refused.status().code(), StatusCode::kResourceExhausted);
-  EXPECT_NE(refused.status().message().find(std::to_string(estimate)), std::string::npos)
-      << refused.status().message();
+  EXPECT_NE(refused.status().message().find(std::to_string(estimate)), std::string::npos) << refused.status().message();
   EXPECT_TRUE(ExportGltf(*walk.clip, {}, {.max_bytes = estimate}).ok());
   // A resampled track over a huge span saturates rather than wraps.
   Clip endless = *walk.clip;

@@ -37,10 +37,12 @@ std::string TriangleBin() {
 }
 
 // A mesh on a node; `accessors` and `extra` (more top-level members) are spliced in.
-std::string Json(const std::string& accessors, const std::string& mesh = R"({"primitives":[{"attributes":{"POSITION":0}}]})",
+std::string Json(const std::string& accessors,
+                 const std::string& mesh = R"({"primitives":[{"attributes":{"POSITION":0}}]})",
                  const std::string& extra = "") {
   return R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],)"
-         R"("accessors":)" + accessors + R"(,"meshes":[)" + mesh + R"(],"nodes":[{"mesh":0}])" + extra + "}";
+         R"("accessors":)" +
+         accessors + R"(,"meshes":[)" + mesh + R"(],"nodes":[{"mesh":0}])" + extra + "}";
 }
 
 StatusOr<AssetContents> Import(const std::string& json, const ImportLimits& limits = {}) {
@@ -137,7 +139,8 @@ TEST(GltfHardening, DecodedValuesHaveABudgetPerImport) {
 // `meshes` meshes on one accessor of `count` VEC3 zeros without a bufferView.
 std::string SharedAccessorMeshes(int meshes, int count) {
   std::string list;
-  for (int m = 0; m < meshes; ++m) list += std::string(m ? "," : "") + R"({"primitives":[{"attributes":{"POSITION":0}}]})";
+  for (int m = 0; m < meshes; ++m)
+    list += std::string(m ? "," : "") + R"({"primitives":[{"attributes":{"POSITION":0}}]})";
   return R"({"asset":{"version":"2.0"},"accessors":[{"componentType":5126,"count":)" + std::to_string(count) +
          R"(,"type":"VEC3"}],"meshes":[)" + list + "]}";
 }
@@ -180,11 +183,12 @@ TEST(GltfHardening, MeshVerticesAreCappedBeforeDecoding) {
 
 // An animation of node 0's translation by sampler 0 (input accessor 1, output accessor 2).
 std::string Animated(const std::string& input, const std::string& extra_channels = "") {
-  return Json(std::string("[") + R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},)" + input +
-                  R"(,{"bufferView":0,"componentType":5126,"count":2,"type":"VEC3"}])",
-              R"({"primitives":[{"attributes":{"POSITION":0}}]})",
-              R"(,"animations":[{"samplers":[{"input":1,"output":2}],"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}})" +
-                  extra_channels + "]}]");
+  return Json(
+      std::string("[") + R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},)" + input +
+          R"(,{"bufferView":0,"componentType":5126,"count":2,"type":"VEC3"}])",
+      R"({"primitives":[{"attributes":{"POSITION":0}}]})",
+      R"(,"animations":[{"samplers":[{"input":1,"output":2}],"channels":[{"sampler":0,"target":{"node":0,"path":"translation"}})" +
+          extra_channels + "]}]");
 }
 
 TEST(GltfHardening, AnimationKeysAreCappedBeforeDecoding) {
@@ -208,7 +212,9 @@ TEST(GltfHardening, AnimationKeysAreCappedBeforeDecoding) {
 }
 
 TEST(GltfHardening, JsonErrorsQuotingBytesThatAreNotUtf8AreEscaped) {
-  const std::string json = Json(kPosition, R"({"name":"m)" "\xff\xfe" R"(","primitives":[{"attributes":{"POSITION":0}}]})");
+  const std::string json = Json(kPosition, R"({"name":"m)"
+                                           "\xff\xfe"
+                                           R"(","primitives":[{"attributes":{"POSITION":0}}]})");
   auto r = Import(json);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), StatusCode::kInvalidArgument);

@@ -40,7 +40,9 @@ std::string Base64(const std::string& bytes) {
 // Builds a glTF document with one binary buffer.
 class Builder {
  public:
-  Json json = {{"asset", {{"version", "2.0"}}}, {"buffers", Json::array()}, {"bufferViews", Json::array()},
+  Json json = {{"asset", {{"version", "2.0"}}},
+               {"buffers", Json::array()},
+               {"bufferViews", Json::array()},
                {"accessors", Json::array()}};
   std::string bin;
 
@@ -52,8 +54,10 @@ class Builder {
     bin.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
     const size_t width = std::string(type) == "SCALAR" ? 1 : std::string(type) == "MAT4" ? 16 : type[3] - '0';
     json["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * sizeof(T)}});
-    Json a = {{"bufferView", json["bufferViews"].size() - 1}, {"componentType", component_type},
-              {"count", values.size() / width}, {"type", type}};
+    Json a = {{"bufferView", json["bufferViews"].size() - 1},
+              {"componentType", component_type},
+              {"count", values.size() / width},
+              {"type", type}};
     if (normalized) a["normalized"] = true;
     json["accessors"].push_back(a);
     return static_cast<int>(json["accessors"].size()) - 1;
@@ -64,10 +68,9 @@ class Builder {
   std::string Gltf(const std::string& external_uri = "") const {
     Json j = json;
     if (bin.empty()) return j.dump();
-    j["buffers"] = Json::array({{{"byteLength", bin.size()},
-                                 {"uri", external_uri.empty()
-                                             ? "data:application/octet-stream;base64," + Base64(bin)
-                                             : external_uri}}});
+    j["buffers"] = Json::array(
+        {{{"byteLength", bin.size()},
+          {"uri", external_uri.empty() ? "data:application/octet-stream;base64," + Base64(bin) : external_uri}}});
     return j.dump();
   }
   std::string Glb() const {
@@ -129,35 +132,42 @@ Builder MakeModel() {
   // A sparse morph target moving vertex 2 by (0, 0, 1).
   const int sparse_indices = b.Add<uint16_t>({2}, "SCALAR", 5123);
   const int sparse_values = b.Floats({0, 0, 1}, "VEC3");
-  Json target = {{"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
-                 {"sparse",
-                  {{"count", 1},
-                   {"indices", {{"bufferView", b.json["accessors"][sparse_indices]["bufferView"]}, {"componentType", 5123}}},
-                   {"values", {{"bufferView", b.json["accessors"][sparse_values]["bufferView"]}}}}}};
+  Json target = {
+      {"componentType", 5126},
+      {"count", 4},
+      {"type", "VEC3"},
+      {"sparse",
+       {{"count", 1},
+        {"indices", {{"bufferView", b.json["accessors"][sparse_indices]["bufferView"]}, {"componentType", 5123}}},
+        {"values", {{"bufferView", b.json["accessors"][sparse_values]["bufferView"]}}}}}};
   b.json["accessors"].push_back(target);
   const int morph = static_cast<int>(b.json["accessors"].size()) - 1;
-  b.json["meshes"] = {{{"name", "body"},
-                       {"primitives",
-                        {{{"attributes",
-                           {{"POSITION", pos}, {"NORMAL", nrm}, {"JOINTS_0", j0}, {"WEIGHTS_0", w0}, {"JOINTS_1", j1},
-                            {"WEIGHTS_1", w1}}},
-                          {"indices", idx},
-                          {"targets", {{{"POSITION", morph}}}}}}},
-                       {"weights", {0.25}},
-                       {"extras", {{"targetNames", {"raise"}}}}},
-                      {{"primitives", {{{"attributes", {{"POSITION", b.Floats({0, 0, 0, 1, 0, 0, 0, 0, 1}, "VEC3")}}}}}}}};
+  b.json["meshes"] = {
+      {{"name", "body"},
+       {"primitives",
+        {{{"attributes",
+           {{"POSITION", pos},
+            {"NORMAL", nrm},
+            {"JOINTS_0", j0},
+            {"WEIGHTS_0", w0},
+            {"JOINTS_1", j1},
+            {"WEIGHTS_1", w1}}},
+          {"indices", idx},
+          {"targets", {{{"POSITION", morph}}}}}}},
+       {"weights", {0.25}},
+       {"extras", {{"targetNames", {"raise"}}}}},
+      {{"primitives", {{{"attributes", {{"POSITION", b.Floats({0, 0, 0, 1, 0, 0, 0, 0, 1}, "VEC3")}}}}}}}};
 
   // Animation "wave": joint 1 rotates 90° about Z over 1 s; unnamed: translation STEP on node 7.
   const int t = b.Floats({0, 1}, "SCALAR");
   const float s = std::sqrt(0.5f);
   const int rot = b.Floats({0, 0, 0, 1, 0, 0, s, s}, "VEC4");
   const int tr = b.Floats({1, 0, 0, 2, 0, 0}, "VEC3");
-  b.json["animations"] = {
-      {{"name", "wave"},
-       {"channels", {{{"sampler", 0}, {"target", {{"node", 1}, {"path", "rotation"}}}}}},
-       {"samplers", {{{"input", t}, {"output", rot}}}}},
-      {{"channels", {{{"sampler", 0}, {"target", {{"node", 7}, {"path", "translation"}}}}}},
-       {"samplers", {{{"input", t}, {"output", tr}, {"interpolation", "STEP"}}}}}};
+  b.json["animations"] = {{{"name", "wave"},
+                           {"channels", {{{"sampler", 0}, {"target", {{"node", 1}, {"path", "rotation"}}}}}},
+                           {"samplers", {{{"input", t}, {"output", rot}}}}},
+                          {{"channels", {{{"sampler", 0}, {"target", {{"node", 7}, {"path", "translation"}}}}}},
+                           {"samplers", {{{"input", t}, {"output", tr}, {"interpolation", "STEP"}}}}}};
   return b;
 }
 
@@ -239,7 +249,8 @@ TEST(GltfImport, SeveralSkinsShareOneSkeleton) {
   const int joints = b.Add<uint8_t>({0, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0}, "VEC4", 5121);
   const int weights = b.Floats({1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, "VEC4");
   b.json["meshes"].push_back(
-      {{"name", "hat"}, {"primitives", {{{"attributes", {{"POSITION", pos}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}}}}}}});
+      {{"name", "hat"},
+       {"primitives", {{{"attributes", {{"POSITION", pos}, {"JOINTS_0", joints}, {"WEIGHTS_0", weights}}}}}}});
   b.json["nodes"].push_back({{"name", "hat_node"}, {"mesh", 2}, {"skin", 1}});
   auto contents = ParseGltf(b.Gltf(), false, "model");
   ASSERT_TRUE(contents.ok()) << contents.status().message();
@@ -317,17 +328,26 @@ Json& Prim(Builder& b) { return b.json["meshes"][0]["primitives"][0]; }
 INSTANTIATE_TEST_SUITE_P(
     Cases, GltfErrors,
     ::testing::Values(
-        BadCase{"joints_vec3", [](Builder& b) { b.json["accessors"][Prim(b)["attributes"]["JOINTS_0"].get<int>()]["type"] = "VEC3"; },
+        BadCase{"joints_vec3",
+                [](Builder& b) { b.json["accessors"][Prim(b)["attributes"]["JOINTS_0"].get<int>()]["type"] = "VEC3"; },
                 "meshes[0].primitives[0].attributes.JOINTS_0: accessor 4 has type VEC3, expected VEC4"},
         BadCase{"joints_float", [](Builder& b) { b.json["accessors"][4]["componentType"] = 5126; },
                 "attributes.JOINTS_0: accessor 4 has componentType FLOAT, expected UNSIGNED_BYTE or UNSIGNED_SHORT"},
         BadCase{"weights_not_normalized", [](Builder& b) { b.json["accessors"][5].erase("normalized"); },
                 "attributes.WEIGHTS_0: accessor 5 has integer componentType UNSIGNED_BYTE but is not normalized"},
-        BadCase{"index_out_of_range", [](Builder& b) { reinterpret_cast<uint16_t*>(&b.bin[b.json["bufferViews"][3]["byteOffset"].get<size_t>()])[2] = 99; },
+        BadCase{"index_out_of_range",
+                [](Builder& b) {
+                  reinterpret_cast<uint16_t*>(&b.bin[b.json["bufferViews"][3]["byteOffset"].get<size_t>()])[2] = 99;
+                },
                 "meshes[0].primitives[0].indices: accessor 3 element 2 = 99 is out of range (4 vertices)"},
-        BadCase{"joint_out_of_range", [](Builder& b) { b.bin[b.json["bufferViews"][4]["byteOffset"].get<size_t>()] = 9; },
+        BadCase{"joint_out_of_range",
+                [](Builder& b) { b.bin[b.json["bufferViews"][4]["byteOffset"].get<size_t>()] = 9; },
                 "attributes.JOINTS_0: accessor 4 element 0 uses joint 9 but skin 0 has 6 joints"},
-        BadCase{"nan_position", [](Builder& b) { const float nan = std::nanf(""); std::memcpy(&b.bin[b.json["bufferViews"][1]["byteOffset"].get<size_t>()], &nan, 4); },
+        BadCase{"nan_position",
+                [](Builder& b) {
+                  const float nan = std::nanf("");
+                  std::memcpy(&b.bin[b.json["bufferViews"][1]["byteOffset"].get<size_t>()], &nan, 4);
+                },
                 "attributes.POSITION: accessor 1 element 0 is not finite"},
         BadCase{"count_beyond_view", [](Builder& b) { b.json["accessors"][1]["count"] = 40; },
                 "attributes.POSITION: accessor 1 needs 480 bytes of bufferView 1 but it has 48"},
@@ -341,36 +361,60 @@ INSTANTIATE_TEST_SUITE_P(
                 "meshes[0].primitives[0].attributes has no POSITION"},
         BadCase{"lonely_weights", [](Builder& b) { Prim(b)["attributes"].erase("JOINTS_1"); },
                 "attributes.WEIGHTS_1 has no matching JOINTS_1"},
-        BadCase{"skin_without_joints_attribute", [](Builder& b) { for (const char* a : {"JOINTS_0", "WEIGHTS_0", "JOINTS_1", "WEIGHTS_1"}) Prim(b)["attributes"].erase(a); },
+        BadCase{"skin_without_joints_attribute",
+                [](Builder& b) {
+                  for (const char* a : {"JOINTS_0", "WEIGHTS_0", "JOINTS_1", "WEIGHTS_1"})
+                    Prim(b)["attributes"].erase(a);
+                },
                 "needs JOINTS_0 and WEIGHTS_0"},
         BadCase{"ibm_too_few", [](Builder& b) { b.json["accessors"][0]["count"] = 2; },
                 "skins[0].inverseBindMatrices: accessor 0 has 2 matrices for 6 joints"},
         BadCase{"skin_joint_node", [](Builder& b) { b.json["skins"][0]["joints"][3] = 40; },
                 "skins[0].joints[3]: node 40 does not exist"},
-        BadCase{"two_parents", [](Builder& b) { b.json["nodes"][4]["children"] = {5, 3}; },
+        BadCase{"two_parents",
+                [](Builder& b) {
+                  b.json["nodes"][4]["children"] = {5, 3};
+                },
                 "nodes[4].children: node 3 already has parent node 2"},
-        BadCase{"cycle", [](Builder& b) { b.json["nodes"][5]["children"] = {0}; },
-                "the node hierarchy has a cycle"},
-        BadCase{"bad_translation", [](Builder& b) { b.json["nodes"][1]["translation"] = {1, 2}; },
+        BadCase{"cycle", [](Builder& b) { b.json["nodes"][5]["children"] = {0}; }, "the node hierarchy has a cycle"},
+        BadCase{"bad_translation",
+                [](Builder& b) {
+                  b.json["nodes"][1]["translation"] = {1, 2};
+                },
                 "nodes[1].translation: expected 3 numbers, got 2"},
-        BadCase{"weights_count", [](Builder& b) { b.json["meshes"][0]["weights"] = {0.1, 0.2}; },
+        BadCase{"weights_count",
+                [](Builder& b) {
+                  b.json["meshes"][0]["weights"] = {0.1, 0.2};
+                },
                 "meshes[0].weights: 2 weights for 1 morph targets"},
-        BadCase{"bad_interpolation", [](Builder& b) { b.json["animations"][0]["samplers"][0]["interpolation"] = "BEZIER"; },
+        BadCase{"bad_interpolation",
+                [](Builder& b) { b.json["animations"][0]["samplers"][0]["interpolation"] = "BEZIER"; },
                 "animations[0].samplers[0].interpolation 'BEZIER' is not LINEAR, STEP or CUBICSPLINE"},
-        BadCase{"cubic_count", [](Builder& b) { b.json["animations"][0]["samplers"][0]["interpolation"] = "CUBICSPLINE"; },
-                "animations[0].samplers[0].output: accessor 13 has 2 elements, expected 6 (2 keys × 3 for CUBICSPLINE)"},
-        BadCase{"times_decrease", [](Builder& b) { const float t = -1; std::memcpy(&b.bin[b.json["bufferViews"][11]["byteOffset"].get<size_t>() + 4], &t, 4); },
+        BadCase{
+            "cubic_count", [](Builder& b) { b.json["animations"][0]["samplers"][0]["interpolation"] = "CUBICSPLINE"; },
+            "animations[0].samplers[0].output: accessor 13 has 2 elements, expected 6 (2 keys × 3 for CUBICSPLINE)"},
+        BadCase{"times_decrease",
+                [](Builder& b) {
+                  const float t = -1;
+                  std::memcpy(&b.bin[b.json["bufferViews"][11]["byteOffset"].get<size_t>() + 4], &t, 4);
+                },
                 "animations[0].samplers[0].input: accessor 12 key 1 time -1.000000 does not increase"},
         BadCase{"channel_node", [](Builder& b) { b.json["animations"][0]["channels"][0]["target"]["node"] = 99; },
                 "animations[0].channels[0].target.node: node 99 does not exist"},
-        BadCase{"draco", [](Builder& b) { b.json["extensionsRequired"] = {"KHR_draco_mesh_compression"}; b.json["extensionsUsed"] = {"KHR_draco_mesh_compression"}; },
+        BadCase{"draco",
+                [](Builder& b) {
+                  b.json["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+                  b.json["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+                },
                 "extensionsRequired: 'KHR_draco_mesh_compression' (compressed geometry) is not supported"},
-        BadCase{"rotation_as_vec3", [](Builder& b) { b.json["animations"][0]["channels"][0]["target"]["path"] = "scale"; },
+        BadCase{"rotation_as_vec3",
+                [](Builder& b) { b.json["animations"][0]["channels"][0]["target"]["path"] = "scale"; },
                 "animations[0].samplers[0].output: accessor 13 has type VEC4, expected VEC3"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 TEST(GltfImport, GarbageIsInvalidArgument) {
-  for (const std::string text : {"{", "{}", "not json at all", "{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"byteLength\": 4}]}"}) {
+  for (const std::string text :
+       {"{", "{}", "not json at all", "{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"byteLength\": 4}]}"}) {
     auto contents = ParseGltf(text, false, "m");
     ASSERT_FALSE(contents.ok()) << text;
     EXPECT_EQ(contents.status().code(), StatusCode::kInvalidArgument);

@@ -64,8 +64,10 @@ std::vector<double> SpecSample(const std::string& interpolation, bool rotation, 
   auto value = [&](size_t k) { return cubic ? out[3 * k + 1] : out[k]; };
   const size_t n = times.size();
   std::vector<double> result;
-  if (t <= times.front()) result = value(0);
-  else if (t >= times.back()) result = value(n - 1);
+  if (t <= times.front())
+    result = value(0);
+  else if (t >= times.back())
+    result = value(n - 1);
   else {
     size_t k = 0;
     while (!(t < times[k + 1])) ++k;

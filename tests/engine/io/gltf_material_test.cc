@@ -93,7 +93,7 @@ TEST(GltfMaterial, RobotExpressiveKeepsItsThreeColourMaterials) {
     for (const auto& material : m.mesh->materials) distinct.insert(material.get());
     groups += m.mesh->material_groups.size();
   }
-  ASSERT_EQ(distinct.size(), 3u);  // shared, not copied per mesh
+  ASSERT_EQ(distinct.size(), 3u);           // shared, not copied per mesh
   EXPECT_EQ(groups, robot->meshes.size());  // one primitive per mesh
   for (const Material* m : distinct) {
     EXPECT_TRUE(m->images.empty());
@@ -129,8 +129,9 @@ TEST(GltfMaterial, ImageOverTheLimitIsRefusedNamingIt) {
   limits.max_image_bytes = kCesiumJpegBytes - 1;
   auto refused = ParseGltf(*text, false, "cesium", {}, limits);
   EXPECT_EQ(refused.status().code(), StatusCode::kResourceExhausted);
-  EXPECT_NE(refused.status().message().find("images[0]: 209908 bytes is over the import limit max_image_bytes = 209907"),
-            std::string::npos)
+  EXPECT_NE(
+      refused.status().message().find("images[0]: 209908 bytes is over the import limit max_image_bytes = 209907"),
+      std::string::npos)
       << refused.status().message();
   limits.max_image_bytes = kCesiumJpegBytes;
   EXPECT_TRUE(ParseGltf(*text, false, "cesium", {}, limits).ok());

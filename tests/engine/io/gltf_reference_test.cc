@@ -52,7 +52,8 @@ void ExpectMatchesThreeJs(const fs::path& path, const AssetContents& contents, i
   for (size_t i = 0; i < times.size(); ++i) list << (i ? "," : "") << times[i];
 
   const std::string script = (fs::path(ARMATURE_TEST_DIR) / "reference/gltf_skin_reference.mjs").string();
-  auto out = RunCommand("node '" + script + "' '" + path.string() + "' " + std::to_string(animation) + " " + list.str());
+  auto out =
+      RunCommand("node '" + script + "' '" + path.string() + "' " + std::to_string(animation) + " " + list.str());
   ASSERT_TRUE(out.has_value()) << "the three.js reference failed";
   const auto reference = nlohmann::json::parse(*out);
 
@@ -71,7 +72,8 @@ void ExpectMatchesThreeJs(const fs::path& path, const AssetContents& contents, i
     ASSERT_EQ(first.size(), 3 * n) << "vertex count differs from three.js for mesh " << m;
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = -lo;
     for (size_t v = 0; v < n; ++v) {
-      const Eigen::Vector3d p(first[3 * v].get<double>(), first[3 * v + 1].get<double>(), first[3 * v + 2].get<double>());
+      const Eigen::Vector3d p(first[3 * v].get<double>(), first[3 * v + 1].get<double>(),
+                              first[3 * v + 2].get<double>());
       lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     }
     const double size = (hi - lo).norm();
@@ -86,10 +88,12 @@ void ExpectMatchesThreeJs(const fs::path& path, const AssetContents& contents, i
         ASSERT_TRUE(SkinPose(mesh, skeleton, skeleton.rest, options, positions, normals, workspace).ok());
       }
       const auto& p = frame["positions"];
-      for (size_t i = 0; i < 3 * n; ++i) worst_position = std::max(worst_position, std::abs(positions[i] - p[i].get<double>()));
+      for (size_t i = 0; i < 3 * n; ++i)
+        worst_position = std::max(worst_position, std::abs(positions[i] - p[i].get<double>()));
       const auto& nr = frame["normals"];
       if (!normals.empty() && nr.size() == 3 * n)
-        for (size_t i = 0; i < 3 * n; ++i) worst_normal = std::max(worst_normal, std::abs(normals[i] - nr[i].get<double>()));
+        for (size_t i = 0; i < 3 * n; ++i)
+          worst_normal = std::max(worst_normal, std::abs(normals[i] - nr[i].get<double>()));
     }
     std::cout << "[ reference ] " << path.filename().string() << " mesh " << m << " (" << n << " vertices, size "
               << size << "): max position error " << worst_position << " (" << worst_position / size
@@ -156,8 +160,8 @@ TEST(GltfReferenceMaterials, ExportMatchesTheOriginalInThreeJs) {
     for (bool binary : {true, false}) {
       auto bytes = ExportGltf(*contents->clips.at(0).clip, meshes, {.binary = binary});
       ASSERT_TRUE(bytes.ok()) << bytes.status().message();
-      const fs::path out = fs::temp_directory_path() / ("armature_material_" + std::to_string(getpid()) +
-                                                        (binary ? ".glb" : ".gltf"));
+      const fs::path out =
+          fs::temp_directory_path() / ("armature_material_" + std::to_string(getpid()) + (binary ? ".glb" : ".gltf"));
       std::ofstream(out, std::ios::binary) << *bytes;
       const nlohmann::json exported = ThreeJsMaterials(out);
       fs::remove(out);
@@ -176,7 +180,8 @@ TEST(GltfReferenceMaterials, ExportMatchesTheOriginalInThreeJs) {
 
 INSTANTIATE_TEST_SUITE_P(Models, GltfReference,
                          ::testing::Values(Case{"cesium_man.gltf", 0}, Case{"rigged_simple.gltf", 0},
-                                           Case{"simple_skin.gltf", 0}, Case{"AnimatedMorphCube/AnimatedMorphCube.gltf", 0},
+                                           Case{"simple_skin.gltf", 0},
+                                           Case{"AnimatedMorphCube/AnimatedMorphCube.gltf", 0},
                                            Case{"SimpleMorph/SimpleMorph.gltf", 0}, Case{"interpolation_test.gltf", 0},
                                            Case{"interpolation_test.gltf", 2}, Case{"interpolation_test.gltf", 4},
                                            Case{"interpolation_test.gltf", 7}, Case{"cesium_man.gltf", -1}),

@@ -30,7 +30,9 @@ TEST(Utf8, ValidatesWellFormedSequencesOnly) {
 
 TEST(Utf8, EscapeForMessageEscapesBadBytesControlsAndBackslashAndCuts) {
   EXPECT_EQ(EscapeForMessage("Hips"), "Hips");
-  EXPECT_EQ(EscapeForMessage("Ch\xff" "est"), "Ch\\xffest");
+  EXPECT_EQ(EscapeForMessage("Ch\xff"
+                             "est"),
+            "Ch\\xffest");
   EXPECT_EQ(EscapeForMessage(std::string("a\0b\n\\", 5)), "a\\x00b\\x0a\\x5c");
   EXPECT_EQ(EscapeForMessage("\xc3\xa4"), "\xc3\xa4");
   EXPECT_EQ(EscapeForMessage("abcdef", 3), "abc...");

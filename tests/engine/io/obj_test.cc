@@ -82,7 +82,8 @@ TEST_P(ObjErrors, NameTheLine) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, ObjErrors,
-    ::testing::Values(BadObj{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "line 4: vertex index 4 is out of range (3 vertices so far)"},
+    ::testing::Values(BadObj{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
+                             "line 4: vertex index 4 is out of range (3 vertices so far)"},
                       BadObj{"v 0 0 0\nf 1 2 3\nv 1 0 0\nv 0 1 0\n", "line 2: vertex index 2 is out of range"},
                       BadObj{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4: vertex index 0 is out of range"},
                       BadObj{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n", "line 4: vertex index -4"},
@@ -91,7 +92,8 @@ INSTANTIATE_TEST_SUITE_P(
                       BadObj{"# x\nv 0 zero 0\n", "line 2: 'zero' is not a number"},
                       BadObj{"v 0 nan 0\n", "line 1: 'nan' is not a finite float"},
                       BadObj{"v 0 1e39 0\n", "line 1: '1e39' is not a finite float"},
-                      BadObj{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//1 3//1\n", "line 4: normal index 2 is out of range (0 normals so far)"},
+                      BadObj{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//1 3//1\n",
+                             "line 4: normal index 2 is out of range (0 normals so far)"},
                       BadObj{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n", "line 4: 'x' is not a texture coordinate index"},
                       BadObj{"# only a comment\n", "no vertices"}));
 

@@ -81,7 +81,7 @@ class ReferenceScripts : public ::testing::Test {
   void ExpectReorderKeepsMotion(const std::string& in, const std::string& order, const std::string& root_offset) {
     const std::string out = (dir_ / ("reordered_" + order + ".bvh")).string();
     ASSERT_TRUE(RunCommand(kPython + " " + kScripts + "bvh_reorder.py " + in + " " + out + " --order " + order +
-                    " --root-offset=" + root_offset));
+                           " --root-offset=" + root_offset));
     const BvhData a = testing::ParseExpectOk(*test_util::ReadFileBytes(in));
     const BvhData b = testing::ParseExpectOk(*test_util::ReadFileBytes(out));
     ASSERT_TRUE(a.clip && b.clip);

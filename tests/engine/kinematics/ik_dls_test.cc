@@ -174,7 +174,7 @@ TEST(IkDls, RedundantChainPrefersTheStartPose) {
       IkRequest r = ik_rigs::OneEffector(IkSolver::kDls, "tip", Eigen::Vector3d(target.x(), target.y(), 0));
       r.start_pose = start;
       r.limits = limits;
-      r.free_root_rotation = true;  // the first hinge is the skeleton's root
+      r.free_root_rotation = true;   // the first hinge is the skeleton's root
       r.options.regularization = k;  // off, then all the way
       r.options.position_tolerance = 1e-4;
       ASSERT_TRUE(SolveIk(s, r, ws, result).ok());
@@ -186,7 +186,7 @@ TEST(IkDls, RedundantChainPrefersTheStartPose) {
     nearest_found += excess[1] < 1e-3;
     plain_total += excess[0];
   }
-  EXPECT_GE(nearest_found, 15);    // the rest: a nearer-by local minimum of the distance
+  EXPECT_GE(nearest_found, 15);       // the rest: a nearer-by local minimum of the distance
   EXPECT_GT(plain_total / 20, 0.05);  // plain DLS lands near, not on, the nearest solution
 }
 

@@ -24,7 +24,7 @@ std::vector<Trs> StartPose(const Skeleton& s) {
   return pose;
 }
 
-const char* const kLegJoints[] = {"LeftUpLeg", "LeftLeg", "LeftFoot", "LeftToeBase",
+const char* const kLegJoints[] = {"LeftUpLeg",  "LeftLeg",  "LeftFoot",  "LeftToeBase",
                                   "RightUpLeg", "RightLeg", "RightFoot", "RightToeBase"};
 
 // A hand target in reach of spine and arm: the hand's start position moved

@@ -14,9 +14,8 @@ using ik_rigs::WorldOf;
 
 // shoulder → elbow → hand along +X, bones l1 and l2.
 Skeleton PlanarArm(double l1, double l2) {
-  return ik_rigs::BuildSkeleton({{"shoulder", nullptr, {0, 0, 0}},
-                                 {"elbow", "shoulder", {l1, 0, 0}},
-                                 {"hand", "elbow", {l2, 0, 0}}});
+  return ik_rigs::BuildSkeleton(
+      {{"shoulder", nullptr, {0, 0, 0}}, {"elbow", "shoulder", {l1, 0, 0}}, {"hand", "elbow", {l2, 0, 0}}});
 }
 
 IkRequest TwoBoneRequest(const std::string& joint, const Eigen::Vector3d& target) {
@@ -101,7 +100,7 @@ TEST(IkTwoBone, SoftenedReachIsContinuousAndNeverFullyExtends) {
   const double max_reach = 2.0, softness = 0.1;
   EXPECT_DOUBLE_EQ(SoftenedReach(1.5, max_reach, softness), 1.5);  // below the soft zone: exact
   EXPECT_DOUBLE_EQ(SoftenedReach(1.8, max_reach, softness), 1.8);  // its start
-  EXPECT_DOUBLE_EQ(SoftenedReach(2.5, max_reach, 0.0), 2.5);      // off
+  EXPECT_DOUBLE_EQ(SoftenedReach(2.5, max_reach, 0.0), 2.5);       // off
   double previous = SoftenedReach(1.7, max_reach, softness);
   for (double d = 1.701; d < 4.0; d += 0.001) {
     const double r = SoftenedReach(d, max_reach, softness);

@@ -134,11 +134,13 @@ TEST_F(IkValidationTest, ZeroLengthAndEmptyChains) {
             "effectors[0].joint: no free joint moves 'LeftHand' (check root, max_chain_depth, free_joints, free_root)");
   r.root.clear();
   r.effectors[0].joint = "LHipJoint";  // hangs from the root, which stays by default
-  EXPECT_EQ(ErrorOf(r),
-            "effectors[0].joint: no free joint moves 'LHipJoint' (check root, max_chain_depth, free_joints, free_root)");
+  EXPECT_EQ(
+      ErrorOf(r),
+      "effectors[0].joint: no free joint moves 'LHipJoint' (check root, max_chain_depth, free_joints, free_root)");
   r.free_root_rotation = true;  // at the hips' origin: turning them cannot move it
-  EXPECT_EQ(ErrorOf(r),
-            "effectors[0].joint: zero-length chain: the free joints above 'LHipJoint' coincide with the effector point");
+  EXPECT_EQ(
+      ErrorOf(r),
+      "effectors[0].joint: zero-length chain: the free joints above 'LHipJoint' coincide with the effector point");
   r.free_root_rotation = false;
   r.effectors[0].joint = "LeftUpLeg";
   r.solver = IkSolver::kTwoBone;  // LHipJoint sits on Hips

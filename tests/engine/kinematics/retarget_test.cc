@@ -49,8 +49,10 @@ std::vector<Vector3d> RestPositions(const Skeleton& s) {
 // The yaw turning the source's left−right thigh line onto the target's, from the rest poses.
 Quaterniond ThighYaw(const Skeleton& s, const Skeleton& t, const BodyPartMap& map) {
   const auto ps = RestPositions(s), pt = RestPositions(t);
-  Vector3d a = ps[static_cast<size_t>(map.source_parts.legs[0].upper)] - ps[static_cast<size_t>(map.source_parts.legs[1].upper)];
-  Vector3d b = pt[static_cast<size_t>(map.target_parts.legs[0].upper)] - pt[static_cast<size_t>(map.target_parts.legs[1].upper)];
+  Vector3d a =
+      ps[static_cast<size_t>(map.source_parts.legs[0].upper)] - ps[static_cast<size_t>(map.source_parts.legs[1].upper)];
+  Vector3d b =
+      pt[static_cast<size_t>(map.target_parts.legs[0].upper)] - pt[static_cast<size_t>(map.target_parts.legs[1].upper)];
   a.y() = b.y() = 0;
   return Quaterniond(Eigen::AngleAxisd(std::atan2(a.cross(b).y(), a.dot(b)), Vector3d::UnitY()));
 }
@@ -105,11 +107,13 @@ double MaxBoneAngleDegrees(const Clip& source, const Clip& target, const std::ve
 // its arms raised to a T-pose, every joint frame turned at random.
 std::shared_ptr<Skeleton> TurnedRenamedTPose(const Skeleton& s) {
   const std::vector<std::pair<std::string, std::string>> names = {
-      {"Hips", "Hips"},         {"LeftHip", "LeftUpLeg"},   {"LeftKnee", "LeftLeg"},     {"LeftAnkle", "LeftFoot"},
-      {"LeftToe", "LeftToeBase"}, {"RightHip", "RightUpLeg"}, {"RightKnee", "RightLeg"},  {"RightAnkle", "RightFoot"},
-      {"RightToe", "RightToeBase"}, {"Spine", "Spine"},     {"Chest", "Spine1"},         {"Neck", "Neck"},
-      {"Head", "Head"},         {"LeftShoulder", "LeftArm"}, {"LeftElbow", "LeftForeArm"}, {"LeftWrist", "LeftHand"},
-      {"RightShoulder", "RightArm"}, {"RightElbow", "RightForeArm"}, {"RightWrist", "RightHand"}};
+      {"Hips", "Hips"},           {"LeftHip", "LeftUpLeg"},      {"LeftKnee", "LeftLeg"},
+      {"LeftAnkle", "LeftFoot"},  {"LeftToe", "LeftToeBase"},    {"RightHip", "RightUpLeg"},
+      {"RightKnee", "RightLeg"},  {"RightAnkle", "RightFoot"},   {"RightToe", "RightToeBase"},
+      {"Spine", "Spine"},         {"Chest", "Spine1"},           {"Neck", "Neck"},
+      {"Head", "Head"},           {"LeftShoulder", "LeftArm"},   {"LeftElbow", "LeftForeArm"},
+      {"LeftWrist", "LeftHand"},  {"RightShoulder", "RightArm"}, {"RightElbow", "RightForeArm"},
+      {"RightWrist", "RightHand"}};
   std::vector<Vector3d> p = RestPositions(s);
   for (const char* side : {"Left", "Right"}) {
     const int shoulder = s.Find(std::string(side) + "Shoulder");

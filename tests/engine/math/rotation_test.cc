@@ -42,8 +42,7 @@ std::vector<std::vector<double>> TestAngles(bool proper) {
   std::vector<std::vector<double>> out = {{0.3, -0.7, 1.1}, {-2.9, 0.4, 3.0}, {1.5, 1.2, -0.2}, {0, 0, 0}};
   const std::vector<double> locks = proper ? std::vector<double>{0.0, kPi} : std::vector<double>{kPi / 2, -kPi / 2};
   for (double lock : locks)
-    for (double eps : {0.0, 1e-9, -1e-9, 1e-6, -1e-6, 1e-3})
-      out.push_back({0.8, lock + eps, -0.5});
+    for (double eps : {0.0, 1e-9, -1e-9, 1e-6, -1e-6, 1e-3}) out.push_back({0.8, lock + eps, -0.5});
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> any(-kPi, kPi);
   for (int i = 0; i < 50; ++i) out.push_back({any(rng), any(rng), any(rng)});
@@ -177,8 +176,7 @@ TEST(Slerp, ConstantAngularSpeed) {
     const Eigen::Quaterniond b = a * ExpQuaternion(total * axis);
     const int steps = 10;
     for (int i = 0; i < steps; ++i) {
-      const double step =
-          AngleBetween(Slerp(a, b, double(i) / steps), Slerp(a, b, double(i + 1) / steps));
+      const double step = AngleBetween(Slerp(a, b, double(i) / steps), Slerp(a, b, double(i + 1) / steps));
       EXPECT_NEAR(step, total / steps, 1e-9 * total + 1e-15) << "total " << total << " step " << i;
     }
     // Midpoint: rotation about the same axis by half the angle.

@@ -51,9 +51,9 @@ TEST_P(AutoWeights, CylinderAlongAChain) {
 
   // Ring r is at z = 3r/30. Bone b spans z ∈ [b, b+1].
   auto ring_weight = [&](int r, int joint) { return WeightOf(m, static_cast<size_t>(r * segments), joint); };
-  EXPECT_GT(ring_weight(3, 0), 0.9);    // z = 0.3: inside bone 0
-  EXPECT_GT(ring_weight(15, 1), 0.9);   // z = 1.5: middle of bone 1
-  EXPECT_GT(ring_weight(27, 2), 0.9);   // z = 2.7: inside bone 2
+  EXPECT_GT(ring_weight(3, 0), 0.9);   // z = 0.3: inside bone 0
+  EXPECT_GT(ring_weight(15, 1), 0.9);  // z = 1.5: middle of bone 1
+  EXPECT_GT(ring_weight(27, 2), 0.9);  // z = 2.7: inside bone 2
   // Across the joint at z = 1 the weight moves from bone 0 to bone 1.
   double previous = 1;
   for (int r = 5; r <= 15; ++r) {

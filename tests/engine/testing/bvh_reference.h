@@ -59,8 +59,10 @@ inline RefBvh ReadRefBvh(const std::string& text) {
     } else if (tok == "OFFSET") {
       Eigen::Vector3d o;
       in >> o.x() >> o.y() >> o.z();
-      if (in_end_site) bvh.joints[static_cast<size_t>(stack.back())].end_site = o;
-      else bvh.joints[static_cast<size_t>(stack.back())].offset = o;
+      if (in_end_site)
+        bvh.joints[static_cast<size_t>(stack.back())].end_site = o;
+      else
+        bvh.joints[static_cast<size_t>(stack.back())].offset = o;
     } else if (tok == "CHANNELS") {
       int n;
       in >> n;
@@ -68,8 +70,10 @@ inline RefBvh ReadRefBvh(const std::string& text) {
       ch.resize(static_cast<size_t>(n));
       for (auto& c : ch) in >> c;
     } else if (tok == "}") {
-      if (in_end_site) in_end_site = false;
-      else stack.pop_back();
+      if (in_end_site)
+        in_end_site = false;
+      else
+        stack.pop_back();
     } else if (tok == "MOTION") {
       break;
     }
@@ -77,7 +81,7 @@ inline RefBvh ReadRefBvh(const std::string& text) {
   size_t columns = 0;
   for (const auto& j : bvh.joints) columns += j.channels.size();
   int frames;
-  in >> tok >> frames;        // Frames: N
+  in >> tok >> frames;                 // Frames: N
   in >> tok >> tok >> bvh.frame_time;  // Frame Time: T
   bvh.frames.assign(static_cast<size_t>(frames), std::vector<double>(columns));
   for (auto& f : bvh.frames)
@@ -100,8 +104,8 @@ inline std::string WriteRefBvh(const RefBvh& bvh) {
   for (size_t i = 0; i < bvh.joints.size(); ++i) {
     const RefJoint& j = bvh.joints[i];
     while (!open.empty() && open.back() != j.parent) close();
-    out << (j.parent < 0 ? "ROOT " : "JOINT ") << j.name << "\n{\nOFFSET " << j.offset.x() << " " << j.offset.y()
-        << " " << j.offset.z() << "\nCHANNELS " << j.channels.size();
+    out << (j.parent < 0 ? "ROOT " : "JOINT ") << j.name << "\n{\nOFFSET " << j.offset.x() << " " << j.offset.y() << " "
+        << j.offset.z() << "\nCHANNELS " << j.channels.size();
     for (const auto& c : j.channels) out << " " << c;
     out << "\n";
     open.push_back(static_cast<int>(i));
@@ -142,8 +146,10 @@ inline std::vector<RefLocal> RefLocals(const RefBvh& bvh, size_t frame) {
     for (const std::string& c : j.channels) {
       const double v = bvh.frames[frame][col++];
       const char axis = static_cast<char>(std::toupper(static_cast<unsigned char>(c[0])));
-      if (c.find("rotation") != std::string::npos) l.rotation = l.rotation * RefAxisMatrix(axis, v);
-      else l.translation[axis - 'X'] += v;
+      if (c.find("rotation") != std::string::npos)
+        l.rotation = l.rotation * RefAxisMatrix(axis, v);
+      else
+        l.translation[axis - 'X'] += v;
     }
     locals.push_back(l);
   }
@@ -162,7 +168,8 @@ inline std::vector<Eigen::Vector3d> RefWorldPositions(const RefBvh& bvh, const s
   std::vector<Eigen::Vector3d> pos(locals.size());
   for (size_t i = 0; i < locals.size(); ++i) {
     const int p = bvh.joints[i].parent;
-    world[i] = p < 0 ? RefHomogeneous(locals[i]) : Eigen::Matrix4d(world[static_cast<size_t>(p)] * RefHomogeneous(locals[i]));
+    world[i] =
+        p < 0 ? RefHomogeneous(locals[i]) : Eigen::Matrix4d(world[static_cast<size_t>(p)] * RefHomogeneous(locals[i]));
     pos[i] = world[i].topRightCorner<3, 1>();
   }
   return pos;
@@ -192,7 +199,7 @@ inline Eigen::Matrix3d RefQuatToMatrix(const Eigen::Vector4d& q) {
   const double w = q[0], x = q[1], y = q[2], z = q[3];
   Eigen::Matrix3d m;
   m << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),  //
-      2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),  //
+      2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),   //
       2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y);
   return m;
 }

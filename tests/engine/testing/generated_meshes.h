@@ -82,7 +82,8 @@ inline std::string ToObj(const GeneratedMesh& m) {
     obj += line;
   }
   for (size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
-    std::snprintf(line, sizeof line, "f %u %u %u\n", m.triangles[t] + 1, m.triangles[t + 1] + 1, m.triangles[t + 2] + 1);
+    std::snprintf(line, sizeof line, "f %u %u %u\n", m.triangles[t] + 1, m.triangles[t + 1] + 1,
+                  m.triangles[t + 2] + 1);
     obj += line;
   }
   return obj;

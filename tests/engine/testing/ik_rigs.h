@@ -117,7 +117,7 @@ inline std::vector<JointLimit> CmuLimits() {
       HingeLimit("RightForeArm", V(0, 1, 0), 0, 145),
       EulerLimit("RightHand", V(-70, -30, -80), V(70, 30, 80)),
       SwingTwistLimit("LeftUpLeg", V(2.44811, -6.72613, 0), 75, -40, 40),  // cone about the thigh
-      HingeLimit("LeftLeg", V(1, 0, 0), 0, 150),                            // flexes the shin backward (−Z)
+      HingeLimit("LeftLeg", V(1, 0, 0), 0, 150),                           // flexes the shin backward (−Z)
       EulerLimit("LeftFoot", V(-30, -30, -45), V(30, 30, 45)),
       SwingTwistLimit("RightUpLeg", V(-2.54253, -6.98555, 0), 75, -40, 40),
       HingeLimit("RightLeg", V(1, 0, 0), 0, 150),
@@ -181,8 +181,15 @@ inline double PathLength(const Skeleton& s, const std::string& top, const std::s
 inline LimbCase MakeCase(std::string name, Skeleton skeleton, std::vector<JointLimit> limits,
                          std::vector<std::string> joints, std::string root, std::string effector,
                          Eigen::Vector3d offset, bool with_rotation) {
-  LimbCase c{std::move(name), std::move(skeleton), std::move(limits), std::move(joints), std::move(root),
-             std::move(effector), offset, with_rotation, 0.0};
+  LimbCase c{std::move(name),
+             std::move(skeleton),
+             std::move(limits),
+             std::move(joints),
+             std::move(root),
+             std::move(effector),
+             offset,
+             with_rotation,
+             0.0};
   c.chain_length = PathLength(c.skeleton, c.joints.front(), c.effector, c.offset);
   return c;
 }

@@ -17,9 +17,7 @@
 
 namespace armature::fixtures {
 
-inline bool ScipyAvailable() {
-  return std::system("/usr/bin/python3 -c 'import scipy.sparse' >/dev/null 2>&1") == 0;
-}
+inline bool ScipyAvailable() { return std::system("/usr/bin/python3 -c 'import scipy.sparse' >/dev/null 2>&1") == 0; }
 
 inline void WriteRows(const std::filesystem::path& path, const Eigen::MatrixXd& rows) {
   std::ofstream f(path);
@@ -48,7 +46,8 @@ inline std::optional<Eigen::MatrixX3d> LaplacianScipyReference(const GeneratedMe
   WriteRows(dir / "positions.txt", mesh.positions);
   WriteIndices(dir / "triangles.txt", mesh.triangles, 3);
   Eigen::MatrixXd handle_rows(targets.rows(), 4);
-  for (Eigen::Index k = 0; k < targets.rows(); ++k) handle_rows.row(k) << handles[static_cast<size_t>(k)], targets.row(k);
+  for (Eigen::Index k = 0; k < targets.rows(); ++k)
+    handle_rows.row(k) << handles[static_cast<size_t>(k)], targets.row(k);
   WriteRows(dir / "handles.txt", handle_rows);
   WriteIndices(dir / "fixed.txt", fixed);
   WriteIndices(dir / "roi.txt", region_of_interest);

@@ -34,7 +34,8 @@ struct Change {
 // Changes the store until the server dies, recording what it acknowledged.
 class Writer {
  public:
-  Writer(const ServerProcess& server, State& acked, unsigned seed) : client_(OptionsFor(server)), acked_(acked), rng_(seed) {}
+  Writer(const ServerProcess& server, State& acked, unsigned seed)
+      : client_(OptionsFor(server)), acked_(acked), rng_(seed) {}
 
   void Run() {
     for (int op = 0; op < 100000; ++op) {
@@ -47,8 +48,10 @@ class Writer {
         in_flight_ = change;
       }
       const grpc::Status st = StatusOf([&] {
-        if (change.frames == 0) client_.DeleteAsset(change.name);
-        else client_.Import({change.name + ".bvh", ArmBvhWithFrames(change.frames)}, "", "", exists);
+        if (change.frames == 0)
+          client_.DeleteAsset(change.name);
+        else
+          client_.Import({change.name + ".bvh", ArmBvhWithFrames(change.frames)}, "", "", exists);
       });
       if (!st.ok()) return;  // the server is gone; the change stays in flight
       std::lock_guard lock(mu_);

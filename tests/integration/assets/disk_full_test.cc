@@ -48,8 +48,9 @@ class DiskFull : public ::testing::Test {
   grpc::Status FillUp(client::Client& client) {
     for (int i = 0; i < 100; ++i) {
       const std::string name = "c" + std::to_string(next_++);
-      const grpc::Status st =
-          StatusOf([&] { client.Import({name + ".gltf", character_.gltf}, "", "", false, {{"body.bin", character_.bin}}); });
+      const grpc::Status st = StatusOf([&] {
+        client.Import({name + ".gltf", character_.gltf}, "", "", false, {{"body.bin", character_.bin}});
+      });
       if (!st.ok()) return st;
       acknowledged_.insert(name);
     }

@@ -113,14 +113,12 @@ TEST_F(Foundation, ImportEvaluateStreamExportDeleteAndRestart) {
 
     // Export then re-import gives the same poses.
     const auto exported = client.ExportClip("arm");
-    v1::ImportAssetResponse again =
-        client.Import({"arm_copy.bvh", exported.data()}, "arm_copy");
+    v1::ImportAssetResponse again = client.Import({"arm_copy.bvh", exported.data()}, "arm_copy");
     v1::EvaluateClipRequest rc = r;
     rc.set_clip("arm_copy");
     const auto copy = client.EvaluateClip(rc);
     for (int i = 0; i < 4; ++i)
-      for (int k = 0; k < 3; ++k)
-        EXPECT_NEAR(copy.poses(i).translations(k), local.poses(i).translations(k), 1e-4);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(copy.poses(i).translations(k), local.poses(i).translations(k), 1e-4);
 
     EXPECT_EQ(client.DeleteAsset("arm_copy").name(), "arm_copy");
     EXPECT_EQ(CodeOf([&] { client.GetClip("arm_copy"); }), grpc::StatusCode::NOT_FOUND);
@@ -237,8 +235,7 @@ TEST_F(Foundation, SigtermEndsInFlightStreamsAndExitsZero) {
         ++frames;
         return true;
       });
-    } catch (const client::ClientError&) {
-    }
+    } catch (const client::ClientError&) {}
     ended = true;
   });
   ASSERT_TRUE(WaitFor([&] { return frames >= 3; }, 30)) << "the stream did not start";
@@ -256,8 +253,9 @@ TEST_F(Foundation, InterruptedImportLeavesNoHalfAsset) {
   // manifest entry names, just written (a restart right after a kill -9).
   // Writers hold the data dir lock while writing, and the starting server
   // holds it now, so none of them can be an import in progress: all go at once.
-  const fs::path leftovers[] = {data_.path() / "files" / ".half.bvh.tmp-1234", data_.path() / "files" / "orphan.abc.bvh",
-                                data_.path() / ".manifest.json.tmp-99", data_.path() / "files" / "killed.def.bvh"};
+  const fs::path leftovers[] = {data_.path() / "files" / ".half.bvh.tmp-1234",
+                                data_.path() / "files" / "orphan.abc.bvh", data_.path() / ".manifest.json.tmp-99",
+                                data_.path() / "files" / "killed.def.bvh"};
   for (const fs::path& p : leftovers) std::ofstream(p) << "HIERARCHY";
   ServerProcess server(data_.path(), {"--no-demo"});
   client::Client client(OptionsFor(server));

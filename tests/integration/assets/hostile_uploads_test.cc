@@ -51,9 +51,9 @@ std::string StoredState(client::Client& client) {
 }
 
 struct Outcome {
-  bool ok = false;           // imported (a mutation that still parses)
-  bool acceptable = false;   // a client error, or OK
-  std::string what;          // the status or HTTP answer, for the report
+  bool ok = false;          // imported (a mutation that still parses)
+  bool acceptable = false;  // a client error, or OK
+  std::string what;         // the status or HTTP answer, for the report
 };
 
 Outcome ViaGrpc(client::Client& client, const HostileUpload& u, const std::string& name) {
@@ -66,8 +66,8 @@ Outcome ViaGrpc(client::Client& client, const HostileUpload& u, const std::strin
 }
 
 Outcome ViaRest(httplib::Client& http, const HostileUpload& u, const std::string& name) {
-  const auto r = http.Post("/v1/assets:import?filename=" + u.filename + "&name=" + name,
-                           u.bytes, "application/octet-stream");
+  const auto r =
+      http.Post("/v1/assets:import?filename=" + u.filename + "&name=" + name, u.bytes, "application/octet-stream");
   if (!r) return {false, false, "no HTTP answer (" + httplib::to_string(r.error()) + ")"};
   const bool client_error =
       r->status == 400 || r->status == 409 || r->status == 413 || r->status == 422 || r->status == 429;
@@ -94,8 +94,8 @@ struct RunReport {
 // Sends `uploads` (alternately gRPC and REST, named from `first`), checking
 // each answer, until done or `give_up`.
 void RunUploads(const ServerProcess& server, client::Client& client, httplib::Client& http,
-                const std::vector<HostileUpload>& uploads, int first,
-                std::chrono::steady_clock::time_point give_up, RunReport& run) {
+                const std::vector<HostileUpload>& uploads, int first, std::chrono::steady_clock::time_point give_up,
+                RunReport& run) {
   for (int i = 0; i < static_cast<int>(uploads.size()); ++i, ++run.done) {
     if (std::chrono::steady_clock::now() > give_up) {
       ADD_FAILURE() << "gave up after " << run.done << " uploads";
@@ -200,8 +200,8 @@ TEST(HostileUploads, ResidentMemoryLevelsOffOverThousands) {
   RunReport run;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(100 * kThousands);
   for (int k = 0; k < kThousands; ++k) {
-    RunUploads(server, client, http, HostileUploads(kUploads, kSeed + static_cast<uint32_t>(k)), k * kUploads,
-               give_up, run);
+    RunUploads(server, client, http, HostileUploads(kUploads, kSeed + static_cast<uint32_t>(k)), k * kUploads, give_up,
+               run);
     resident_kb.push_back(StatusKb(server.pid(), "VmRSS"));
     std::printf("  after %d uploads: resident %.1f MB, peak %.1f MB\n", run.done,
                 static_cast<double>(resident_kb.back()) / 1024,

@@ -98,8 +98,7 @@ TEST(MemoryBounds, ABakeCountsTheClipInMemoryNotOnlyTheFile) {
   EXPECT_NE(st.error_message().find("in memory"), std::string::npos) << st.error_message();
   EXPECT_NE(st.error_message().find("--max-upload-mb"), std::string::npos) << st.error_message();
   const int64_t peak = StatusKb(server.pid(), "VmHWM");
-  std::printf("  bake of 392 s at 1000 fps: server peak %.0f MB (%.0f MB before)\n", peak / 1024.0,
-              before / 1024.0);
+  std::printf("  bake of 392 s at 1000 fps: server peak %.0f MB (%.0f MB before)\n", peak / 1024.0, before / 1024.0);
   EXPECT_LT(peak - before, 64 * kMiB);
 
   // A bake within the bound is still made.

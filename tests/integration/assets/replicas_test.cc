@@ -31,8 +31,8 @@ TEST_F(Replicas, ImportOnOneIsServedByTheOther) {
   ASSERT_EQ(CodeOf([&] { cb.GetClip("arm"); }), grpc::StatusCode::NOT_FOUND);
 
   ca.Import({"arm.bvh", kArmBvh});
-  EXPECT_TRUE(WaitFor([&] { return CodeOf([&] { cb.GetClip("arm"); }) == grpc::StatusCode::OK; },
-                      kPropagationTimeoutSeconds))
+  EXPECT_TRUE(
+      WaitFor([&] { return CodeOf([&] { cb.GetClip("arm"); }) == grpc::StatusCode::OK; }, kPropagationTimeoutSeconds))
       << ReadFile(b.log_file());
   // B evaluates it like A: the tip at t = 0.25 (the root turned 45° about Z).
   v1::EvaluateClipRequest r;
@@ -89,8 +89,8 @@ TEST_F(Replicas, ConcurrentImportsOnBothKeepEveryEntry) {
   EXPECT_EQ(listed, expected);
   // Both servers serve all of them.
   client::Client ca(OptionsFor(a)), cb(OptionsFor(b));
-  EXPECT_TRUE(WaitFor([&] { return AssetNames(ca) == expected && AssetNames(cb) == expected; },
-                      kPropagationTimeoutSeconds));
+  EXPECT_TRUE(
+      WaitFor([&] { return AssetNames(ca) == expected && AssetNames(cb) == expected; }, kPropagationTimeoutSeconds));
   EXPECT_EQ(AssetNames(ca), expected);
   EXPECT_EQ(AssetNames(cb), expected);
   // A name taken on one is taken on the other, even before B has reloaded.

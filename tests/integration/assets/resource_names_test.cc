@@ -20,7 +20,8 @@ namespace {
 
 // The demo character as a .gltf whose real buffer is `real_uri`, with a
 // second, unused 8-byte buffer at `other_uri`.
-client::UploadFile GltfWithTwoBuffers(const SplitGltf& character, const std::string& real_uri, const std::string& other_uri) {
+client::UploadFile GltfWithTwoBuffers(const SplitGltf& character, const std::string& real_uri,
+                                      const std::string& other_uri) {
   auto doc = nlohmann::json::parse(character.gltf);
   doc["buffers"][0]["uri"] = real_uri;
   doc["buffers"].push_back({{"uri", other_uri}, {"byteLength", 8}});

@@ -58,8 +58,10 @@ TEST_F(CreateClipBake, BakedKeysAreTheMotionsPosesAtTheFps) {
     const v1::Pose &a = got.poses(i), &b = want.poses(i);
     ASSERT_EQ(a.rotations_size(), b.rotations_size());
     for (int j = 0; j < a.rotations_size() / 4; ++j) {
-      const Eigen::Quaterniond qa(a.rotations(4 * j), a.rotations(4 * j + 1), a.rotations(4 * j + 2), a.rotations(4 * j + 3));
-      const Eigen::Quaterniond qb(b.rotations(4 * j), b.rotations(4 * j + 1), b.rotations(4 * j + 2), b.rotations(4 * j + 3));
+      const Eigen::Quaterniond qa(a.rotations(4 * j), a.rotations(4 * j + 1), a.rotations(4 * j + 2),
+                                  a.rotations(4 * j + 3));
+      const Eigen::Quaterniond qb(b.rotations(4 * j), b.rotations(4 * j + 1), b.rotations(4 * j + 2),
+                                  b.rotations(4 * j + 3));
       worst = std::max(worst, qa.angularDistance(qb));
       EXPECT_LT(qa.angularDistance(qb), 1e-5) << "time " << times[i] << " joint " << j;
     }
@@ -89,9 +91,8 @@ TEST_F(CreateClipBake, TracksReplaceBakedJointsAndBadBakesAreNamed) {
   const v1::Skeleton skeleton = client.GetSkeleton(made.clip().skeleton());
   const auto& knee = skeleton.joints(2);
   ASSERT_EQ(knee.name(), "LeftKnee");
-  EXPECT_LT(SampleLocal(client, "baked_head", "LeftKnee", {0.25})[0].rotation.angularDistance(
-                Eigen::Quaterniond(knee.rest_rotation(0), knee.rest_rotation(1), knee.rest_rotation(2),
-                                   knee.rest_rotation(3))),
+  EXPECT_LT(SampleLocal(client, "baked_head", "LeftKnee", {0.25})[0].rotation.angularDistance(Eigen::Quaterniond(
+                knee.rest_rotation(0), knee.rest_rotation(1), knee.rest_rotation(2), knee.rest_rotation(3))),
             1e-6);
 
   struct Bad {

@@ -168,7 +168,8 @@ TEST_F(CreateClipTest, CubicTracksAreC1ThroughTheirKeys) {
   std::vector<Eigen::Vector3d> translations;
   for (size_t k = 0; k < times.size(); ++k) {
     const double sign = k % 2 ? 1 : -1;
-    rotations.push_back(Eigen::Quaterniond(Eigen::AngleAxisd(sign * 0.8, Eigen::Vector3d(1, k * 0.3, 0.2).normalized())));
+    rotations.push_back(
+        Eigen::Quaterniond(Eigen::AngleAxisd(sign * 0.8, Eigen::Vector3d(1, k * 0.3, 0.2).normalized())));
     translations.push_back(Eigen::Vector3d(sign, 0.5 * k, -sign * 2));
   }
   for (auto [name, mode] : {std::pair{"cubic", v1::CUBIC}, std::pair{"kinked", v1::LINEAR}}) {
@@ -285,8 +286,7 @@ TEST_F(CreateClipTest, ReplaceMergeAndDeleteTracks) {
   EXPECT_EQ(merged.clip().frames(), 2);
   EXPECT_LT(head2.rotations[1].angularDistance(SampleLocal(client_, "edit", "Head", {head2.times[1]})[0].rotation),
             1e-6);
-  EXPECT_LT(neck.rotations[0].angularDistance(SampleLocal(client_, "edit", "Neck", {neck.times[0]})[0].rotation),
-            1e-6);
+  EXPECT_LT(neck.rotations[0].angularDistance(SampleLocal(client_, "edit", "Neck", {neck.times[0]})[0].rotation), 1e-6);
   // Hips back at rest: the skeleton's rest values at every time.
   const v1::Skeleton skeleton = client_.GetSkeleton("demo_walk");
   const auto& rest = skeleton.joints(0);
@@ -305,8 +305,7 @@ TEST_F(CreateClipTest, ReplaceMergeAndDeleteTracks) {
   Create(only_neck);
   EXPECT_LT(head2.rotations[0].angularDistance(SampleLocal(client_, "edit", "Head", {head2.times[0]})[0].rotation),
             1e-6);
-  EXPECT_LT(neck.rotations[1].angularDistance(SampleLocal(client_, "edit", "Neck", {neck.times[0]})[0].rotation),
-            1e-6);
+  EXPECT_LT(neck.rotations[1].angularDistance(SampleLocal(client_, "edit", "Neck", {neck.times[0]})[0].rotation), 1e-6);
 
   // Replace: a new clip, the old tracks gone (Head back at rest).
   v1::CreateClipRequest replace;

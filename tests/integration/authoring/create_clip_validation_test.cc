@@ -24,8 +24,8 @@ class CreateClipValidation : public ServerSuite {
     r.set_name("bad");
     const Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
     *r.add_tracks() = Keys("Neck", {0, 0.5}, {q, q}, {}, v1::LINEAR);
-    *r.add_tracks() = Keys("Head", {0, 0.5, 1}, {q, q, q}, {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
-                                                           Eigen::Vector3d::Zero()}, v1::LINEAR);
+    *r.add_tracks() = Keys("Head", {0, 0.5, 1}, {q, q, q},
+                           {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}, v1::LINEAR);
     return r;
   }
 };
@@ -44,99 +44,146 @@ std::vector<BadCase> MalformedKeyCases() {
   auto head = [](v1::CreateClipRequest& r) { return r.mutable_tracks(1); };
   const grpc::StatusCode invalid = grpc::StatusCode::INVALID_ARGUMENT;
   return {
-      {"unknown joint", [&](auto& r) { head(r)->set_joint("Haed"); }, invalid,
+      {"unknown joint",
+       [=](auto& r) { head(r)->set_joint("Haed"); },
+       invalid,
        {"tracks[1]", "'Haed'", "not on skeleton 'demo_walk'", "did you mean 'Head'"}},
-      {"unsorted times", [&](auto& r) { head(r)->set_times(2, 0.25); }, invalid,
+      {"unsorted times",
+       [=](auto& r) { head(r)->set_times(2, 0.25); },
+       invalid,
        {"tracks[1] (joint 'Head')", "key 2", "does not increase", "sorted"}},
-      {"duplicate times", [&](auto& r) { head(r)->set_times(1, 0); }, invalid, {"joint 'Head'", "key 1", "repeats key 0"}},
-      {"times equal as floats", [&](auto& r) { head(r)->set_times(2, 0.5 + 1e-9); }, invalid,
+      {"duplicate times",
+       [=](auto& r) { head(r)->set_times(1, 0); },
+       invalid,
+       {"joint 'Head'", "key 1", "repeats key 0"}},
+      {"times equal as floats",
+       [=](auto& r) { head(r)->set_times(2, 0.5 + 1e-9); },
+       invalid,
        {"joint 'Head'", "key 2", "32-bit float"}},
-      {"negative time", [&](auto& r) { head(r)->set_times(0, -1); }, invalid, {"joint 'Head'", "key 0", "negative"}},
-      {"NaN time", [&](auto& r) { head(r)->set_times(1, nan); }, invalid, {"joint 'Head'", "key 1", "not finite"}},
-      {"NaN rotation", [&](auto& r) { head(r)->set_rotations(5, nan); }, invalid,
+      {"negative time", [=](auto& r) { head(r)->set_times(0, -1); }, invalid, {"joint 'Head'", "key 0", "negative"}},
+      {"NaN time", [=](auto& r) { head(r)->set_times(1, nan); }, invalid, {"joint 'Head'", "key 1", "not finite"}},
+      {"NaN rotation",
+       [=](auto& r) { head(r)->set_rotations(5, nan); },
+       invalid,
        {"joint 'Head'", "key 1", "rotations", "not finite"}},
-      {"Inf translation", [&](auto& r) { head(r)->set_translations(8, inf); }, invalid,
+      {"Inf translation",
+       [=](auto& r) { head(r)->set_translations(8, inf); },
+       invalid,
        {"joint 'Head'", "key 2", "translations", "not finite"}},
-      {"non-unit quaternion", [&](auto& r) { head(r)->set_rotations(4, 1.01); }, invalid,
+      {"non-unit quaternion",
+       [=](auto& r) { head(r)->set_rotations(4, 1.01); },
+       invalid,
        {"joint 'Head'", "key 1", "not a unit quaternion", "norm 1.01"}},
       {"zero quaternion",
-       [&](auto& r) {
+       [=](auto& r) {
          for (int c = 0; c < 4; ++c) head(r)->set_rotations(8 + c, 0);
        },
-       invalid, {"joint 'Head'", "key 2", "not a unit quaternion"}},
-      {"rotation count", [&](auto& r) { head(r)->add_rotations(0); }, invalid,
+       invalid,
+       {"joint 'Head'", "key 2", "not a unit quaternion"}},
+      {"rotation count",
+       [=](auto& r) { head(r)->add_rotations(0); },
+       invalid,
        {"joint 'Head'", "rotations: 13 values for 3 keys", "4 per key (w, x, y, z)"}},
-      {"translation count", [&](auto& r) { head(r)->mutable_translations()->RemoveLast(); }, invalid,
+      {"translation count",
+       [=](auto& r) { head(r)->mutable_translations()->RemoveLast(); },
+       invalid,
        {"joint 'Head'", "translations: 8 values for 3 keys", "3 per key"}},
-      {"unknown interpolation", [&](auto& r) { head(r)->set_interpolation(static_cast<v1::Interpolation>(9)); },
-       invalid, {"tracks[1] (joint 'Head').interpolation", "9"}},
+      {"unknown interpolation",
+       [=](auto& r) { head(r)->set_interpolation(static_cast<v1::Interpolation>(9)); },
+       invalid,
+       {"tracks[1] (joint 'Head').interpolation", "9"}},
+  };
+}
+
+// The rotations given as Euler angles, tangents, and the track and request as a whole.
+std::vector<BadCase> MalformedTrackCases() {
+  auto head = [](v1::CreateClipRequest& r) { return r.mutable_tracks(1); };
+  const grpc::StatusCode invalid = grpc::StatusCode::INVALID_ARGUMENT;
+  return {
       {"unknown Euler order",
-       [&](auto& r) {
+       [=](auto& r) {
          head(r)->clear_rotations();
          for (int i = 0; i < 9; ++i) head(r)->add_euler(0);
          head(r)->set_euler_order("XQZ");
        },
-       invalid, {"joint 'Head'", "euler_order", "XQZ"}},
+       invalid,
+       {"joint 'Head'", "euler_order", "XQZ"}},
       {"Euler order with an axis twice",
-       [&](auto& r) {
+       [=](auto& r) {
          head(r)->clear_rotations();
          for (int i = 0; i < 9; ++i) head(r)->add_euler(0);
          head(r)->set_euler_order("XXX");
        },
-       invalid, {"joint 'Head'", "euler_order", "once each", "XXX"}},
+       invalid,
+       {"joint 'Head'", "euler_order", "once each", "XXX"}},
       {"proper Euler order",
-       [&](auto& r) {
+       [=](auto& r) {
          head(r)->clear_rotations();
          for (int i = 0; i < 9; ++i) head(r)->add_euler(0);
          head(r)->set_euler_order("zxz");
        },
-       invalid, {"joint 'Head'", "euler_order", "zxz"}},
+       invalid,
+       {"joint 'Head'", "euler_order", "zxz"}},
       {"Euler count",
-       [&](auto& r) {
+       [=](auto& r) {
          head(r)->clear_rotations();
          for (int i = 0; i < 8; ++i) head(r)->add_euler(0);
        },
-       invalid, {"joint 'Head'", "euler: 8 values for 3 keys"}},
-      {"rotations and Euler", [&](auto& r) { for (int i = 0; i < 9; ++i) head(r)->add_euler(0); }, invalid,
+       invalid,
+       {"joint 'Head'", "euler: 8 values for 3 keys"}},
+      {"rotations and Euler",
+       [=](auto& r) {
+         for (int i = 0; i < 9; ++i) head(r)->add_euler(0);
+       },
+       invalid,
        {"joint 'Head'", "both rotations and euler"}},
       {"tangents on a LINEAR track",
-       [&](auto& r) {
+       [=](auto& r) {
          for (int i = 0; i < 9; ++i) head(r)->mutable_translation_tangents()->add_in_tangents(0);
        },
-       invalid, {"joint 'Head'", "translation_tangents", "only for CUBIC"}},
+       invalid,
+       {"joint 'Head'", "translation_tangents", "only for CUBIC"}},
       {"tangent count",
-       [&](auto& r) {
+       [=](auto& r) {
          head(r)->set_interpolation(v1::CUBIC);
          for (int i = 0; i < 9; ++i) head(r)->mutable_translation_tangents()->add_in_tangents(0);
        },
-       invalid, {"joint 'Head'", "translation_tangents.outTangents: 0 values for 3 keys"}},
-      {"values without times", [&](auto& r) { head(r)->clear_times(); }, invalid, {"joint 'Head'", "without times"}},
+       invalid,
+       {"joint 'Head'", "translation_tangents.outTangents: 0 values for 3 keys"}},
+      {"values without times", [=](auto& r) { head(r)->clear_times(); }, invalid, {"joint 'Head'", "without times"}},
       {"times without values",
-       [&](auto& r) {
+       [=](auto& r) {
          head(r)->clear_rotations();
          head(r)->clear_translations();
        },
-       invalid, {"joint 'Head'", "times without values"}},
+       invalid,
+       {"joint 'Head'", "times without values"}},
       {"empty track without merge",
-       [&](auto& r) {
+       [=](auto& r) {
          head(r)->clear_rotations();
          head(r)->clear_translations();
          head(r)->clear_times();
        },
-       invalid, {"joint 'Head'", "no times", "merge"}},
-      {"a joint twice", [&](auto& r) { head(r)->set_joint("Neck"); }, invalid,
+       invalid,
+       {"joint 'Head'", "no times", "merge"}},
+      {"a joint twice",
+       [=](auto& r) { head(r)->set_joint("Neck"); },
+       invalid,
        {"tracks[1] (joint 'Neck')", "second entry"}},
-      {"no joint name", [&](auto& r) { head(r)->clear_joint(); }, invalid, {"tracks[1]", "joint is empty"}},
-      {"no tracks", [&](auto& r) { r.clear_tracks(); }, invalid, {"no keys"}},
-      {"no skeleton", [&](auto& r) { r.clear_skeleton(); }, invalid, {"skeleton", "required"}},
-      {"no name", [&](auto& r) { r.clear_name(); }, invalid, {"name"}},
-      {"unknown skeleton", [&](auto& r) { r.set_skeleton("demo_wlak"); }, grpc::StatusCode::NOT_FOUND,
+      {"no joint name", [=](auto& r) { head(r)->clear_joint(); }, invalid, {"tracks[1]", "joint is empty"}},
+      {"no tracks", [=](auto& r) { r.clear_tracks(); }, invalid, {"no keys"}},
+      {"no skeleton", [=](auto& r) { r.clear_skeleton(); }, invalid, {"skeleton", "required"}},
+      {"no name", [=](auto& r) { r.clear_name(); }, invalid, {"name"}},
+      {"unknown skeleton",
+       [=](auto& r) { r.set_skeleton("demo_wlak"); },
+       grpc::StatusCode::NOT_FOUND,
        {"skeleton 'demo_wlak'", "did you mean 'demo_walk'"}},
   };
 }
 
 TEST_F(CreateClipValidation, EachMalformedKeyIsNamed) {
-  const std::vector<BadCase> cases = MalformedKeyCases();
+  std::vector<BadCase> cases = MalformedKeyCases();
+  for (BadCase& c : MalformedTrackCases()) cases.push_back(std::move(c));
   client::Client client(OptionsFor(*server_));
   for (const BadCase& c : cases) {
     v1::CreateClipRequest r = Good();

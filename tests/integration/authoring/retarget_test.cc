@@ -51,7 +51,7 @@ std::vector<Frame> WorldPositions(client::Client& client, const std::string& cli
       Frame f;
       for (int k = 0; k < response.joints_size(); ++k)
         f[skeleton.joints(response.joints(k)).name()] = {pose.translations(3 * k), pose.translations(3 * k + 1),
-                                              pose.translations(3 * k + 2)};
+                                                         pose.translations(3 * k + 2)};
       out.push_back(std::move(f));
     }
   }
@@ -78,9 +78,8 @@ std::vector<Bone> RobotBones() {
 }
 
 std::vector<Bone> DemoBones() {
-  std::vector<Bone> b = {{"Hips", "Spine", "Hips", "Spine"},
-                         {"Spine", "Spine1", "Spine", "Chest"},
-                         {"Neck", "Head", "Neck", "Head"}};
+  std::vector<Bone> b = {
+      {"Hips", "Spine", "Hips", "Spine"}, {"Spine", "Spine1", "Spine", "Chest"}, {"Neck", "Head", "Neck", "Head"}};
   for (const std::string s : {"Left", "Right"}) {
     b.push_back({s + "Arm", s + "ForeArm", s + "Shoulder", s + "Elbow"});
     b.push_back({s + "ForeArm", s + "Hand", s + "Elbow", s + "Wrist"});
@@ -142,7 +141,8 @@ class Retarget : public ::testing::Test {
 // The largest angle between a target bone and the source's, after the one yaw
 // that best turns every source bone onto the target's (least squares on the
 // horizontal components), at 10 times.
-double MaxBoneAngle(client::Client& client, const std::string& clip, const std::vector<Bone>& bones, double* yaw_degrees) {
+double MaxBoneAngle(client::Client& client, const std::string& clip, const std::vector<Bone>& bones,
+                    double* yaw_degrees) {
   const double duration = client.GetClip("cmu").duration();
   std::vector<double> times;
   for (int i = 0; i < 10; ++i) times.push_back(duration * (i + 0.5) / 10);
@@ -211,7 +211,8 @@ double MaxPlantedDrift(client::Client& client, const std::string& clip, const Le
       if (end - i >= 4) {
         ++*stretches;
         for (size_t a = i; a < end; ++a)
-          for (size_t b = a + 1; b < end; ++b) worst = std::max(worst, (target[a].at(ta) - target[b].at(ta)).Norm() / lt);
+          for (size_t b = a + 1; b < end; ++b)
+            worst = std::max(worst, (target[a].at(ta) - target[b].at(ta)).Norm() / lt);
       }
       i = std::max(end, i + 1);
     }
@@ -244,9 +245,10 @@ TEST_F(Retarget, CmuOntoRobotExpressiveAndTheDemoCharacterKeepsBonesHipsAndPlant
     EXPECT_LT(drift, 0.01) << c.skeleton;
     const double hips_feet = MaxHipRatioError(client, with_feet.clip().name(), c.legs);
     EXPECT_LT(hips_feet, 0.05) << c.skeleton << " with feet";
-    std::printf("CMU 01_01 onto %s: max bone angle %.4f° (yaw %.1f°), hip ratio off the leg ratio by %.4f %% "
-                "(%.4f %% with feet), planted foot drift %.4f %% of the leg over %d stretches\n",
-                c.skeleton.c_str(), angle, yaw, 100 * hips, 100 * hips_feet, 100 * drift, stretches);
+    std::printf(
+        "CMU 01_01 onto %s: max bone angle %.4f° (yaw %.1f°), hip ratio off the leg ratio by %.4f %% "
+        "(%.4f %% with feet), planted foot drift %.4f %% of the leg over %d stretches\n",
+        c.skeleton.c_str(), angle, yaw, 100 * hips, 100 * hips_feet, 100 * drift, stretches);
   }
 }
 
@@ -302,7 +304,6 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
     client::Client client(OptionsFor(*server_));
 
     before = sample(client);
-
   }
   ASSERT_EQ(before.poses_size(), 1);
   // A restart on the same data dir.
@@ -342,7 +343,6 @@ TEST_F(Retarget, TheNewClipPersistsSkinsExportsWithMeshesAndOutlivesItsSource) {
     EXPECT_EQ(out.vertex_count(), m.vertex_count());
 
     ++skinned;
-
   }
   EXPECT_GT(skinned, 0);
   const auto glb = client.ExportClip(clip, "glb", true);
@@ -378,7 +378,8 @@ TEST_F(Retarget, TheClipBelongsToTheTargetAndBlendsAndSkinsWithItsOwnClips) {
   uint32_t most = 0;
   const auto meshes = client.ListMeshes();
   for (const auto& m : meshes.meshes())
-    if (m.skeleton() == "robot" && static_cast<uint32_t>(m.vertex_count()) > most) mesh = m.name(), most = m.vertex_count();
+    if (m.skeleton() == "robot" && static_cast<uint32_t>(m.vertex_count()) > most)
+      mesh = m.name(), most = m.vertex_count();
   ASSERT_FALSE(mesh.empty());
   auto skin = [&](double idle_weight) {
     v1::SkinMeshRequest s;
@@ -405,7 +406,7 @@ TEST_F(Retarget, TheClipBelongsToTheTargetAndBlendsAndSkinsWithItsOwnClips) {
     same = std::max<double>(same, std::abs(layered.positions(k) - alone.positions(k)));
     moved = std::max<double>(moved, std::abs(blended.positions(k) - alone.positions(k)));
   }
-  EXPECT_LT(same, 1e-5);  // at weight 0 the Idle layer changes nothing
+  EXPECT_LT(same, 1e-5);   // at weight 0 the Idle layer changes nothing
   EXPECT_GT(moved, 1e-3);  // at 0.5 it does
   std::printf("rt0 on %s (%u vertices): weight-0 Idle layer off by %.2g, weight 0.5 moves vertices up to %.3g\n",
               mesh.c_str(), most, same, moved);
@@ -438,12 +439,14 @@ TEST_F(Retarget, BadInputIsInvalidArgumentNamingIt) {
       << unknown_source.error_message();
   const auto onto_two = call("robot", {{"LeftArm", "UpperArmL"}, {"RightArm", "UpperArmL"}});
   EXPECT_EQ(onto_two.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_NE(onto_two.error_message().find("map[1]: target joint 'UpperArmL' is already mapped from 'LeftArm' by map[0]"),
-            std::string::npos)
+  EXPECT_NE(
+      onto_two.error_message().find("map[1]: target joint 'UpperArmL' is already mapped from 'LeftArm' by map[0]"),
+      std::string::npos)
       << onto_two.error_message();
   const auto from_one = call("robot", {{"LeftArm", "UpperArmL"}, {"LeftArm", "UpperArmR"}});
   EXPECT_EQ(from_one.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_NE(from_one.error_message().find("map[1]: source joint 'LeftArm' already drives 'UpperArmL'"), std::string::npos)
+  EXPECT_NE(from_one.error_message().find("map[1]: source joint 'LeftArm' already drives 'UpperArmL'"),
+            std::string::npos)
       << from_one.error_message();
   // A target without legs: an arm of two joints, mapped explicitly.
   TempDir dir;
@@ -460,17 +463,18 @@ TEST_F(Retarget, BadInputIsInvalidArgumentNamingIt) {
 
 TEST_F(Retarget, RestPostsToClipRetarget) {
   httplib::Client http("127.0.0.1", server_->http_port());
-  const auto ok = http.Post("/v1/clips/cmu:retarget",
-                            R"({"skeleton":"demo_character","name":"rest_retarget","map":[{"source":"Neck1","target":"Neck"}]})",
-                            "application/json");
+  const auto ok =
+      http.Post("/v1/clips/cmu:retarget",
+                R"({"skeleton":"demo_character","name":"rest_retarget","map":[{"source":"Neck1","target":"Neck"}]})",
+                "application/json");
   ASSERT_TRUE(ok);
   ASSERT_EQ(ok->status, 200) << ok->body;
   const auto body = nlohmann::json::parse(ok->body);
   EXPECT_EQ(body["clip"]["name"], "rest_retarget");
   EXPECT_EQ(body["asset"]["name"], "rest_retarget");
   EXPECT_EQ(body["mapping"].size(), 19u);
-  const auto bad = http.Post("/v1/clips/cmu:retarget", R"({"skeleton":"robot","map":[{"source":"Nope","target":"Head"}]})",
-                             "application/json");
+  const auto bad = http.Post("/v1/clips/cmu:retarget",
+                             R"({"skeleton":"robot","map":[{"source":"Nope","target":"Head"}]})", "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400) << bad->body;
   EXPECT_NE(bad->body.find("map[0].source: unknown joint 'Nope'"), std::string::npos) << bad->body;

@@ -33,7 +33,8 @@ const char kKeys[] = R"({"tracks":[{"joint":"Head","times":[0,0.5],
 
 TEST_F(CliCreateClip, ACubicClipReportsCubic) {
   const std::string file = WriteTemp(files_, "cubic.json", R"({"tracks":[{"joint":"Head","times":[0,0.5,1],
-    "euler":[0,0,0, 25,0,0, 0,0,0],"interpolation":"CUBIC"}]})").string();
+    "euler":[0,0,0, 25,0,0, 0,0,0],"interpolation":"CUBIC"}]})")
+                               .string();
   const CommandResult r = Cli({"create-clip", "--skeleton", "demo_walk", "--keys", file, "--name", "nod"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json out = json::parse(r.out);
@@ -72,9 +73,9 @@ TEST_F(CliCreateClip, KeysFileMakesAClipPrintedAsImportDoes) {
   const CommandResult again = Cli({"create-clip", "--skeleton", "demo_walk", "--keys", file, "--name", "nod"});
   EXPECT_NE(again.exit_code, 0);
   EXPECT_NE(again.err.find("ALREADY_EXISTS"), std::string::npos) << again.err;
-  const std::string later = WriteTemp(files_, "later.json",
-                                      R"({"tracks":[{"joint":"Head","times":[0,2],"rotations":[1,0,0,0,1,0,0,0]}]})")
-                                .string();
+  const std::string later =
+      WriteTemp(files_, "later.json", R"({"tracks":[{"joint":"Head","times":[0,2],"rotations":[1,0,0,0,1,0,0,0]}]})")
+          .string();
   const CommandResult merged = Cli({"create-clip", "--keys", later, "--name", "nod", "--merge"});
   ASSERT_EQ(merged.exit_code, 0) << merged.err;
   EXPECT_DOUBLE_EQ(json::parse(merged.out)["clip"]["duration"].get<double>(), 2.0);
@@ -85,9 +86,10 @@ TEST_F(CliCreateClip, BadKeysFilesExitNonZeroNamingTheProblem) {
   const CommandResult a = Cli({"create-clip", "--skeleton", "demo_walk", "--keys", not_json, "--name", "x"});
   EXPECT_NE(a.exit_code, 0);
   EXPECT_NE(a.err.find("bad.json"), std::string::npos) << a.err;
-  const std::string unsorted = WriteTemp(files_, "unsorted.json",
-                                         R"({"tracks":[{"joint":"Head","times":[0.5,0],"rotations":[1,0,0,0,1,0,0,0]}]})")
-                                   .string();
+  const std::string unsorted =
+      WriteTemp(files_, "unsorted.json",
+                R"({"tracks":[{"joint":"Head","times":[0.5,0],"rotations":[1,0,0,0,1,0,0,0]}]})")
+          .string();
   const CommandResult b = Cli({"create-clip", "--skeleton", "demo_walk", "--keys", unsorted, "--name", "x"});
   EXPECT_NE(b.exit_code, 0);
   EXPECT_NE(b.err.find("INVALID_ARGUMENT"), std::string::npos) << b.err;
@@ -99,17 +101,19 @@ TEST_F(CliCreateClip, RestRouteTakesTheSameJson) {
   json request = json::parse(kKeys);
   request["name"] = "viarest";
   const std::string body = WriteTemp(files_, "rest.json", request.dump()).string();
-  const std::string url = "http://127.0.0.1:" + std::to_string(server_.http_port()) +
-                          "/v1/skeletons/demo_walk:createClip";
+  const std::string url =
+      "http://127.0.0.1:" + std::to_string(server_.http_port()) + "/v1/skeletons/demo_walk:createClip";
   const CommandResult r = RunCommand("curl -s -X POST -H 'Content-Type: application/json' --data-binary @" +
                                      ShellQuote(body) + " " + ShellQuote(url));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json out = json::parse(r.out);
   EXPECT_EQ(out["clip"]["name"], "viarest") << r.out;
   EXPECT_EQ(out["asset"]["name"], "viarest") << r.out;
-  const CommandResult bad = RunCommand("curl -s -o /dev/null -w '%{http_code}' -X POST -H 'Content-Type: "
-                                       "application/json' -d '{\"name\":\"b\",\"tracks\":[{\"joint\":\"Nope\",\"times\":[0],"
-                                       "\"rotations\":[1,0,0,0]}]}' " + ShellQuote(url));
+  const CommandResult bad = RunCommand(
+      "curl -s -o /dev/null -w '%{http_code}' -X POST -H 'Content-Type: "
+      "application/json' -d '{\"name\":\"b\",\"tracks\":[{\"joint\":\"Nope\",\"times\":[0],"
+      "\"rotations\":[1,0,0,0]}]}' " +
+      ShellQuote(url));
   EXPECT_EQ(bad.out, "400");
 }
 

@@ -60,8 +60,7 @@ TEST_F(CliFiles, ExportWritesGltfWhenTheNameOrFormatSaysSo) {
   ASSERT_EQ(forced.exit_code, 0) << forced.err;
   EXPECT_EQ(ReadFile(Out("a.bvh")).substr(0, 4), "glTF");
   // --with-meshes: the demo character's body and its skin come along.
-  const CommandResult body =
-      Cli({"export", "demo_character.walk", "-o", Out("walk.gltf").string(), "--with-meshes"});
+  const CommandResult body = Cli({"export", "demo_character.walk", "-o", Out("walk.gltf").string(), "--with-meshes"});
   ASSERT_EQ(body.exit_code, 0) << body.err;
   const json character = json::parse(ReadFile(Out("walk.gltf")));
   ASSERT_EQ(character["meshes"].size(), 1u);
@@ -134,18 +133,19 @@ TEST_F(CliFiles, SkinWritesAnObjThatImportsBack) {
       float x, y, z;
       in >> x >> y >> z;
       // The first vertex exactly (shortest round-trip text), the others by count.
-      if (v == 0) EXPECT_EQ((std::vector<float>{x, y, z}), (std::vector<float>(skinned.positions().begin(),
-                                                                                 skinned.positions().begin() + 3)));
+      if (v == 0)
+        EXPECT_EQ((std::vector<float>{x, y, z}),
+                  (std::vector<float>(skinned.positions().begin(), skinned.positions().begin() + 3)));
       ++v;
     }
     if (tag == "vn") ++vn;
     if (tag == "f") {
-      if (f == 0) EXPECT_EQ(line, "f " + std::to_string(geometry.triangles(0) + 1) + "//" +
-                                      std::to_string(geometry.triangles(0) + 1) + " " +
-                                      std::to_string(geometry.triangles(1) + 1) + "//" +
-                                      std::to_string(geometry.triangles(1) + 1) + " " +
-                                      std::to_string(geometry.triangles(2) + 1) + "//" +
-                                      std::to_string(geometry.triangles(2) + 1));
+      if (f == 0)
+        EXPECT_EQ(line,
+                  "f " + std::to_string(geometry.triangles(0) + 1) + "//" + std::to_string(geometry.triangles(0) + 1) +
+                      " " + std::to_string(geometry.triangles(1) + 1) + "//" +
+                      std::to_string(geometry.triangles(1) + 1) + " " + std::to_string(geometry.triangles(2) + 1) +
+                      "//" + std::to_string(geometry.triangles(2) + 1));
       ++f;
     }
   }
@@ -156,8 +156,8 @@ TEST_F(CliFiles, SkinWritesAnObjThatImportsBack) {
   ASSERT_EQ(back.exit_code, 0) << back.err;
   EXPECT_EQ(json::parse(back.out)["meshes"][0]["vertexCount"], skinned.vertex_count());
 
-  const CommandResult ply =
-      Cli({"skin", "demo_character.body", "--clip", "demo_character.walk", "--time", "0.5", "-o", Out("w.ply").string()});
+  const CommandResult ply = Cli(
+      {"skin", "demo_character.body", "--clip", "demo_character.walk", "--time", "0.5", "-o", Out("w.ply").string()});
   EXPECT_EQ(ply.exit_code, 1);
   EXPECT_NE(ply.err.find("name a .obj file"), std::string::npos) << ply.err;
   EXPECT_FALSE(fs::exists(Out("w.ply")));

@@ -34,11 +34,11 @@ class CliFlags : public ::testing::Test {
 TEST_F(CliFlags, GlobalOptionsGoBeforeOrAfterTheSubcommand) {
   const std::string target = server_.target();
   // Before, after, and around the subcommand's own arguments: the same answer.
-  for (const auto& args : std::vector<std::vector<std::string>>{
-           {"--server", target, "--json", "--timeout", "5", "list"},
-           {"list", "--server", target, "--json", "--timeout", "5"},
-           {"--json", "list", "--server", target},
-           {"list", "--timeout", "5", "--json", "--server=" + target}}) {
+  for (const auto& args :
+       std::vector<std::vector<std::string>>{{"--server", target, "--json", "--timeout", "5", "list"},
+                                             {"list", "--server", target, "--json", "--timeout", "5"},
+                                             {"--json", "list", "--server", target},
+                                             {"list", "--timeout", "5", "--json", "--server=" + target}}) {
     const CommandResult r = Cli(args);
     ASSERT_EQ(r.exit_code, 0) << args[0] << " " << args[1] << ": " << r.err;
     EXPECT_EQ(json::parse(r.out)["assets"][0]["name"], "arm") << r.out;
@@ -102,8 +102,8 @@ TEST(BuildInfo, VersionOnBothBinariesAndInMetrics) {
 
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  const std::string sample = std::string("armature_build_info{version=\"") + build_info::kVersion +
-                             "\",commit=\"" + build_info::kCommit + "\"}";
+  const std::string sample = std::string("armature_build_info{version=\"") + build_info::kVersion + "\",commit=\"" +
+                             build_info::kCommit + "\"}";
   EXPECT_EQ(ScrapeSample(server, sample), 1);
 }
 

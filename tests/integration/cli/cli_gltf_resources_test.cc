@@ -74,10 +74,12 @@ TEST_F(CliGltfResources, OnlyFilesInTheGltfsFolderAreUploaded) {
   EXPECT_EQ(AssetNames(client), std::set<std::string>{"inside"}) << "a refused import reached the server";
 
   // The user may lift the rule for a file they mean to send.
-  const auto allowed = RunCli(server.target(), {"import", "--allow-outside-resources", WriteGltf("allowed", "../secret.bin")});
+  const auto allowed =
+      RunCli(server.target(), {"import", "--allow-outside-resources", WriteGltf("allowed", "../secret.bin")});
   EXPECT_EQ(allowed.exit_code, 0) << allowed.err;
-  const auto absolute = RunCli(server.target(), {"import", "--allow-outside-resources",
-                                                 WriteGltf("absolute", "file://" + (files_.path() / "secret.bin").string())});
+  const auto absolute =
+      RunCli(server.target(), {"import", "--allow-outside-resources",
+                               WriteGltf("absolute", "file://" + (files_.path() / "secret.bin").string())});
   EXPECT_EQ(absolute.exit_code, 0) << absolute.err;
   EXPECT_EQ(AssetNames(client), (std::set<std::string>{"inside", "allowed", "absolute"}));
 }

@@ -43,15 +43,17 @@ TEST_F(CliMotion, SkinWithAOneLayerMotionPrintsWhatTheClipDoes) {
     ASSERT_NEAR(a["positions"][i].get<double>(), b["positions"][i].get<double>(), 1e-3) << i;
   // Exactly one of --clip and --motion.
   EXPECT_NE(Cli({"skin", "demo_character.body", "--time", "0.7"}).exit_code, 0);
-  EXPECT_NE(Cli({"skin", "demo_character.body", "--clip", "demo_walk", "--motion", file, "--time", "0.7"}).exit_code, 0);
+  EXPECT_NE(Cli({"skin", "demo_character.body", "--clip", "demo_walk", "--motion", file, "--time", "0.7"}).exit_code,
+            0);
 }
 
 // One JSON line per frame, as `stream CLIP`, each the pose `pose --motion`
 // gives at the frame's time; EXTRACT adds the root's delta since the previous frame.
 TEST_F(CliMotion, StreamAMotionPrintsFramesAsPoseDoes) {
-  const std::string file = MotionFile(
-      "extract.json", {{"layers", {{{"clip", "demo_walk"}}, {{"clip", "demo_walk"}, {"timeOffset", 0.5}, {"weight", 0.5}}}},
-                       {"rootMotion", "EXTRACT"}});
+  const std::string file =
+      MotionFile("extract.json",
+                 {{"layers", {{{"clip", "demo_walk"}}, {{"clip", "demo_walk"}, {"timeOffset", 0.5}, {"weight", 0.5}}}},
+                  {"rootMotion", "EXTRACT"}});
   const CommandResult r = Cli({"stream", "--motion", file, "--fps", "60", "--duration", "0.1", "--speed", "5"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::istringstream lines(r.out);

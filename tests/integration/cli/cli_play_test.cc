@@ -17,9 +17,9 @@ using nlohmann::json;
 TEST(CliPlay, CrossfadesToTheNextClipAndPrintsTheWeights) {
   TempDir data;
   ServerProcess server(data.path());
-  const CommandResult r = RunCli(server.target(), {"play", "demo_walk", "demo_walk", "--then", "demo_walk", "--at",
-                                                   "0.1", "--crossfade", "0.2", "--fps", "30", "--duration", "0.6",
-                                                   "--joints", "Hips", "--json"});
+  const CommandResult r =
+      RunCli(server.target(), {"play", "demo_walk", "demo_walk", "--then", "demo_walk", "--at", "0.1", "--crossfade",
+                               "0.2", "--fps", "30", "--duration", "0.6", "--joints", "Hips", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::vector<json> frames;
   std::istringstream lines(r.out);

@@ -48,8 +48,12 @@ struct Served {
   std::unique_ptr<v1::DeformService::Stub> stub;
 
   Served(const TempDir& data, std::vector<std::string> args)
-      : server(data.path(), std::move(args)), client(OptionsFor(server)), stub(v1::DeformService::NewStub(client.channel())) {}
-  v1::DeformResponse Call(const v1::DeformRequest& r) { return client.Call(&v1::DeformService::Stub::Deform, *stub, r); }
+      : server(data.path(), std::move(args)),
+        client(OptionsFor(server)),
+        stub(v1::DeformService::NewStub(client.channel())) {}
+  v1::DeformResponse Call(const v1::DeformRequest& r) {
+    return client.Call(&v1::DeformService::Stub::Deform, *stub, r);
+  }
   double Metric(const std::string& name) { return Scrape(server).at(name); }
 };
 
@@ -106,7 +110,8 @@ TEST_F(DeformCache, RepeatedLaplacianSetupHitsAndIsBitIdenticalToAFreshSolve) {
   EXPECT_EQ(s.Metric(kHits), 2);
   EXPECT_EQ(s.Metric(kMisses), 1);
   EXPECT_EQ(s.Metric(kEntries), 1);
-  EXPECT_FALSE(SameBits(first, dragged)) << "the second target must change the answer for the comparison to mean anything";
+  EXPECT_FALSE(SameBits(first, dragged))
+      << "the second target must change the answer for the comparison to mean anything";
   const uint32_t h = edit_.handles[0];
   EXPECT_EQ(dragged.positions(static_cast<int>(3 * h)), static_cast<float>(edit_.targets[0] - 0.2));
   EXPECT_TRUE(SameBits(dragged, Fresh(b)));
@@ -181,7 +186,8 @@ TEST_F(DeformCache, AMeshReimportedUnderTheSameNameIsNeverAnsweredFromItsOldFact
     EXPECT_GT(largest, 0.1);
     // Fixed vertices sit at the rest positions of the mesh served now.
     for (uint32_t f : edit_.fixed)
-      for (int a = 0; a < 3; ++a) EXPECT_EQ(answer->positions(static_cast<int>(3 * f) + a), geometry->positions[3 * f + a]);
+      for (int a = 0; a < 3; ++a)
+        EXPECT_EQ(answer->positions(static_cast<int>(3 * f) + a), geometry->positions[3 * f + a]);
   }
 }
 

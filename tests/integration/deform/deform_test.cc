@@ -53,7 +53,8 @@ class Deform : public ::testing::Test {
 };
 
 TEST_F(Deform, UnaryMatchesScipyForBothWeightings) {
-  if (!fixtures::ScipyAvailable()) GTEST_SKIP() << "/usr/bin/python3 with scipy is not installed (scripts/setup.sh test)";
+  if (!fixtures::ScipyAvailable())
+    GTEST_SKIP() << "/usr/bin/python3 with scipy is not installed (scripts/setup.sh test)";
   const Edit e = BumpEdit(grid_);
   for (auto [weights, name] : {std::pair{v1::UNIFORM, "uniform"}, std::pair{v1::COTANGENT, "cotangent"}}) {
     const TempDir scratch;
@@ -170,7 +171,8 @@ TEST_F(Deform, SessionAnswersEveryMoveWithHandlesOnTarget) {
       v1::DeformResponse r;
       ASSERT_TRUE(stream->Read(&r)) << "move " << k;
       EXPECT_EQ(r.index(), static_cast<uint64_t>(k));
-      for (int a = 0; a < 3; ++a) EXPECT_EQ(r.positions(static_cast<int>(3 * h) + a), static_cast<float>(target[a])) << k;
+      for (int a = 0; a < 3; ++a)
+        EXPECT_EQ(r.positions(static_cast<int>(3 * h) + a), static_cast<float>(target[a])) << k;
       for (uint32_t f : e.fixed)
         for (int a = 0; a < 3; ++a) EXPECT_EQ(r.positions(static_cast<int>(3 * f) + a), grid_.positions[3 * f + a]);
       if (method == v1::LAPLACIAN && k == 60) {  // the session's answer is the unary answer for the same targets
@@ -308,7 +310,8 @@ TEST_F(Deform, CliPrintsTheGrpcPositionsAsJson) {
   for (uint32_t v : e.fixed) fixed += (fixed.empty() ? "" : ",") + std::to_string(v);
   char handle[160];
   std::snprintf(handle, sizeof handle, "%u=%.17g,%.17g,%.17g", e.handles[0], e.targets[0], e.targets[1], e.targets[2]);
-  const auto r = RunCli(server_->target(), {"deform", mesh_, "--weights", "cotan", "--fixed", fixed, "--handle", handle, "--json"});
+  const auto r = RunCli(server_->target(),
+                        {"deform", mesh_, "--weights", "cotan", "--fixed", fixed, "--handle", handle, "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json j = json::parse(r.out);
   EXPECT_EQ(j["mesh"], mesh_);

@@ -33,8 +33,10 @@ class ForwardedStream {
     if (::bind(fd_, reinterpret_cast<sockaddr*>(&from), sizeof(from)) != 0 ||
         ::connect(fd_, reinterpret_cast<sockaddr*>(&to), sizeof(to)) != 0)
       return;
-    const std::string request = "GET /v1/clips/arm:stream?loop=true&fps=10 HTTP/1.1\r\nHost: 127.0.0.1\r\n"
-                                "X-Forwarded-For: " + forwarded_for + "\r\n\r\n";
+    const std::string request =
+        "GET /v1/clips/arm:stream?loop=true&fps=10 HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+        "X-Forwarded-For: " +
+        forwarded_for + "\r\n\r\n";
     (void)!::send(fd_, request.data(), request.size(), MSG_NOSIGNAL);
     // Until the first frame, or the refusal's body.
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
@@ -59,8 +61,8 @@ class ForwardedStream {
 
 TEST(ForwardedFor, ATrustedProxysClientsCountApart) {
   TempDir data;
-  ServerProcess server(data.path(), {"--no-demo", "--max-streams-per-client", "1", "--trust-forwarded-for",
-                                     "127.0.0.1/32"});
+  ServerProcess server(data.path(),
+                       {"--no-demo", "--max-streams-per-client", "1", "--trust-forwarded-for", "127.0.0.1/32"});
   client::Client(OptionsFor(server)).Import({"arm.bvh", kArmBvh});
   const int port = server.http_port();
 
@@ -84,8 +86,9 @@ TEST(ForwardedFor, ATrustedProxysClientsCountApart) {
 
 TEST(ForwardedFor, AMalformedNetworkStopsTheServer) {
   TempDir data;
-  const CommandResult r = RunCommand(std::string(ARMATURE_SERVER_BIN) + " --trust-forwarded-for 10.0.0.0/33 --data-dir " +
-                                     ShellQuote(data.path().string()));
+  const CommandResult r =
+      RunCommand(std::string(ARMATURE_SERVER_BIN) + " --trust-forwarded-for 10.0.0.0/33 --data-dir " +
+                 ShellQuote(data.path().string()));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE((r.out + r.err).find("10.0.0.0/33"), std::string::npos) << r.out << r.err;
   EXPECT_NE((r.out + r.err).find("prefix length must be 0 to 32"), std::string::npos) << r.out << r.err;

@@ -210,8 +210,8 @@ TEST_F(Gateway, EvaluateGivesTheSameNumbersAsGrpc) {
     }
   }
   // Proto field names work too, and enums by number.
-  const auto r = http.Post("/v1/clips/demo_walk:evaluate", R"({"times":[0.5],"space":2,"joints":["Hips"]})",
-                           "application/json");
+  const auto r =
+      http.Post("/v1/clips/demo_walk:evaluate", R"({"times":[0.5],"space":2,"joints":["Hips"]})", "application/json");
   ASSERT_EQ(r->status, 200) << r->body;
   EXPECT_EQ(Body(r)["space"], "WORLD");
   EXPECT_EQ(Body(r)["joints"], json::array({0}));
@@ -231,8 +231,8 @@ TEST_F(Gateway, ImportEvaluateAndDeleteAnAssetOverRest) {
   ASSERT_EQ(asset["clips"].size(), 1u);
   EXPECT_EQ(asset["clips"][0]["frames"], 2);
 
-  ExpectError(http.Post("/v1/assets:import?filename=chain.bvh&name=chain", kChainBvh, "application/octet-stream"),
-              409, grpc::StatusCode::ALREADY_EXISTS, "chain");
+  ExpectError(http.Post("/v1/assets:import?filename=chain.bvh&name=chain", kChainBvh, "application/octet-stream"), 409,
+              grpc::StatusCode::ALREADY_EXISTS, "chain");
   ExpectError(http.Post("/v1/assets:import?filename=bad.bvh", "HIERARCHY\nROOT\n", "application/octet-stream"), 400,
               grpc::StatusCode::INVALID_ARGUMENT, "line");
 
@@ -245,7 +245,8 @@ TEST_F(Gateway, ImportEvaluateAndDeleteAnAssetOverRest) {
   const std::vector<double> rotations = {1, 0, 0, 0, c, s, 0, 0};
   ASSERT_EQ(pose["translations"].size(), translations.size());
   ASSERT_EQ(pose["rotations"].size(), rotations.size());
-  for (size_t i = 0; i < translations.size(); ++i) EXPECT_NEAR(pose["translations"][i].get<double>(), translations[i], 1e-6);
+  for (size_t i = 0; i < translations.size(); ++i)
+    EXPECT_NEAR(pose["translations"][i].get<double>(), translations[i], 1e-6);
   for (size_t i = 0; i < rotations.size(); ++i) EXPECT_NEAR(pose["rotations"][i].get<double>(), rotations[i], 1e-6);
 
   const auto deleted = http.Delete("/v1/clips/chain");  // additional binding of DeleteAsset
@@ -275,8 +276,9 @@ TEST_F(Gateway, StreamIsServerSentEventsAtTheRequestedRate) {
   client::Client grpc = GrpcClient(server);
   const double fps = 20, speed = 0.5, duration = 1;
   // Repeated fields as repeated parameters, enums by name.
-  const std::string path = "/v1/clips/demo_walk:stream?fps=20&speed=0.5&duration=1&startTime=0.25&space=WORLD"
-                           "&joints=Hips&joints=Head";
+  const std::string path =
+      "/v1/clips/demo_walk:stream?fps=20&speed=0.5&duration=1&startTime=0.25&space=WORLD"
+      "&joints=Hips&joints=Head";
   std::string text;
   std::string content_type;
   const auto r = http.Get(
@@ -378,9 +380,9 @@ TEST_F(Gateway, ErrorsHaveTheirStatusAndShape) {
   const std::string padding(2000, ' ');
   ExpectError(http.Post("/v1/clips/demo_walk:evaluate", R"({"times":[0.5]})" + padding, "application/json"), 413,
               G::RESOURCE_EXHAUSTED, "--max-request-kb");
-  ExpectError(http.Post("/v1/assets:import?filename=big.bvh", std::string((1 << 20) + 1, 'x'),
-                        "application/octet-stream"),
-              413, G::RESOURCE_EXHAUSTED, "--max-upload-mb");
+  ExpectError(
+      http.Post("/v1/assets:import?filename=big.bvh", std::string((1 << 20) + 1, 'x'), "application/octet-stream"), 413,
+      G::RESOURCE_EXHAUSTED, "--max-upload-mb");
   // The server is fine afterwards.
   EXPECT_EQ(http.Get("/v1/clips")->status, 200);
   // A request id comes back.
@@ -395,10 +397,10 @@ TEST_F(Gateway, CorsForConfiguredOriginsOnly) {
   auto http = Http(server);
 
   // The flag wins over the environment (CLI11); the env form is checked below.
-  const auto preflight = http.Options("/v1/clips/demo_walk:evaluate",
-                                      {{"Origin", "http://app.example"},
-                                       {"Access-Control-Request-Method", "POST"},
-                                       {"Access-Control-Request-Headers", "content-type"}});
+  const auto preflight =
+      http.Options("/v1/clips/demo_walk:evaluate", {{"Origin", "http://app.example"},
+                                                    {"Access-Control-Request-Method", "POST"},
+                                                    {"Access-Control-Request-Headers", "content-type"}});
   ASSERT_TRUE(preflight);
   EXPECT_EQ(preflight->status, 204);
   EXPECT_EQ(preflight->get_header_value("Access-Control-Allow-Origin"), "http://app.example");
@@ -410,7 +412,8 @@ TEST_F(Gateway, CorsForConfiguredOriginsOnly) {
   EXPECT_EQ(get->status, 200);
   EXPECT_EQ(get->get_header_value("Access-Control-Allow-Origin"), "http://app.example");
 
-  const auto foreign = http.Options("/v1/clips", {{"Origin", "http://evil.example"}, {"Access-Control-Request-Method", "GET"}});
+  const auto foreign =
+      http.Options("/v1/clips", {{"Origin", "http://evil.example"}, {"Access-Control-Request-Method", "GET"}});
   ExpectError(foreign, 403, grpc::StatusCode::PERMISSION_DENIED, "evil.example");
   EXPECT_FALSE(foreign->has_header("Access-Control-Allow-Origin"));
   EXPECT_FALSE(http.Get("/v1/clips", {{"Origin", "http://evil.example"}})->has_header("Access-Control-Allow-Origin"));
@@ -436,7 +439,8 @@ TEST_F(Gateway, SlowAndVanishedStreamClientsBlockNobody) {
   // 16 HTTP threads leave 12 stream slots and 4 threads for everything else.
   ServerProcess server(data_.path(), {"--http-threads", "16"});
   const std::string request =
-      "GET /v1/clips/demo_walk:stream?fps=60&loop=true HTTP/1.1\r\nHost: localhost\r\nAccept: text/event-stream\r\n\r\n";
+      "GET /v1/clips/demo_walk:stream?fps=60&loop=true HTTP/1.1\r\nHost: localhost\r\nAccept: "
+      "text/event-stream\r\n\r\n";
   const int slots = 12;
   std::vector<std::unique_ptr<RawClient>> clients;
   for (int i = 0; i < slots; ++i) {
@@ -550,7 +554,9 @@ TEST_F(Gateway, OpenApiIsGeneratedFromTheDescriptors) {
   // Every annotated RPC is there.
   int operations = 0;
   for (const auto& [path, methods] : doc["paths"].items()) operations += static_cast<int>(methods.size());
-  EXPECT_EQ(operations, 31);  // 15 asset and pose routes (EvaluateMotion, PlaybackSession among them), Deform + DeformSession, SolveIk + IkSession, MeshService's 10 (SkinCharacter, GetMaterial, GetMaterialImage), AuthoringService's 2 (RetargetClip, CreateClip)
+  EXPECT_EQ(operations, 31);  // 15 asset and pose routes (EvaluateMotion, PlaybackSession among them), Deform +
+                              // DeformSession, SolveIk + IkSession, MeshService's 10 (SkinCharacter, GetMaterial,
+                              // GetMaterialImage), AuthoringService's 2 (RetargetClip, CreateClip)
   EXPECT_TRUE(doc["paths"]["/v1/clips/{clip}:retarget"]["post"].is_object());
   EXPECT_TRUE(doc["paths"]["/v1/meshes/{mesh}:deform"]["post"].is_object());
   EXPECT_TRUE(doc["paths"]["/v1/skeletons/{skeleton}:createClip"]["post"].is_object());

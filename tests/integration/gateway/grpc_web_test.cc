@@ -88,8 +88,8 @@ GrpcWebAnswer Call(httplib::Client& http, const std::string& path, const std::st
                    httplib::Headers headers = {}, const std::string& content_type = "") {
   headers.emplace("X-Grpc-Web", "1");
   const std::string type = !content_type.empty() ? content_type
-                           : text               ? "application/grpc-web-text"
-                                                : "application/grpc-web+proto";
+                           : text                ? "application/grpc-web-text"
+                                                 : "application/grpc-web+proto";
   const auto r = http.Post(path, headers, text ? ToBase64(body) : body, type);
   GrpcWebAnswer a;
   if (!r) return a;
@@ -214,8 +214,8 @@ TEST_F(GrpcWeb, StreamClipSendsEveryFrameTheGrpcStreamSends) {
 TEST_F(GrpcWeb, ErrorsArriveAsTrailersWithTheMessage) {
   ServerProcess server(data_.path());
   auto http = Http(server);
-  const auto missing = Call(http, "/armature.v1.PoseService/EvaluateClip",
-                            Frame(EvaluateRequest("no such clip%").SerializeAsString()));
+  const auto missing =
+      Call(http, "/armature.v1.PoseService/EvaluateClip", Frame(EvaluateRequest("no such clip%").SerializeAsString()));
   EXPECT_EQ(missing.http_status, 200);
   EXPECT_TRUE(missing.messages.empty());
   EXPECT_EQ(missing.code(), 5);
@@ -305,9 +305,10 @@ TEST_F(GrpcWeb, AuthLimitsAndCorsAreTheGatewayOnes) {
   EXPECT_EQ(too_big.code(), 8);
   EXPECT_NE(too_big.message().find("--max-request-kb"), std::string::npos) << too_big.message();
 
-  const auto preflight = http.Options(path, {{"Origin", "http://app.example"},
-                                             {"Access-Control-Request-Method", "POST"},
-                                             {"Access-Control-Request-Headers", "content-type,x-grpc-web,x-user-agent"}});
+  const auto preflight =
+      http.Options(path, {{"Origin", "http://app.example"},
+                          {"Access-Control-Request-Method", "POST"},
+                          {"Access-Control-Request-Headers", "content-type,x-grpc-web,x-user-agent"}});
   ASSERT_TRUE(preflight);
   EXPECT_EQ(preflight->status, 204);
   EXPECT_EQ(preflight->get_header_value("Access-Control-Allow-Methods"), "POST, OPTIONS");
@@ -369,12 +370,14 @@ TEST_F(GrpcWeb, BinaryRestTakesAndGivesProtobuf) {
 TEST_F(GrpcWeb, CallsCountInTheMetricsAndAVanishedStreamClientCancelsItsCall) {
   ServerProcess server(data_.path());
   auto http = Http(server);
-  const std::string evaluated = R"(armature_rpc_requests_total{method="armature.v1.PoseService/EvaluateClip",code="OK"})";
+  const std::string evaluated =
+      R"(armature_rpc_requests_total{method="armature.v1.PoseService/EvaluateClip",code="OK"})";
   const double before = std::max(0.0, ScrapeSample(server, evaluated));
   for (int i = 0; i < 3; ++i)
-    ASSERT_EQ(Call(http, "/armature.v1.PoseService/EvaluateClip", Frame(EvaluateRequest("demo_walk").SerializeAsString()))
-                  .code(),
-              0);
+    ASSERT_EQ(
+        Call(http, "/armature.v1.PoseService/EvaluateClip", Frame(EvaluateRequest("demo_walk").SerializeAsString()))
+            .code(),
+        0);
   EXPECT_EQ(ScrapeSample(server, evaluated), before + 3);
 
   v1::StreamClipRequest req;
@@ -388,9 +391,10 @@ TEST_F(GrpcWeb, CallsCountInTheMetricsAndAVanishedStreamClientCancelsItsCall) {
   addr.sin_port = htons(static_cast<uint16_t>(server.http_port()));
   addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
-  const std::string request = "POST /armature.v1.PoseService/StreamClip HTTP/1.1\r\nHost: localhost\r\n"
-                              "Content-Type: application/grpc-web+proto\r\nContent-Length: " +
-                              std::to_string(body.size()) + "\r\n\r\n" + body;
+  const std::string request =
+      "POST /armature.v1.PoseService/StreamClip HTTP/1.1\r\nHost: localhost\r\n"
+      "Content-Type: application/grpc-web+proto\r\nContent-Length: " +
+      std::to_string(body.size()) + "\r\n\r\n" + body;
   ASSERT_EQ(::send(fd, request.data(), request.size(), MSG_NOSIGNAL), static_cast<ssize_t>(request.size()));
   std::string got;
   char buf[4096];
@@ -405,7 +409,8 @@ TEST_F(GrpcWeb, CallsCountInTheMetricsAndAVanishedStreamClientCancelsItsCall) {
   ::close(fd);
   EXPECT_TRUE(WaitFor([&] { return ScrapeSample(server, streaming) == 0; }, 30))
       << "the stream's call was not cancelled when its client went away";
-  EXPECT_EQ(ScrapeSample(server, R"(armature_rpc_requests_total{method="armature.v1.PoseService/StreamClip",code="CANCELLED"})"),
+  EXPECT_EQ(ScrapeSample(
+                server, R"(armature_rpc_requests_total{method="armature.v1.PoseService/StreamClip",code="CANCELLED"})"),
             1);
 }
 

@@ -58,11 +58,11 @@ TEST(JsonReplyBound, AJsonAnswerOverTheLimitIsRefusedBeforeTheWorkAndTheBinaryOn
   const std::string message = error.value("message", "");
   for (const std::string& fragment : std::vector<std::string>{
            "EvaluateClip: the answer would take about ", " MiB as JSON (" + std::to_string(times) + " times x ",
-        "over the message limit of 1.0 MiB (--max-message-mb)", "Accept: application/x-protobuf", "StreamClip"})
+           "over the message limit of 1.0 MiB (--max-message-mb)", "Accept: application/x-protobuf", "StreamClip"})
     EXPECT_NE(message.find(fragment), std::string::npos) << fragment << " not in: " << message;
 
-  const auto binary = http.Post("/v1/clips/demo_walk:evaluate", {{"Accept", "application/x-protobuf"}}, body,
-                                "application/json");
+  const auto binary =
+      http.Post("/v1/clips/demo_walk:evaluate", {{"Accept", "application/x-protobuf"}}, body, "application/json");
   ASSERT_TRUE(binary);
   ASSERT_EQ(binary->status, 200) << binary->body.substr(0, 300);
   v1::EvaluateClipResponse response;

@@ -93,7 +93,8 @@ TEST_F(MultipartImport, MultiFileGltfGivesTheSameAssetAsGrpc) {
   auto http = Http(server);
   int compared = 0;
   std::string available;  // a sample found, for the checks after the loop
-  for (const std::string relative : {"gltf/SimpleMorph/SimpleMorph.gltf", "gltf/AnimatedMorphCube/AnimatedMorphCube.gltf"}) {
+  for (const std::string relative :
+       {"gltf/SimpleMorph/SimpleMorph.gltf", "gltf/AnimatedMorphCube/AnimatedMorphCube.gltf"}) {
     const std::string path = SharedData(relative);
     if (path.empty()) {
       std::printf("SKIP part: %s not found in the shared data\n", relative.c_str());
@@ -139,7 +140,8 @@ TEST_F(MultipartImport, MultiFileGltfGivesTheSameAssetAsGrpc) {
     }
     ++compared;
   }
-  if (compared == 0) GTEST_SKIP() << "no multi-file glTF sample in the shared data (gltf/SimpleMorph, gltf/AnimatedMorphCube)";
+  if (compared == 0)
+    GTEST_SKIP() << "no multi-file glTF sample in the shared data (gltf/SimpleMorph, gltf/AnimatedMorphCube)";
 
   // An explicit name, and `replace` as a form field, reach the import.
   const GltfFiles sample = ReadSample(available);
@@ -184,11 +186,11 @@ TEST_F(MultipartImportErrors, EachNamesTheProblem) {
               grpc::StatusCode::INVALID_ARGUMENT, "'body.bin'");
   // A second .gltf part.
   ExpectError(PostForm(http, {File("a.gltf", character_.gltf), File("body.bin", character_.bin),
-                                  File("b.GLTF", character_.gltf)}),
+                              File("b.GLTF", character_.gltf)}),
               400, grpc::StatusCode::INVALID_ARGUMENT, "'a.gltf' and 'b.GLTF' are both .gltf files");
   // Two files of one name.
   ExpectError(PostForm(http, {File("c.gltf", character_.gltf), File("body.bin", character_.bin),
-                                  File("body.bin", character_.bin)}),
+                              File("body.bin", character_.bin)}),
               400, grpc::StatusCode::INVALID_ARGUMENT, "two files are named 'body.bin'");
   // Several files and no .gltf.
   ExpectError(PostForm(http, {File("x.bin", "1"), File("y.bin", "2")}), 400, grpc::StatusCode::INVALID_ARGUMENT,
@@ -197,15 +199,15 @@ TEST_F(MultipartImportErrors, EachNamesTheProblem) {
   ExpectError(PostForm(http, {Field("name", "nothing")}), 400, grpc::StatusCode::INVALID_ARGUMENT, "no file part");
   // A field the parts set, and a field the request does not have.
   ExpectError(PostForm(http, {File("d.gltf", character_.gltf), File("body.bin", character_.bin),
-                                  Field("resource", "body.bin")}),
+                              Field("resource", "body.bin")}),
               400, grpc::StatusCode::INVALID_ARGUMENT, "'resource'");
-  ExpectError(PostForm(http, {File("e.gltf", character_.gltf), File("body.bin", character_.bin),
-                                  Field("colour", "red")}),
-              400, grpc::StatusCode::INVALID_ARGUMENT, "form field 'colour'");
+  ExpectError(
+      PostForm(http, {File("e.gltf", character_.gltf), File("body.bin", character_.bin), Field("colour", "red")}), 400,
+      grpc::StatusCode::INVALID_ARGUMENT, "form field 'colour'");
   // A bad value is named as a form field too.
-  ExpectError(PostForm(http, {File("f.gltf", character_.gltf), File("body.bin", character_.bin),
-                                  Field("replace", "maybe")}),
-              400, grpc::StatusCode::INVALID_ARGUMENT, "form field");
+  ExpectError(
+      PostForm(http, {File("f.gltf", character_.gltf), File("body.bin", character_.bin), Field("replace", "maybe")}),
+      400, grpc::StatusCode::INVALID_ARGUMENT, "form field");
 
   // A single file part needs no .gltf: a BVH from a browser's file input.
   const auto bvh = PostForm(http, {File("arm.bvh", kArmBvh)});
@@ -216,8 +218,9 @@ TEST_F(MultipartImportErrors, EachNamesTheProblem) {
   ExpectError(http.Post("/v1/clips/arm.arm:evaluate", httplib::MultipartFormDataItems{Field("times", "0")}), 415,
               grpc::StatusCode::INVALID_ARGUMENT, "does not take multipart/form-data");
   // A malformed form: the boundary in the header is not the body's.
-  ExpectError(http.Post(kImport, "--other\r\nContent-Disposition: form-data; name=\"files\"; filename=\"x.bvh\"\r\n\r\n" +
-                                     std::string(kArmBvh) + "\r\n--other--\r\n",
+  ExpectError(http.Post(kImport,
+                        "--other\r\nContent-Disposition: form-data; name=\"files\"; filename=\"x.bvh\"\r\n\r\n" +
+                            std::string(kArmBvh) + "\r\n--other--\r\n",
                         "multipart/form-data; boundary=expected"),
               400, grpc::StatusCode::INVALID_ARGUMENT, "malformed");
 
@@ -237,13 +240,12 @@ TEST_F(MultipartImportErrors, TheLimitCountsEveryPartAndNameAndNamesThePart) {
 
   // Each part fits, together they do not: the second is named.
   const std::string half(kLimit / 2 + 1, 'x');
-  ExpectError(PostForm(http, {File("g.gltf", half), File("big.bin", half)}), 413,
-              grpc::StatusCode::RESOURCE_EXHAUSTED, "form part 'big.bin' (field 'files')");
+  ExpectError(PostForm(http, {File("g.gltf", half), File("big.bin", half)}), 413, grpc::StatusCode::RESOURCE_EXHAUSTED,
+              "form part 'big.bin' (field 'files')");
   // The contents fit with 100 bytes to spare, the names do not.
   const std::string bvh = std::string(kArmBvh) + std::string(kLimit - 100 - std::string(kArmBvh).size(), '\n');
   const std::string long_name = std::string(120, 'n') + ".bvh";
-  ExpectError(PostForm(http, {File(long_name, bvh)}), 413, grpc::StatusCode::RESOURCE_EXHAUSTED,
-              "--max-upload-mb");
+  ExpectError(PostForm(http, {File(long_name, bvh)}), 413, grpc::StatusCode::RESOURCE_EXHAUSTED, "--max-upload-mb");
   // With a short name the same content imports: the names made the difference. The
   // body on the wire (boundaries, part headers) is over the limit: framing does not count.
   const std::string boundary = "fits-the-limit";
@@ -259,7 +261,9 @@ TEST_F(MultipartImportErrors, TheLimitCountsEveryPartAndNameAndNamesThePart) {
   for (int i = 0; i <= 1024; ++i) many.push_back(File("p" + std::to_string(i) + ".bin", ""));
   ExpectError(PostForm(http, many), 413, grpc::StatusCode::RESOURCE_EXHAUSTED, "more than 1024 parts");
   // The same two files over gRPC are refused by the same limit.
-  EXPECT_EQ(CodeOf([&] { client.Import({"h.gltf", half}, "", "", false, {{"big.bin", half}}); }),
+  EXPECT_EQ(CodeOf([&] {
+              client.Import({"h.gltf", half}, "", "", false, {{"big.bin", half}});
+            }),
             grpc::StatusCode::RESOURCE_EXHAUSTED);
   EXPECT_EQ(AssetNames(client), (std::set<std::string>{"short"}));
 }
@@ -277,8 +281,7 @@ TEST_F(MultipartImportErrors, NeedsTheTokenAndIsCounted) {
   ASSERT_EQ(ok->status, 200) << ok->body;
   ExpectError(PostForm(http, {File("tok2.gltf", character_.gltf)}, {{"Authorization", "Bearer form-token-1"}}), 400,
               grpc::StatusCode::INVALID_ARGUMENT, "'body.bin'");
-  const auto metrics = ParseSamples(
-      http.Get("/metrics", {{"Authorization", "Bearer form-token-1"}})->body);
+  const auto metrics = ParseSamples(http.Get("/metrics", {{"Authorization", "Bearer form-token-1"}})->body);
   const std::string method = "armature.v1.AssetService/ImportAsset";
   EXPECT_EQ(metrics.at("armature_rpc_requests_total{method=\"" + method + "\",code=\"OK\"}"), 1);
   EXPECT_EQ(metrics.at("armature_rpc_requests_total{method=\"" + method + "\",code=\"INVALID_ARGUMENT\"}"), 1);

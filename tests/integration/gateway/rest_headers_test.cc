@@ -47,9 +47,10 @@ TEST(RestHeaders, AnUploadWithoutATokenIsRefusedBeforeItsBody) {
   const auto tokens = WriteTemp(files, "tokens", "secret-token\n");
   ServerProcess server(data.path(), {"--no-demo", "--auth-token-file", tokens.string(), "--max-upload-mb", "512"});
   // 200 MB announced, none sent: the 401 comes from the headers alone.
-  const std::string answer = AnswerToHeaders(
-      server.http_port(), "POST /v1/assets:import?filename=a.bvh HTTP/1.1\r\nHost: x\r\n"
-                          "Content-Type: application/octet-stream\r\nContent-Length: 209715200\r\n\r\n");
+  const std::string answer =
+      AnswerToHeaders(server.http_port(),
+                      "POST /v1/assets:import?filename=a.bvh HTTP/1.1\r\nHost: x\r\n"
+                      "Content-Type: application/octet-stream\r\nContent-Length: 209715200\r\n\r\n");
   // AnswerToHeaders never sends a body byte: any answer at all came from the headers.
   EXPECT_EQ(answer.rfind("HTTP/1.1 401", 0), 0u) << answer;
   EXPECT_NE(answer.find("\"code\":16"), std::string::npos) << answer;  // UNAUTHENTICATED
@@ -59,9 +60,10 @@ TEST(RestHeaders, AnUploadWithoutATokenIsRefusedBeforeItsBody) {
 TEST(RestHeaders, TwoContentLengthsAreABadRequest) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
-  const std::string answer = AnswerToHeaders(
-      server.http_port(), "POST /v1/clips/arm:evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-                          "Content-Length: 2\r\nContent-Length: 40\r\n\r\n");
+  const std::string answer =
+      AnswerToHeaders(server.http_port(),
+                      "POST /v1/clips/arm:evaluate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+                      "Content-Length: 2\r\nContent-Length: 40\r\n\r\n");
   EXPECT_EQ(answer.rfind("HTTP/1.1 400", 0), 0u) << answer;
   EXPECT_NE(answer.find("Content-Length"), std::string::npos) << answer;
 }

@@ -65,13 +65,14 @@ struct SlowConnection {
 };
 
 // One header byte at a time: a request head that never ends.
-constexpr char kSlowHead[] = "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa";
+constexpr char kSlowHead[] =
+    "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa";
 
 TEST(SlowClients, SlowHeadsAreCutAndOneAddressHoldsAFew) {
   constexpr int kConnections = 300, kPerAddress = 64;
   TempDir data;
-  ServerProcess server(data.path(), {"--http-head-timeout", "3", "--http-max-connections-per-address",
-                                     std::to_string(kPerAddress)});
+  ServerProcess server(data.path(),
+                       {"--http-head-timeout", "3", "--http-max-connections-per-address", std::to_string(kPerAddress)});
   std::vector<SlowConnection> slow(kConnections);
   // In a burst: the listen backlog holds them until they are accepted.
   for (auto& c : slow) {
@@ -141,10 +142,12 @@ TEST(SlowClients, SlowHeadsAreCutAndOneAddressHoldsAFew) {
 TEST(SlowClients, ASlowTlsHandshakeIsCutAtTheHeadDeadline) {
   TempDir data, files;
   const auto cert = files.path() / "server.crt", key = files.path() / "server.key";
-  const CommandResult made = RunCommand("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=localhost -keyout " +
-                                        ShellQuote(key.string()) + " -out " + ShellQuote(cert.string()));
+  const CommandResult made =
+      RunCommand("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=localhost -keyout " +
+                 ShellQuote(key.string()) + " -out " + ShellQuote(cert.string()));
   ASSERT_EQ(made.exit_code, 0) << made.err;
-  ServerProcess server(data.path(), {"--tls-cert", cert.string(), "--tls-key", key.string(), "--http-head-timeout", "2"});
+  ServerProcess server(data.path(),
+                       {"--tls-cert", cert.string(), "--tls-key", key.string(), "--http-head-timeout", "2"});
   SlowConnection c;
   c.fd = ConnectFrom("127.0.0.2", server.http_port());
   ASSERT_GE(c.fd, 0);

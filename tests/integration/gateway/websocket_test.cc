@@ -63,8 +63,10 @@ class WsClient {
     addr.sin_port = htons(static_cast<uint16_t>(port));
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     if (::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) return;
-    std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n"
-                          "Connection: Upgrade\r\nSec-WebSocket-Key: " + std::string(kKey) + "\r\n";
+    std::string request = "GET " + path +
+                          " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n"
+                          "Connection: Upgrade\r\nSec-WebSocket-Key: " +
+                          std::string(kKey) + "\r\n";
     bool version = false;
     for (const auto& h : headers) {
       request += h + "\r\n";
@@ -246,15 +248,19 @@ TEST_F(WebSocketSession, IkSessionAnswersEqualTheGrpcSessionInJsonAndBinaryFrame
     *first.mutable_start() = drag.start;
     first.mutable_start()->clear_skeleton();  // the path names it
     auto send = [&](const v1::IkSessionRequest& r) {
-      if (binary) ws.Send(0x2, r.SerializeAsString());
-      else ws.SendText(Json(r));
+      if (binary)
+        ws.Send(0x2, r.SerializeAsString());
+      else
+        ws.SendText(Json(r));
     };
     auto receive = [&]() {
       const Frame f = ws.Receive();
       EXPECT_EQ(f.opcode, binary ? 0x2 : 0x1) << f.payload.substr(0, 200);
       v1::SolveIkResponse answer;
-      if (binary) EXPECT_TRUE(answer.ParseFromString(f.payload));
-      else answer = FromJson<v1::SolveIkResponse>(f.payload);
+      if (binary)
+        EXPECT_TRUE(answer.ParseFromString(f.payload));
+      else
+        answer = FromJson<v1::SolveIkResponse>(f.payload);
       return answer;
     };
     send(first);
@@ -315,8 +321,8 @@ TEST_F(WebSocketSession, DeformSessionAnswersEqualTheGrpcSession) {
   for (int i = 1; i <= 5; ++i) {
     v1::DeformSessionRequest move;
     for (int k = 0; k < 3; ++k) move.mutable_move()->add_positions(rest.positions(h * 3 + k) + 0.02 * i * (k + 1));
-    const v1::DeformResponse expected = grpc_session->Move(std::vector<double>(move.move().positions().begin(),
-                                                                                move.move().positions().end()));
+    const v1::DeformResponse expected =
+        grpc_session->Move(std::vector<double>(move.move().positions().begin(), move.move().positions().end()));
     ws.Send(0x2, move.SerializeAsString());  // binary this time
     f = ws.Receive();
     ASSERT_EQ(f.opcode, 0x2);
@@ -495,7 +501,8 @@ TEST_F(WebSocketSession, PlaybackSessionStreamsPacedFramesAndTakesCommandsBeside
   ws.SendClose(1000);
   // Frames already on their way may come first; then the close.
   Frame f;
-  do f = ws.Receive(); while (f.opcode == 0x1);
+  do f = ws.Receive();
+  while (f.opcode == 0x1);
   EXPECT_EQ(f.opcode, 0x8);
   EXPECT_EQ(f.close_code(), 1000);
 }
@@ -505,9 +512,10 @@ TEST_F(WebSocketSession, PlaybackSessionStreamsPacedFramesAndTakesCommandsBeside
 CommandResult RunTlsClient(const TempDir& data, const std::string& script) {
   TempDir files;
   const auto cert = files.path() / "server.crt", key = files.path() / "server.key";
-  const CommandResult made = RunCommand("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=localhost"
-                                        " -addext subjectAltName=DNS:localhost,IP:127.0.0.1 -keyout " +
-                                        ShellQuote(key.string()) + " -out " + ShellQuote(cert.string()));
+  const CommandResult made = RunCommand(
+      "openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=localhost"
+      " -addext subjectAltName=DNS:localhost,IP:127.0.0.1 -keyout " +
+      ShellQuote(key.string()) + " -out " + ShellQuote(cert.string()));
   if (made.exit_code != 0) return made;
   ServerProcess server(data.path(), {"--tls-cert", cert.string(), "--tls-key", key.string()});
   return RunCommand(std::string(ARMATURE_PYTHON) + " " +

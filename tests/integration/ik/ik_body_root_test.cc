@@ -34,9 +34,9 @@ class IkBodyRoot : public ::testing::Test {
     if (robot.empty()) GTEST_SKIP() << "../shared/data (RobotExpressive.glb) is absent";
     if (std::system("node --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "node is not installed";
     const std::string glb = (files_.path() / "mixamo.glb").string();
-    const CommandResult made = RunCommand("node " + ShellQuote(std::string(ARMATURE_TEST_DIR) +
-                                                               "/../web/test/mixamo_rig.mjs") +
-                                          " " + ShellQuote(robot) + " " + ShellQuote(glb));
+    const CommandResult made =
+        RunCommand("node " + ShellQuote(std::string(ARMATURE_TEST_DIR) + "/../web/test/mixamo_rig.mjs") + " " +
+                   ShellQuote(robot) + " " + ShellQuote(glb));
     ASSERT_EQ(made.exit_code, 0) << made.err;
     server_ = std::make_unique<ServerProcess>(data_.path());
     client_ = std::make_unique<client::Client>(OptionsFor(*server_));
@@ -84,8 +84,7 @@ TEST_F(IkBodyRoot, AHandReachOnAMixamoStyleRigLeavesTheHipsAndFeetStill) {
     moved = std::max(moved, (At3(response.world().translations(), j) - At3(clip_world_.translations(), j)).norm());
     turned = std::max(turned, Rotation(response.world(), j).angularDistance(Rotation(clip_world_, j)));
   }
-  const double hand_moved =
-      (At3(response.world().translations(), hand) - At3(clip_world_.translations(), hand)).norm();
+  const double hand_moved = (At3(response.world().translations(), hand) - At3(clip_world_.translations(), hand)).norm();
   std::printf("  hand moved %.3f (hip height %.3f); body, hips, legs and feet moved %.3g and turned %.3g°\n",
               hand_moved, height, moved, turned * 180 / std::numbers::pi);
   EXPECT_GT(hand_moved, 0.1 * height);

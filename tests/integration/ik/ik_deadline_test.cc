@@ -18,7 +18,8 @@ namespace {
 // A straight chain of `joints` joints up +Y, 1/joints long in all.
 std::string ChainBvh(int joints) {
   const std::string bone = std::to_string(1.0 / joints);
-  std::string bvh = "HIERARCHY\nROOT J0\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n";
+  std::string bvh =
+      "HIERARCHY\nROOT J0\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n";
   for (int i = 1; i < joints; ++i)
     bvh += "JOINT J" + std::to_string(i) + "\n{\nOFFSET 0 " + bone + " 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n";
   bvh += "End Site\n{\nOFFSET 0 " + bone + " 0\n}\n";

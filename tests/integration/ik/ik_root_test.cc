@@ -171,8 +171,8 @@ TEST_F(IkRoot, FreeRootOverRestAndTheCli) {
   // The CLI: the default keeps the hips (the first joint printed), --free-root frees them.
   char effector[96];
   std::snprintf(effector, sizeof effector, "LeftWrist=%.9g,%.9g,%.9g", far.x(), far.y(), far.z());
-  const std::vector<std::string> args = {"ik", "demo_walk", "-e", effector, "--from-clip", "demo_walk", "--time", "1",
-                                         "--json"};
+  const std::vector<std::string> args = {"ik",        "demo_walk", "-e", effector, "--from-clip",
+                                         "demo_walk", "--time",    "1",  "--json"};
   const auto cli_fixed = RunCli(server_->target(), args);
   ASSERT_EQ(cli_fixed.exit_code, 0) << cli_fixed.err;
   const json jf = json::parse(cli_fixed.out);

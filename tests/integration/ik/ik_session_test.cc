@@ -107,7 +107,8 @@ TEST_F(IkApi, DeadlineStopsTheSolve) {
   EXPECT_FALSE(stream->Read(&answer));
   EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::CANCELLED);
   double after = 0;
-  EXPECT_TRUE(ServerGoesQuiet(server.pid(), 0.3, &after)) << "the session's solve kept running after the cancel: " << after;
+  EXPECT_TRUE(ServerGoesQuiet(server.pid(), 0.3, &after))
+      << "the session's solve kept running after the cancel: " << after;
   std::printf("  session: server CPU %.3f s while solving, %.3f s in a 1 s window after the cancel\n", solving, after);
   EXPECT_TRUE(client.Healthy());
 }
@@ -168,9 +169,10 @@ TEST_F(IkApi, SessionFollowsADraggedHand) {
     ASSERT_TRUE(answer.converged());
     cold_total += answer.iterations();
   }
-  std::printf("  session: 60 updates converged, worst residual %.2e (bound %.2e); iterations per update: mean %.2f, "
-              "max %d; the same targets solved cold from the start pose: mean %.2f\n",
-              worst, bound, warm_total / 60.0, warm_most, cold_total / 60.0);
+  std::printf(
+      "  session: 60 updates converged, worst residual %.2e (bound %.2e); iterations per update: mean %.2f, "
+      "max %d; the same targets solved cold from the start pose: mean %.2f\n",
+      worst, bound, warm_total / 60.0, warm_most, cold_total / 60.0);
   EXPECT_LE(warm_most, 8) << "updates a few millimetres apart should take few iterations from the last pose";
   EXPECT_LT(warm_total, cold_total) << "warm starts should beat cold starts";
 }

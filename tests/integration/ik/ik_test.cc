@@ -175,8 +175,9 @@ TEST_F(IkApi, ThroughTheCli) {
   };
   // One and two effectors, starting from the clip 0.1 s earlier.
   for (int effectors : {1, 2}) {
-    std::vector<std::string> args = {"ik", "demo_walk", "--effector", arg("LeftWrist", wrist), "--from-clip",
-                                     "demo_walk", "--time", "1.0", "--json"};
+    std::vector<std::string> args = {"ik",          "demo_walk", "--effector", arg("LeftWrist", wrist),
+                                     "--from-clip", "demo_walk", "--time",     "1.0",
+                                     "--json"};
     if (effectors == 2) args.insert(args.begin() + 4, {"--effector", arg("RightAnkle", ankle)});
     const auto out = RunCli(server.target(), args);
     ASSERT_EQ(out.exit_code, 0) << out.err;
@@ -212,7 +213,8 @@ TEST_F(IkApi, ThroughTheCli) {
   EXPECT_EQ(f["converged"], false);
   EXPECT_EQ(f["residuals"][0]["reached"], false);
   // The table form, and a two-bone solve.
-  const auto table = RunCli(server.target(), {"ik", "demo_walk", "--solver", "two-bone", "-e", arg("RightAnkle", ankle)});
+  const auto table =
+      RunCli(server.target(), {"ik", "demo_walk", "--solver", "two-bone", "-e", arg("RightAnkle", ankle)});
   ASSERT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("converged"), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("RightAnkle"), std::string::npos) << table.out;
@@ -230,12 +232,12 @@ json Xyz(const Eigen::Vector3d& p) { return json::array({p.x(), p.y(), p.z()}); 
 
 // A JSON pose (proto3 JSON of v1::Pose) against the gRPC one, float by float.
 void ExpectSamePose(const json& rest, const v1::Pose& grpc, const std::string& what) {
-  for (const auto& [key, field] : {std::pair{"translations", &grpc.translations()},
-                                   std::pair{"rotations", &grpc.rotations()}}) {
+  for (const auto& [key, field] :
+       {std::pair{"translations", &grpc.translations()}, std::pair{"rotations", &grpc.rotations()}}) {
     ASSERT_EQ(rest[key].size(), static_cast<size_t>(field->size())) << what << " " << key;
     for (int i = 0; i < field->size(); ++i)
-      EXPECT_FLOAT_EQ(static_cast<float>(rest[key][i].get<double>()), (*field)[i]) << what << " " << key << "[" << i
-                                                                                   << "]";
+      EXPECT_FLOAT_EQ(static_cast<float>(rest[key][i].get<double>()), (*field)[i])
+          << what << " " << key << "[" << i << "]";
   }
 }
 
@@ -254,8 +256,7 @@ TEST_F(IkApi, ThroughTheGateway) {
                {"freeRoot", "ROOT_ROTATION"},
                {"effectors", json::array({{{"joint", "LeftWrist"}, {"targetPosition", Xyz(wrist)}}})}};
   for (int effectors : {1, 2}) {
-    if (effectors == 2)
-      body["effectors"].push_back({{"joint", "RightAnkle"}, {"targetPosition", Xyz(ankle)}});
+    if (effectors == 2) body["effectors"].push_back({{"joint", "RightAnkle"}, {"targetPosition", Xyz(ankle)}});
     const auto r = http.Post("/v1/skeletons/demo_walk:solveIk", body.dump(), "application/json");
     ASSERT_TRUE(r);
     ASSERT_EQ(r->status, 200) << r->body;
@@ -292,22 +293,25 @@ TEST_F(IkApi, ThroughTheGateway) {
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);
   EXPECT_NE(bad->body.find("effectors[0].target_position"), std::string::npos) << bad->body;
-  const auto far = http.Post("/v1/skeletons/demo_walk:solveIk",
-                             R"({"effectors":[{"joint":"LeftWrist","targetPosition":[0,5000,0]}]})", "application/json");
+  const auto far =
+      http.Post("/v1/skeletons/demo_walk:solveIk",
+                R"({"effectors":[{"joint":"LeftWrist","targetPosition":[0,5000,0]}]})", "application/json");
   ASSERT_TRUE(far);
   EXPECT_EQ(far->status, 200);
   EXPECT_EQ(json::parse(far->body)["converged"], false);
 
   // The session over the gateway: NDJSON messages in, one SSE answer each.
-  std::string ndjson = json({{"start", {{"fromClip", {{"clip", "demo_walk"}, {"time", t}}},
-                                        {"effectors", json::array({{{"joint", "LeftWrist"},
-                                                                    {"targetPosition", Xyz(wrist)}}})}}}})
-                           .dump() + "\n";
+  std::string ndjson =
+      json({{"start",
+             {{"fromClip", {{"clip", "demo_walk"}, {"time", t}}},
+              {"effectors", json::array({{{"joint", "LeftWrist"}, {"targetPosition", Xyz(wrist)}}})}}}})
+          .dump() +
+      "\n";
   std::vector<Eigen::Vector3d> targets = {wrist};
   for (int i = 1; i <= 10; ++i) {
     targets.push_back(wrist + Eigen::Vector3d(0, 0.5 * i, 1.0 * i));
-    ndjson += json({{"targets", json::array({{{"effector", 0}, {"targetPosition", Xyz(targets.back())}}})}}).dump() +
-              "\n";
+    ndjson +=
+        json({{"targets", json::array({{{"effector", 0}, {"targetPosition", Xyz(targets.back())}}})}}).dump() + "\n";
   }
   const auto session = http.Post("/v1/skeletons/demo_walk:ikSession", ndjson, "application/x-ndjson");
   ASSERT_TRUE(session);
@@ -371,7 +375,10 @@ std::vector<IkBadCase> IkBadCases() {
        "effectors[0].target_position"},
       {"2-value target", [](auto& r) { r.mutable_effectors(1)->mutable_target_position()->RemoveLast(); },
        G::INVALID_ARGUMENT, "effectors[1].target_position"},
-      {"zero rotation", [](auto& r) { for (int k = 0; k < 4; ++k) r.mutable_effectors(0)->add_target_rotation(0); },
+      {"zero rotation",
+       [](auto& r) {
+         for (int k = 0; k < 4; ++k) r.mutable_effectors(0)->add_target_rotation(0);
+       },
        G::INVALID_ARGUMENT, "effectors[0].target_rotation"},
       {"no effectors", [](auto& r) { r.clear_effectors(); }, G::INVALID_ARGUMENT, "effectors"},
       {"unknown skeleton", [](auto& r) { r.set_skeleton("nobody"); }, G::NOT_FOUND, "nobody"},
@@ -414,8 +421,8 @@ std::vector<IkBadCase> IkBadCases() {
       {"bad Euler order", [](auto& r) { r.add_limits()->set_order("XYW"); }, G::INVALID_ARGUMENT, "limits[0].order"},
       {"start pose of the wrong size", [](auto& r) { r.mutable_start_pose()->add_rotations(1); }, G::INVALID_ARGUMENT,
        "start_pose.rotations"},
-      {"start clip of another skeleton",
-       [](auto& r) { r.mutable_from_clip()->set_clip("stub"); }, G::INVALID_ARGUMENT, "from_clip.clip"},
+      {"start clip of another skeleton", [](auto& r) { r.mutable_from_clip()->set_clip("stub"); }, G::INVALID_ARGUMENT,
+       "from_clip.clip"},
       {"negative start time",
        [](auto& r) {
          r.mutable_from_clip()->set_clip("demo_walk");

@@ -67,9 +67,10 @@ TEST_F(ClipByName, DemoWalkSkinsTheDemoCharacter) {
     own.set_clip("demo_character.walk");
     const double own_difference = MaxDifference(actual.positions(), client.SkinMesh(own).positions());
     EXPECT_LT(own_difference, 1e-3) << "t=" << t;
-    std::printf("  t=%.1f: demo_walk on demo_character vs its EvaluateClip pose: %.2e cm (normals %.2e); vs "
-                "demo_character.walk: %.2e cm\n",
-                t, position, normal, own_difference);
+    std::printf(
+        "  t=%.1f: demo_walk on demo_character vs its EvaluateClip pose: %.2e cm (normals %.2e); vs "
+        "demo_character.walk: %.2e cm\n",
+        t, position, normal, own_difference);
   }
 
   // Streamed: the first frame is the unary answer at time 0.

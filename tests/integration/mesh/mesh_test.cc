@@ -134,11 +134,11 @@ void ExpectSkinningAtTimes(const CesiumMan& cm, double duration) {
       EXPECT_LE(MaxAbsDifference(got.normals(), normals), 1e-5) << "t=" << t << " method=" << method;
     }
   }
-
 }
 
 // Bad input names the field.
-void ExpectBadSkinRequestsNamed(Client& client, const v1::SkinMeshRequest& request, const v1::SkinMeshRequest& by_pose) {
+void ExpectBadSkinRequestsNamed(Client& client, const v1::SkinMeshRequest& request,
+                                const v1::SkinMeshRequest& by_pose) {
   auto call = [&](v1::SkinMeshRequest r) { return [&client, r] { client.SkinMesh(r); }; };
   v1::SkinMeshRequest bad = request;
   bad.set_mesh("nope");
@@ -164,7 +164,6 @@ void ExpectBadSkinRequestsNamed(Client& client, const v1::SkinMeshRequest& reque
   bad = request;
   bad.clear_clip();
   EXPECT_EQ(CodeOf(call(bad)), grpc::StatusCode::INVALID_ARGUMENT);
-
 }
 
 // A stream: frames at the requested pacing, each equal to SkinMesh at its time.
@@ -186,7 +185,8 @@ void ExpectSkinnedStream(const CesiumMan& cm) {
     ++frames;
     return true;
   });
-  EXPECT_EQ(frames, 6);}
+  EXPECT_EQ(frames, 6);
+}
 
 TEST_F(Meshes, CesiumManSkinnedByTheServerEqualsTheEngine) {
   const fs::path file = SharedData("gltf/cesium_man.gltf");
@@ -268,7 +268,8 @@ TEST_F(Meshes, MorphTargetsAnimatedByTheClipThroughTheCli) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo"});
   client::Client client(OptionsFor(server));
-  for (const std::string relative : {"gltf/AnimatedMorphCube/AnimatedMorphCube.gltf", "gltf/SimpleMorph/SimpleMorph.gltf"}) {
+  for (const std::string relative :
+       {"gltf/AnimatedMorphCube/AnimatedMorphCube.gltf", "gltf/SimpleMorph/SimpleMorph.gltf"}) {
     const fs::path file = SharedData(relative);
     if (file.empty()) GTEST_SKIP() << relative << " not found";
     const std::string name = file.stem().string();

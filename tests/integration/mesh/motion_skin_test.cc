@@ -54,7 +54,8 @@ TEST_F(MotionSkin, OneLayerMotionSkinsAsItsClip) {
   late.set_time(0.5);
   const auto e = Skin(early), l = Skin(late);
   double moved = 0;
-  for (int i = 0; i < e.positions_size(); ++i) moved = std::max(moved, double(std::abs(e.positions(i) - l.positions(i))));
+  for (int i = 0; i < e.positions_size(); ++i)
+    moved = std::max(moved, double(std::abs(e.positions(i) - l.positions(i))));
   EXPECT_GT(moved, 10.0);
 }
 

@@ -44,7 +44,8 @@ class SkinCharacterSuite : public ServerSuite {
       if (mesh.skeleton() == skeleton_) meshes_.insert(mesh.name());
   }
   void RequireRobot() {
-    if (running_.empty()) GTEST_SKIP() << kRobot << " (clip Running) not found in the shared data (ARMATURE_SHARED_DATA)";
+    if (running_.empty())
+      GTEST_SKIP() << kRobot << " (clip Running) not found in the shared data (ARMATURE_SHARED_DATA)";
   }
   // Expects `got` to equal SkinMesh of the same mesh posed by `request`, exactly.
   static void ExpectEqualsSkinMesh(const v1::SkinMeshResponse& got, v1::SkinMeshRequest request) {

@@ -33,7 +33,8 @@ constexpr int kWideJoints = 1 + kChains * kChainJoints;
 // The 2,001-joint skeleton of the issue, every joint turning a little each frame.
 std::string WideBvh(int frames) {
   std::ostringstream bvh;
-  bvh << "HIERARCHY\nROOT Root\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n";
+  bvh << "HIERARCHY\nROOT Root\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation "
+         "Yrotation\n";
   for (int c = 0; c < kChains; ++c) {
     for (int j = 0; j < kChainJoints; ++j)
       bvh << "JOINT C" << c << "J" << j << "\n{\nOFFSET 0.1 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n";
@@ -164,7 +165,8 @@ TEST(HeavyWork, HealthAndCheapCallsAnswerWithinASecondWhileHeavyMotionsRun) {
   auto calls = StartMotions(server, LayeredMotion("wide", 32, 3000), 4, std::chrono::seconds(10));
   // Two running at least (all four once they sit on the pool; two held gRPC's threads before).
   ASSERT_TRUE(WaitFor([&] { return ScrapeSample(server, kInFlight) >= 2; }, 30)) << kInFlight;
-  auto health = grpc::health::v1::Health::NewStub(grpc::CreateChannel(server.target(), grpc::InsecureChannelCredentials()));
+  auto health =
+      grpc::health::v1::Health::NewStub(grpc::CreateChannel(server.target(), grpc::InsecureChannelCredentials()));
   client::ClientOptions o = OptionsFor(server);
   o.timeout = std::chrono::seconds(60);
   client::Client client(o);
@@ -180,8 +182,10 @@ TEST(HeavyWork, HealthAndCheapCallsAnswerWithinASecondWhileHeavyMotionsRun) {
     const double rest = SecondsTaken([&] {
       EXPECT_EQ(HttpGet("http://127.0.0.1:" + std::to_string(server.http_port()) + "/v1/clips").status, 200);
     });
-    std::printf("  round %d, 4 heavy EvaluateMotion running: Health/Check %.3f s, ListClips %.3f s, "
-                "GET /v1/clips %.3f s\n", round, check, list, rest);
+    std::printf(
+        "  round %d, 4 heavy EvaluateMotion running: Health/Check %.3f s, ListClips %.3f s, "
+        "GET /v1/clips %.3f s\n",
+        round, check, list, rest);
     EXPECT_LT(check, 1.0);
     EXPECT_LT(list, 1.0);
     EXPECT_LT(rest, 1.0);
@@ -234,8 +238,7 @@ grpc::Status PlayUntilEnd(const ServerProcess& server, const std::vector<v1::Pla
   for (const v1::PlaybackCommand& c : commands) stream->Write(c);
   stream->WritesDone();
   v1::PlaybackFrame frame;
-  while (stream->Read(&frame)) {
-  }
+  while (stream->Read(&frame)) {}
   return stream->Finish();
 }
 

@@ -93,12 +93,9 @@ class MotionLoop : public ServerSuite {
     EXPECT_GT(vertical, 1e-3 * scale) << clip << ": the vertical bob stays";
   }
   static bool HasRobot() { return !SharedData("gltf/RobotExpressive/RobotExpressive.glb").empty(); }
-
 };
 
-TEST_F(MotionLoop, DemoWalkAccumulateDoesNotJumpAtTheLoopPoint) {
-  ExpectNoJumpAtLoopPoints("demo_walk", "Hips", 20);
-}
+TEST_F(MotionLoop, DemoWalkAccumulateDoesNotJumpAtTheLoopPoint) { ExpectNoJumpAtLoopPoints("demo_walk", "Hips", 20); }
 
 TEST_F(MotionLoop, DemoWalkInPlaceKeepsTheRootHorizontallyStill) { ExpectInPlace("demo_walk", "Hips"); }
 

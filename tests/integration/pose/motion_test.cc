@@ -140,16 +140,20 @@ TEST_F(Motion, BadMotionsNameTheLayer) {
 TEST_F(Motion, RestRouteTakesTheDocumentedJsonNames) {
   httplib::Client http("127.0.0.1", server_->http_port());
   http.set_read_timeout(60);
-  const json body = {
-      {"motion",
-       {{"layers",
-         {{{"clip", "demo_walk"}, {"mode", "OVERRIDE"}, {"wrap", "LOOP"}, {"timeOffset", 0}},
-          {{"clip", "demo_walk"}, {"weight", 0.5}, {"speed", 2}, {"mode", "ADDITIVE"}, {"referenceTime", 0.2},
-           {"mask", {"LeftShoulder"}}, {"wrap", "CLAMP"}}}},
-        {"sync", "PHASE"},
-        {"rootMotion", "IN_PLACE"}}},
-      {"times", {0.5}},
-      {"space", "WORLD"}};
+  const json body = {{"motion",
+                      {{"layers",
+                        {{{"clip", "demo_walk"}, {"mode", "OVERRIDE"}, {"wrap", "LOOP"}, {"timeOffset", 0}},
+                         {{"clip", "demo_walk"},
+                          {"weight", 0.5},
+                          {"speed", 2},
+                          {"mode", "ADDITIVE"},
+                          {"referenceTime", 0.2},
+                          {"mask", {"LeftShoulder"}},
+                          {"wrap", "CLAMP"}}}},
+                       {"sync", "PHASE"},
+                       {"rootMotion", "IN_PLACE"}}},
+                     {"times", {0.5}},
+                     {"space", "WORLD"}};
   const auto r = http.Post("/v1/motions:evaluate", body.dump(), "application/json");
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;

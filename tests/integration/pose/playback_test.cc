@@ -39,14 +39,12 @@ struct Session {
   grpc::Status Close() {  // closes our side and reads what is left
     stream->WritesDone();
     v1::PlaybackFrame f;
-    while (stream->Read(&f)) {
-    }
+    while (stream->Read(&f)) {}
     return stream->Finish();
   }
   grpc::Status Failure() {  // the server ends the stream
     v1::PlaybackFrame f;
-    while (stream->Read(&f)) {
-    }
+    while (stream->Read(&f)) {}
     return stream->Finish();
   }
   std::unique_ptr<v1::PoseService::Stub> stub;
@@ -185,9 +183,10 @@ TEST_F(Playback, CrossfadeFromWalkingToRunningIsTheRampedTwoLayerBlendAtEveryFra
   }
   EXPECT_EQ(in_fade, 15);
   EXPECT_GT(mid_fade_change, 1e-2) << "half way through the fade the pose is not Walking's";
-  std::printf("  fade applied at frame %zu (session time %.4f s); %d frames inside it; mid-fade change %.4f; "
-              "largest difference from EvaluateMotion over %zu frames %.3g\n",
-              fade, fade_start, in_fade, mid_fade_change, frames.size(), worst);
+  std::printf(
+      "  fade applied at frame %zu (session time %.4f s); %d frames inside it; mid-fade change %.4f; "
+      "largest difference from EvaluateMotion over %zu frames %.3g\n",
+      fade, fade_start, in_fade, mid_fade_change, frames.size(), worst);
 }
 
 TEST_F(Playback, PauseHoldsThePoseSeekJumpsResumeGoesOn) {
@@ -272,8 +271,7 @@ TEST_F(Playback, LayerWeightAndSpeedApplyAtTheNextFrame) {
 
 TEST_F(Playback, BadCommandsEndTheStreamNamingTheField) {
   client::Client client(OptionsFor(*server_));
-  auto expect = [&](std::vector<v1::PlaybackCommand> commands, grpc::StatusCode code,
-                    std::vector<std::string> parts) {
+  auto expect = [&](std::vector<v1::PlaybackCommand> commands, grpc::StatusCode code, std::vector<std::string> parts) {
     Session s(client);
     for (const auto& c : commands) s.Send(c);
     const grpc::Status st = s.Failure();

@@ -28,7 +28,9 @@ class Auth : public ::testing::Test {
     o.token = token;
     return client::Client(o);
   }
-  std::string Url(const std::string& path) const { return "http://127.0.0.1:" + std::to_string(server_.http_port()) + path; }
+  std::string Url(const std::string& path) const {
+    return "http://127.0.0.1:" + std::to_string(server_.http_port()) + path;
+  }
 
   TempDir data_, files_;
   fs::path token_file_;
@@ -94,9 +96,10 @@ TEST_F(Auth, HealthStaysOpenAndRefusalsAreCounted) {
   EXPECT_EQ(HttpGet(Url("/metrics"), {"Authorization: Bearer wrong"}).status, 401);
   const HttpResponse metrics = HttpGet(Url("/metrics"), {std::string("Authorization: Bearer ") + kToken});
   ASSERT_EQ(metrics.status, 200);
-  EXPECT_NE(metrics.body.find(
-                "armature_rpc_requests_total{method=\"armature.v1.AssetService/ListAssets\",code=\"UNAUTHENTICATED\"} 1"),
-            std::string::npos)
+  EXPECT_NE(
+      metrics.body.find(
+          "armature_rpc_requests_total{method=\"armature.v1.AssetService/ListAssets\",code=\"UNAUTHENTICATED\"} 1"),
+      std::string::npos)
       << metrics.body;
 }
 

@@ -37,8 +37,9 @@ TEST(CallBoundary, OutOfMemoryInAnImportIsAnsweredAndTheServerGoesOn) {
   client::ClientOptions options = OptionsFor(server);
   options.timeout = std::chrono::seconds(60);
   const auto started = std::chrono::steady_clock::now();
-  const grpc::Status status =
-      StatusOf([&] { client::Client(options).Import({"huge.bvh", std::string(600u << 20, ' ')}); });
+  const grpc::Status status = StatusOf([&] {
+    client::Client(options).Import({"huge.bvh", std::string(600u << 20, ' ')});
+  });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
   EXPECT_NE(status.error_message().find("out of memory"), std::string::npos) << status.error_message();

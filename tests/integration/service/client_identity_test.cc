@@ -36,8 +36,7 @@ class AuthorizedStream {
   grpc::Status Close() {
     if (!reader_) return status_;
     if (open_) context_.TryCancel();
-    for (v1::PoseFrame rest; reader_->Read(&rest);) {
-    }
+    for (v1::PoseFrame rest; reader_->Read(&rest);) {}
     status_ = reader_->Finish();
     reader_.reset();
     return status_;
@@ -83,8 +82,8 @@ TEST(ClientIdentity, UncheckedTokensDoNotMakeNewClients) {
 TEST(ClientIdentity, OneTokenIsOneClientHoweverTheSchemeIsSpelled) {
   TempDir data, files;
   const auto token_file = WriteTemp(files, "tokens", "tok-a\ntok-b\n");
-  ServerProcess server(data.path(), {"--no-demo", "--auth-token-file", token_file.string(),
-                                     "--max-streams-per-client", "1"});
+  ServerProcess server(data.path(),
+                       {"--no-demo", "--auth-token-file", token_file.string(), "--max-streams-per-client", "1"});
   client::ClientOptions options = OptionsFor(server);
   options.token = "tok-a";
   client::Client(options).Import({"arm.bvh", kArmBvh});

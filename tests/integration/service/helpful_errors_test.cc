@@ -31,8 +31,8 @@ TEST(HelpfulErrors, NamesJointsAndEnumsOverGrpcAndRest) {
             std::string::npos)
       << mesh->body;
 
-  const auto joint = http.Post("/v1/clips/demo_walk:evaluate", R"({"times":[0],"joints":["LeftWirst"]})",
-                               "application/json");
+  const auto joint =
+      http.Post("/v1/clips/demo_walk:evaluate", R"({"times":[0],"joints":["LeftWirst"]})", "application/json");
   ASSERT_TRUE(joint);
   EXPECT_EQ(joint->status, 404) << joint->body;
   EXPECT_NE(joint->body.find("joints[0]: unknown joint 'LeftWirst'; did you mean 'LeftWrist'? (the skeleton's 19 "

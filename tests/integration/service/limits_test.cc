@@ -73,7 +73,8 @@ TEST(AssetNames, NothingEscapesTheDataDir) {
   const fs::path data = root.path() / "data";
   ServerProcess server(data, {"--no-demo"});
   client::Client client(OptionsFor(server));
-  for (const std::string& name : std::vector<std::string>{"../evil", "/etc/passwd", "a/b", std::string("nul\0byte", 8), ".hidden", ".."}) {
+  for (const std::string& name :
+       std::vector<std::string>{"../evil", "/etc/passwd", "a/b", std::string("nul\0byte", 8), ".hidden", ".."}) {
     const grpc::Status status = StatusOf([&] { client.Import({"arm.bvh", kArmBvh}, name); });
     const std::string& message = status.error_message();
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << "name " << name;

@@ -30,8 +30,8 @@ class BareServer {
     const fs::path ports = dir_.path() / "ports.json", pid = dir_.path() / "pid";
     log_ = dir_.path() / "server.log";
     RunCommand("(" + ShellQuote(ARMATURE_SERVER_BIN) + " --grpc-port 0 --http-port 0 --no-demo --data-dir " +
-               ShellQuote((dir_.path() / "data").string()) + " --port-file " + ShellQuote(ports.string()) + " " +
-               args + " >" + ShellQuote(log_.string()) + " 2>&1 & echo $! >" + ShellQuote(pid.string()) + ")");
+               ShellQuote((dir_.path() / "data").string()) + " --port-file " + ShellQuote(ports.string()) + " " + args +
+               " >" + ShellQuote(log_.string()) + " 2>&1 & echo $! >" + ShellQuote(pid.string()) + ")");
     pid_ = std::stoi(ReadFile(pid));
     for (int i = 0; i < 3000 && !fs::exists(ports); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const auto j = nlohmann::json::parse(ReadFile(ports), nullptr, false);

@@ -13,8 +13,8 @@ namespace {
 CommandResult StartSecondServer(const TempDir& data, int grpc_port, int http_port) {
   // `timeout`: before the fix the second server kept running, sharing the ports.
   return RunCommand("timeout 30 " + ShellQuote(ARMATURE_SERVER_BIN) + " --no-demo --host 127.0.0.1 --data-dir " +
-                    ShellQuote(data.path().string()) + " --grpc-port " + std::to_string(grpc_port) +
-                    " --http-port " + std::to_string(http_port));
+                    ShellQuote(data.path().string()) + " --grpc-port " + std::to_string(grpc_port) + " --http-port " +
+                    std::to_string(http_port));
 }
 
 TEST(PortInUse, ASecondServerOnTheSamePortsExitsAndTheFirstKeepsServing) {
@@ -25,18 +25,18 @@ TEST(PortInUse, ASecondServerOnTheSamePortsExitsAndTheFirstKeepsServing) {
 
   const CommandResult grpc_taken = StartSecondServer(second_data, first.grpc_port(), 0);
   EXPECT_NE(grpc_taken.exit_code, 0);
-  EXPECT_NE((grpc_taken.out + grpc_taken.err)
-                .find("gRPC listener: port " + std::to_string(first.grpc_port()) +
-                      " is in use (another armature-server?)"),
-            std::string::npos)
+  EXPECT_NE(
+      (grpc_taken.out + grpc_taken.err)
+          .find("gRPC listener: port " + std::to_string(first.grpc_port()) + " is in use (another armature-server?)"),
+      std::string::npos)
       << grpc_taken.out << grpc_taken.err;
 
   const CommandResult http_taken = StartSecondServer(second_data, 0, first.http_port());
   EXPECT_NE(http_taken.exit_code, 0);
-  EXPECT_NE((http_taken.out + http_taken.err)
-                .find("HTTP listener: port " + std::to_string(first.http_port()) +
-                      " is in use (another armature-server?)"),
-            std::string::npos)
+  EXPECT_NE(
+      (http_taken.out + http_taken.err)
+          .find("HTTP listener: port " + std::to_string(first.http_port()) + " is in use (another armature-server?)"),
+      std::string::npos)
       << http_taken.out << http_taken.err;
 
   // Every call still reaches the first server (the demo assets it seeded), none an empty one.

@@ -75,7 +75,8 @@ TEST_F(Sessions, OneClientLimitCoversIkAndDeformation) {
   const std::vector<double> target = {0.1, 0.6, 0.3};
   const v1::DeformResponse& moved = drag->Move(target);
   EXPECT_EQ(moved.index(), 1u);
-  for (int a = 0; a < 3; ++a) EXPECT_EQ(moved.positions(static_cast<int>(3 * kHandle) + a), static_cast<float>(target[a]));
+  for (int a = 0; a < 3; ++a)
+    EXPECT_EQ(moved.positions(static_cast<int>(3 * kHandle) + a), static_cast<float>(target[a]));
   drag->Close();
   EXPECT_EQ(Gauge("deform"), 0);
 }

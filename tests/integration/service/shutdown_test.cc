@@ -58,10 +58,11 @@ TEST(Shutdown, CallsInFlightAreCancelledAfterTheGraceAndTheProcessExitsZero) {
   const double exited_after = SecondsSince(t0);
   streamer.join();
   const grpc::Status upload_status = upload->Finish();
-  std::printf("  grace %.0f s: exit %d after %.2f s; stream frames %d at SIGTERM, %d in all, ended %d; "
-              "upload ended %d (%s)\n",
-              kGrace, exit_code, exited_after, frames_at_term.load(), frames.load(), static_cast<int>(stream_end),
-              static_cast<int>(upload_status.error_code()), upload_status.error_message().c_str());
+  std::printf(
+      "  grace %.0f s: exit %d after %.2f s; stream frames %d at SIGTERM, %d in all, ended %d; "
+      "upload ended %d (%s)\n",
+      kGrace, exit_code, exited_after, frames_at_term.load(), frames.load(), static_cast<int>(stream_end),
+      static_cast<int>(upload_status.error_code()), upload_status.error_message().c_str());
   EXPECT_EQ(exit_code, 0) << ReadFile(server.log_file());
   EXPECT_LT(exited_after, kGrace + 5) << ReadFile(server.log_file());
   // Served during the grace (30 fps for most of 2 s), then ended with an error.

@@ -40,8 +40,7 @@ struct OpenStream {
   grpc::Status Close() {
     if (got_first) context.TryCancel();
     v1::PoseFrame rest;
-    while (reader->Read(&rest)) {
-    }
+    while (reader->Read(&rest)) {}
     return reader->Finish();
   }
 };
@@ -57,7 +56,8 @@ TEST(StreamLimits, OneStreamOverTheLimitIsRefusedUntilOneCloses) {
   std::vector<std::unique_ptr<OpenStream>> open;
   for (int i = 0; i < kLimit; ++i) {
     open.push_back(std::make_unique<OpenStream>(*stub, "arm"));
-    ASSERT_TRUE(open.back()->got_first) << "stream " << i << " within the limit: " << open.back()->Close().error_message();
+    ASSERT_TRUE(open.back()->got_first) << "stream " << i
+                                        << " within the limit: " << open.back()->Close().error_message();
   }
   OpenStream over(*stub, "arm");
   EXPECT_FALSE(over.got_first);
@@ -92,8 +92,8 @@ TEST(StreamLimits, OneStreamOverTheLimitIsRefusedUntilOneCloses) {
 // What curl prints for a REST stream opened from `source` (a loopback
 // address), cut off after `seconds`.
 std::string CurlStream(const std::string& source, const std::string& url, int seconds) {
-  const std::string command = "curl -sN --interface " + source + " --max-time " + std::to_string(seconds) + " '" + url +
-                              "' 2>/dev/null";
+  const std::string command =
+      "curl -sN --interface " + source + " --max-time " + std::to_string(seconds) + " '" + url + "' 2>/dev/null";
   std::string out;
   if (FILE* pipe = popen(command.c_str(), "r")) {
     char buffer[4096];
@@ -111,12 +111,15 @@ TEST(StreamLimits, RestClientsCountApartByAddress) {
   ServerProcess server(data.path(), {"--no-demo", "--max-streams-per-client", "1"});
   client::Client client(OptionsFor(server));
   client.Import({"arm.bvh", kArmBvh});
-  const std::string url = "http://127.0.0.1:" + std::to_string(server.http_port()) + "/v1/clips/arm:stream?loop=true&fps=10";
+  const std::string url =
+      "http://127.0.0.1:" + std::to_string(server.http_port()) + "/v1/clips/arm:stream?loop=true&fps=10";
 
   // The first client's stream: held in the background until it has its
   // place (its first frame has arrived).
   const std::string held = (data.path() / "held.txt").string();
-  ASSERT_EQ(std::system(("curl -sN --interface 127.0.0.1 --max-time 8 '" + url + "' > " + held + " 2>/dev/null &").c_str()), 0);
+  ASSERT_EQ(
+      std::system(("curl -sN --interface 127.0.0.1 --max-time 8 '" + url + "' > " + held + " 2>/dev/null &").c_str()),
+      0);
   std::string first;
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(6);
   while (first.find("data: ") == std::string::npos && std::chrono::steady_clock::now() < until) {

@@ -47,8 +47,8 @@ std::vector<std::string> LeftoverFiles(const fs::path& data_dir) {
     if (!e.is_regular_file()) continue;
     const std::string name = e.path().filename().string();
     const bool in_files = e.path().parent_path() == data_dir / "files";
-    const bool expected = in_files ? named.contains(e.path())
-                                   : (name == "manifest.json" || name == ".lock" || name == ".space-reserve");
+    const bool expected =
+        in_files ? named.contains(e.path()) : (name == "manifest.json" || name == ".lock" || name == ".space-reserve");
     if (!expected || name.find(".tmp-") != std::string::npos) leftovers.push_back(e.path().string());
   }
   return leftovers;

@@ -10,7 +10,8 @@ Grid MakeGrid(int n, float bump) {
   g.mesh = fixtures::MakeGrid(n, n, 1.0, 1.0);  // for its triangles; the positions are the floats below
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      const float x = static_cast<float>(i) / static_cast<float>(n - 1), y = static_cast<float>(j) / static_cast<float>(n - 1);
+      const float x = static_cast<float>(i) / static_cast<float>(n - 1),
+                  y = static_cast<float>(j) / static_cast<float>(n - 1);
       const float z = bump * std::exp(-((x - 0.5f) * (x - 0.5f) + (y - 0.5f) * (y - 0.5f)) / 0.02f);
       g.positions.insert(g.positions.end(), {x, y, z});
       g.mesh.positions.row(g.at(i, j)) << x, y, z;

@@ -26,12 +26,17 @@ json TinyGltf() {
   return json{
       {"asset", {{"version", "2.0"}}},
       {"buffers", {{{"uri", kBuffer}, {"byteLength", 68}}}},
-      {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
-                       {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 8}},
-                       {{"buffer", 0}, {"byteOffset", 44}, {"byteLength", 24}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+        {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 8}},
+        {{"buffer", 0}, {"byteOffset", 44}, {"byteLength", 24}}}},
       {"accessors",
-       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"},
-         {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", 3},
+         {"type", "VEC3"},
+         {"min", {0, 0, 0}},
+         {"max", {1, 1, 0}}},
         {{"bufferView", 1}, {"componentType", 5126}, {"count", 2}, {"type", "SCALAR"}, {"min", {0}}, {"max", {1}}},
         {{"bufferView", 2}, {"componentType", 5126}, {"count", 2}, {"type", "VEC3"}}}},
       {"meshes", {{{"name", "tri"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
@@ -82,9 +87,12 @@ std::vector<HostileUpload> BombUploads() {
   std::vector<HostileUpload> bombs;
   {
     // A BVH of 2,000 nested joints claiming two billion frames (with three).
-    std::string bvh = "HIERARCHY\nROOT j0\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n";
+    std::string bvh =
+        "HIERARCHY\nROOT j0\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation "
+        "Yrotation\n";
     constexpr int kJoints = 2000;
-    for (int i = 1; i < kJoints; ++i) bvh += "JOINT j" + std::to_string(i) + "\n{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n";
+    for (int i = 1; i < kJoints; ++i)
+      bvh += "JOINT j" + std::to_string(i) + "\n{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n";
     bvh += "End Site\n{\nOFFSET 0 1 0\n}\n";
     for (int i = 0; i < kJoints; ++i) bvh += "}\n";
     bvh += "MOTION\nFrames: 2000000000\nFrame Time: 0.0333333\n";
@@ -106,7 +114,8 @@ std::vector<HostileUpload> BombUploads() {
   }
   {
     json g = TinyGltf();
-    g["accessors"].push_back({{"componentType", 5126}, {"count", 268435456}, {"type", "VEC3"}});  // zeros, no bufferView
+    g["accessors"].push_back(
+        {{"componentType", 5126}, {"count", 268435456}, {"type", "VEC3"}});  // zeros, no bufferView
     const int huge = static_cast<int>(g["accessors"].size()) - 1;
     g["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = huge;
     json targets = json::array();

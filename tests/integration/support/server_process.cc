@@ -49,8 +49,9 @@ std::string SharedData(const std::string& relative) {
 ServerProcess::ServerProcess(const fs::path& data_dir, std::vector<std::string> extra_args) {
   const fs::path port_file = scratch_.path() / "ports.json";
   log_ = scratch_.path() / "server.log";
-  std::vector<std::string> args = {ARMATURE_SERVER_BIN, "--grpc-port", "0", "--http-port", "0", "--host", "127.0.0.1",
-                                   "--data-dir", data_dir.string(), "--port-file", port_file.string()};
+  std::vector<std::string> args = {
+      ARMATURE_SERVER_BIN, "--grpc-port",     "0",           "--http-port",     "0", "--host", "127.0.0.1",
+      "--data-dir",        data_dir.string(), "--port-file", port_file.string()};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   pid_ = ::fork();
   if (pid_ == 0) {

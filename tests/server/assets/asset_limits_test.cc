@@ -48,9 +48,9 @@ TEST(AssetLimits, AMeshOverMaxMeshVerticesIsRefusedNamingTheFlag) {
   limits.max_mesh_vertices = vertices;
   EXPECT_TRUE(CheckAssetLimits(contents, limits).ok());
   limits.max_mesh_vertices = vertices - 1;
-  EXPECT_EQ(CheckAssetLimits(contents, limits).message(),
-            "mesh 'demo_character.body' has " + std::to_string(vertices) + " vertices, over the limit of " +
-                std::to_string(vertices - 1) + " (--max-mesh-vertices)");
+  EXPECT_EQ(CheckAssetLimits(contents, limits).message(), "mesh 'demo_character.body' has " + std::to_string(vertices) +
+                                                              " vertices, over the limit of " +
+                                                              std::to_string(vertices - 1) + " (--max-mesh-vertices)");
 }
 
 TEST(AssetLimits, ImportCapsComeFromTheFlagsNegativeOnesAsZero) {

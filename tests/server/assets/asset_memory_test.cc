@@ -109,9 +109,8 @@ TEST(AssetMemory, MetricsCountThePartsAndTheBytes) {
   CollectAssetMetrics(*catalog, out);
   const std::string& text = out.text();
   for (const char* line : {"armature_assets_loaded{kind=\"asset\"} 2\n",
-                           "armature_assets_loaded{kind=\"skeleton\"} 2\n",
-                           "armature_assets_loaded{kind=\"clip\"} 2\n", "armature_assets_loaded{kind=\"mesh\"} 1\n",
-                           "# TYPE armature_assets_memory_bytes gauge\n"})
+                           "armature_assets_loaded{kind=\"skeleton\"} 2\n", "armature_assets_loaded{kind=\"clip\"} 2\n",
+                           "armature_assets_loaded{kind=\"mesh\"} 1\n", "# TYPE armature_assets_memory_bytes gauge\n"})
     EXPECT_NE(text.find(line), std::string::npos) << line << " in\n" << text;
   const std::string memory = "\narmature_assets_memory_bytes ";
   const size_t at = text.find(memory);

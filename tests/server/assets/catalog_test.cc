@@ -30,8 +30,9 @@ TEST(Catalog, AnUnknownNameIsNotFoundNamingTheKind) {
   ASSERT_FALSE(mesh.ok());
   EXPECT_EQ(mesh.status().code(), StatusCode::kNotFound);
   // An asset's name where a part's is wanted: the asset's parts of that kind are listed.
-  EXPECT_EQ(mesh.status().message(), "mesh 'demo_character' not found; asset 'demo_character' has meshes: "
-                                     "demo_character.body");
+  EXPECT_EQ(mesh.status().message(),
+            "mesh 'demo_character' not found; asset 'demo_character' has meshes: "
+            "demo_character.body");
   EXPECT_EQ(catalog->FindMesh("demo_walk").status().message(),
             "mesh 'demo_walk' not found; asset 'demo_walk' has no meshes");
   EXPECT_EQ(catalog->FindClip("demo_character").status().message(),

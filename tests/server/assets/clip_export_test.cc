@@ -29,8 +29,8 @@ TEST(ClipExport, AFileThatFitsInBinaryButNotAsBase64JsonIsRefusedBeforeTheWork) 
     ASSERT_TRUE(ExportClip(*catalog, Limits{}, Request(format), &answer).ok()) << format;
     ASSERT_GT(answer.data().size(), 1000u) << format;
     // The writers' own estimates, which the bound is checked against (at least the file's size).
-    const double file = static_cast<double>(format == "bvh" ? BvhExportByteEstimate(clip)
-                                                            : GltfExportByteEstimate(clip, {}, true));
+    const double file =
+        static_cast<double>(format == "bvh" ? BvhExportByteEstimate(clip) : GltfExportByteEstimate(clip, {}, true));
     ASSERT_GE(file, static_cast<double>(answer.data().size())) << format;
 
     Limits limits;

@@ -75,8 +75,7 @@ TEST(ClipBake, MoreKeysThanMaxClipFramesAreRefusedBeforeSampling) {
   limits.max_clip_frames = 3;
   const Status st = BakeMotion(*catalog, limits, BakeOf("demo_walk", 10, 0.25)).status();
   EXPECT_EQ(st.code(), StatusCode::kResourceExhausted);
-  EXPECT_EQ(st.message(),
-            "bake: 0.250000 s at 10.000000 fps is 3+ keys, over the limit of 3 (--max-clip-frames)");
+  EXPECT_EQ(st.message(), "bake: 0.250000 s at 10.000000 fps is 3+ keys, over the limit of 3 (--max-clip-frames)");
 }
 
 TEST(ClipBake, AClipLargerInMemoryThanMaxUploadMbIsRefused) {

@@ -156,9 +156,9 @@ TEST(CreateClipHandler, ABakeIsStoredAndItsTracksMayBeDeleted) {
   EXPECT_TRUE(stored.joints[static_cast<size_t>(head)].rotation.empty());
   // Another joint's key is the walk at that key's time.
   const double key = StoredKeyTime(0.3);
-  EXPECT_LT(AngleBetween(RotationAt(*catalog, "baked", "LeftKnee", key),
-                         RotationAt(*catalog, "demo_walk", "LeftKnee", key)),
-            1e-5);
+  EXPECT_LT(
+      AngleBetween(RotationAt(*catalog, "baked", "LeftKnee", key), RotationAt(*catalog, "demo_walk", "LeftKnee", key)),
+      1e-5);
 }
 
 TEST(CreateClipHandler, RequestsThatCannotBeMadeNameTheirField) {

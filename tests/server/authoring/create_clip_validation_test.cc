@@ -33,7 +33,7 @@ TEST(CreateClipValidation, StoredKeyTimesAreTheFloatAtOrBelow) {
     const double stored = StoredKeyTime(t);
     EXPECT_LE(stored, t);
     EXPECT_EQ(static_cast<double>(static_cast<float>(stored)), stored);  // a float
-    EXPECT_GT(std::nextafter(static_cast<float>(stored), INFINITY), t);   // the greatest such float
+    EXPECT_GT(std::nextafter(static_cast<float>(stored), INFINITY), t);  // the greatest such float
   }
   EXPECT_EQ(StoredKeyTime(0.5), 0.5);  // exact floats stay
 }

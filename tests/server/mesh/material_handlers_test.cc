@@ -96,8 +96,8 @@ TEST(MaterialHandlers, AMaterialOutOfRangeIsRefusedNamingTheCount) {
   for (int index : {2, -1}) {
     const Status st = GetMaterial(*catalog, MaterialRequest(index), &m);
     EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
-    EXPECT_EQ(st.message(), "material: " + std::to_string(index) +
-                                " is out of range (mesh 'painted.body' has 2 materials)");
+    EXPECT_EQ(st.message(),
+              "material: " + std::to_string(index) + " is out of range (mesh 'painted.body' has 2 materials)");
   }
   v1::GetMaterialRequest unknown = MaterialRequest(0);
   unknown.set_mesh("painted.head");

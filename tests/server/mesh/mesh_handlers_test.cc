@@ -41,7 +41,8 @@ TEST(MeshHandlers, SkinningByClipEqualsSkinningByItsSampledPose) {
   ASSERT_GT(a.vertex_count(), 100);
   ASSERT_EQ(a.positions_size(), b.positions_size());
   double worst = 0;
-  for (int i = 0; i < a.positions_size(); ++i) worst = std::max(worst, std::abs(double(a.positions(i)) - b.positions(i)));
+  for (int i = 0; i < a.positions_size(); ++i)
+    worst = std::max(worst, std::abs(double(a.positions(i)) - b.positions(i)));
   EXPECT_LT(worst, 1e-3);  // centimetres; the pose went through floats
   // and the pose is not the rest pose: the walk moved the body.
   v1::SkinMeshRequest at_start = by_clip;
@@ -49,7 +50,8 @@ TEST(MeshHandlers, SkinningByClipEqualsSkinningByItsSampledPose) {
   v1::SkinMeshResponse c;
   ASSERT_TRUE(SkinMesh(*catalog, Limits{}, at_start, &c).ok());
   double moved = 0;
-  for (int i = 0; i < a.positions_size(); ++i) moved = std::max(moved, std::abs(double(a.positions(i)) - c.positions(i)));
+  for (int i = 0; i < a.positions_size(); ++i)
+    moved = std::max(moved, std::abs(double(a.positions(i)) - c.positions(i)));
   EXPECT_GT(moved, 1.0);
 }
 

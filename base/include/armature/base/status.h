@@ -51,9 +51,7 @@ class [[nodiscard]] Status {
   const std::string& message() const { return message_; }
 
   // Prefixes the message with context, e.g. "mesh 'body': " + message.
-  Status WithContext(const std::string& prefix) const {
-    return ok() ? *this : Status(code_, prefix + message_);
-  }
+  Status WithContext(const std::string& prefix) const { return ok() ? *this : Status(code_, prefix + message_); }
 
  private:
   StatusCode code_ = StatusCode::kOk;
@@ -64,7 +62,7 @@ class [[nodiscard]] Status {
 template <class T>
 class [[nodiscard]] StatusOr {
  public:
-  StatusOr(T value) : v_(std::move(value)) {}  // NOLINT: implicit by design
+  StatusOr(T value) : v_(std::move(value)) {}                                              // NOLINT: implicit by design
   StatusOr(Status status) : v_(std::move(status)) { assert(!std::get<Status>(v_).ok()); }  // NOLINT
 
   bool ok() const { return std::holds_alternative<T>(v_); }
@@ -85,10 +83,10 @@ class [[nodiscard]] StatusOr {
 }  // namespace armature
 
 // Returns early from the enclosing function when `expr` is not ok.
-#define ARMATURE_RETURN_IF_ERROR(expr)            \
-  do {                                            \
-    ::armature::Status _armature_st = (expr);     \
-    if (!_armature_st.ok()) return _armature_st;  \
+#define ARMATURE_RETURN_IF_ERROR(expr)           \
+  do {                                           \
+    ::armature::Status _armature_st = (expr);    \
+    if (!_armature_st.ok()) return _armature_st; \
   } while (0)
 
 #define ARMATURE_STATUS_CONCAT_INNER(a, b) a##b

@@ -7,8 +7,10 @@
 namespace armature::cli {
 
 nlohmann::json ImportSummary(const v1::AssetInfo& a) {
-  nlohmann::json j = {{"asset", a.name()}, {"skeletons", nlohmann::json::array()},
-                      {"clips", nlohmann::json::array()}, {"meshes", nlohmann::json::array()}};
+  nlohmann::json j = {{"asset", a.name()},
+                      {"skeletons", nlohmann::json::array()},
+                      {"clips", nlohmann::json::array()},
+                      {"meshes", nlohmann::json::array()}};
   for (const auto& s : a.skeletons()) j["skeletons"].push_back({{"name", s.name()}, {"joints", s.joint_count()}});
   for (const auto& c : a.clips())
     j["clips"].push_back({{"name", c.name()},
@@ -29,8 +31,9 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
   auto format = std::make_shared<std::string>();
   cmd->add_option("FILE", *file, "The file to import")->required()->check(CLI::ExistingFile);
   cmd->add_option("--name", *name, "Asset name (default: the file's stem)");
-  cmd->add_option("--format", *format, "bvh, gltf, glb or obj, whatever the file name says (default: from its "
-                                       "extension, else its content)")
+  cmd->add_option("--format", *format,
+                  "bvh, gltf, glb or obj, whatever the file name says (default: from its "
+                  "extension, else its content)")
       ->transform(OneOf({"bvh", "gltf", "glb", "obj"}));
   cmd->add_flag("--replace", *replace, "Replace an existing asset of the same name");
   cmd->add_flag("--allow-outside-resources", *outside,
@@ -58,10 +61,9 @@ void AddListCommand(CLI::App& app, CliContext& ctx) {
       }
       if (assets.assets().empty()) std::cout << "no assets\n";
       for (const auto& a : assets.assets()) {
-        std::cout << a.name() << " (" << a.format() << ", " << a.size_bytes() << " bytes, " << a.imported_at()
-                  << ")\n";
-        for (const auto& s : a.skeletons()) std::cout << "  skeleton " << s.name() << ": " << s.joint_count()
-                                                      << " joints\n";
+        std::cout << a.name() << " (" << a.format() << ", " << a.size_bytes() << " bytes, " << a.imported_at() << ")\n";
+        for (const auto& s : a.skeletons())
+          std::cout << "  skeleton " << s.name() << ": " << s.joint_count() << " joints\n";
         for (const auto& c : a.clips())
           std::cout << "  clip     " << c.name() << ": " << c.duration() << " s, " << c.frames() << " frames, skeleton "
                     << c.skeleton() << "\n";

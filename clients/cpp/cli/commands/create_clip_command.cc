@@ -12,7 +12,8 @@ namespace {
 // FILE.json as a CreateClipRequest; throws naming the file and the problem.
 v1::CreateClipRequest ReadKeysFile(const std::string& path) {
   v1::CreateClipRequest request;
-  ReadJsonMessageFile(path, "--keys", "keys (proto3 JSON of armature.v1.CreateClipRequest, e.g. "
+  ReadJsonMessageFile(path, "--keys",
+                      "keys (proto3 JSON of armature.v1.CreateClipRequest, e.g. "
                       "{\"tracks\":[{\"joint\":\"Head\",\"times\":[0,0.5],\"rotations\":[1,0,0,0,1,0,0,0]}]})",
                       request);
   return request;
@@ -30,14 +31,17 @@ void AddCreateClipCommand(CLI::App& app, CliContext& ctx) {
   auto replace = std::make_shared<bool>(false);
   auto merge = std::make_shared<bool>(false);
   cmd->add_option("--skeleton", *skeleton, "The skeleton the clip animates (overrides the file's)");
-  cmd->add_option("--keys", *keys, "The keys file: {\"tracks\":[{\"joint\":…,\"times\":[…],\"rotations\":[w,x,y,z,…],"
-                                   "\"translations\":[x,y,z,…],\"interpolation\":\"LINEAR\"}]}")
+  cmd->add_option("--keys", *keys,
+                  "The keys file: {\"tracks\":[{\"joint\":…,\"times\":[…],\"rotations\":[w,x,y,z,…],"
+                  "\"translations\":[x,y,z,…],\"interpolation\":\"LINEAR\"}]}")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--name", *name, "The new asset's name (overrides the file's); the clip is NAME, a clip of the skeleton");
+  cmd->add_option("--name", *name,
+                  "The new asset's name (overrides the file's); the clip is NAME, a clip of the skeleton");
   cmd->add_flag("--replace", *replace, "Replace an existing asset of the same name");
-  cmd->add_flag("--merge", *merge, "Edit the clip stored under NAME: the file's tracks replace those joints' tracks, "
-                                   "a track without times deletes one, the others are kept");
+  cmd->add_flag("--merge", *merge,
+                "Edit the clip stored under NAME: the file's tracks replace those joints' tracks, "
+                "a track without times deletes one, the others are kept");
   cmd->callback([&ctx, skeleton, keys, name, replace, merge] {
     ctx.run = [&ctx, skeleton, keys, name, replace, merge] {
       v1::CreateClipRequest request = ReadKeysFile(*keys);

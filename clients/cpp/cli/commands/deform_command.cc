@@ -60,8 +60,12 @@ void AddDeformCommand(CLI::App& app, CliContext& ctx) {
   auto* cmd = app.add_subcommand("deform", "Deform a mesh: move handle vertices, hold fixed ones (Laplacian or ARAP)");
   auto f = std::make_shared<DeformFlags>();
   cmd->add_option("MESH", f->mesh, "Mesh name")->required();
-  cmd->add_option("--weights", f->weights, "uniform or cotan")->capture_default_str()->transform(OneOf({"uniform", "cotan"}));
-  cmd->add_option("--method", f->method, "laplacian or arap")->capture_default_str()->transform(OneOf({"laplacian", "arap"}));
+  cmd->add_option("--weights", f->weights, "uniform or cotan")
+      ->capture_default_str()
+      ->transform(OneOf({"uniform", "cotan"}));
+  cmd->add_option("--method", f->method, "laplacian or arap")
+      ->capture_default_str()
+      ->transform(OneOf({"laplacian", "arap"}));
   cmd->add_option("--fixed", f->fixed, "Vertices held at rest: i,j,k,…")->delimiter(',');
   cmd->add_option("--handle", f->handles, "A moved vertex: IDX=x,y,z (repeatable)")->required();
   cmd->callback([&ctx, f] {

@@ -23,15 +23,14 @@ std::string ExportFormat(const std::string& out, const std::string& format_flag,
 }  // namespace
 
 void AddExportCommand(CLI::App& app, CliContext& ctx) {
-  auto* cmd = app.add_subcommand("export",
-                                 "Export a clip to a file, in the format of its extension (.glb, .gltf, .bvh)");
+  auto* cmd =
+      app.add_subcommand("export", "Export a clip to a file, in the format of its extension (.glb, .gltf, .bvh)");
   auto clip = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto format = std::make_shared<std::string>();
   auto with_meshes = std::make_shared<bool>(false);
   cmd->add_option("CLIP", *clip, "Clip name")->required();
-  cmd->add_option("-o,--output", *out, "Output file; its extension says the format (.glb, .gltf, .bvh)")
-      ->required();
+  cmd->add_option("-o,--output", *out, "Output file; its extension says the format (.glb, .gltf, .bvh)")->required();
   cmd->add_option("--format", *format, "Write this format whatever the extension: glb, gltf or bvh")
       ->transform(OneOf({"bvh", "glb", "gltf"}));
   cmd->add_flag("--with-meshes", *with_meshes,

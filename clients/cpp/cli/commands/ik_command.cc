@@ -16,11 +16,10 @@ const std::map<std::string, v1::IkSolver> kSolvers = {
     {"dls", v1::DLS}, {"ccd", v1::CCD}, {"fabrik", v1::FABRIK}, {"two-bone", v1::TWO_BONE}, {"aim", v1::AIM}};
 
 // --free-root (both) or --free-root=rotation|translation|both.
-const std::map<std::string, v1::FreeRoot> kFreeRoots = {
-    {"", v1::ROOT_FIXED},
-    {"rotation", v1::ROOT_ROTATION},
-    {"translation", v1::ROOT_TRANSLATION},
-    {"both", v1::ROOT_ROTATION_AND_TRANSLATION}};
+const std::map<std::string, v1::FreeRoot> kFreeRoots = {{"", v1::ROOT_FIXED},
+                                                        {"rotation", v1::ROOT_ROTATION},
+                                                        {"translation", v1::ROOT_TRANSLATION},
+                                                        {"both", v1::ROOT_ROTATION_AND_TRANSLATION}};
 
 // "stalled" from STOP_STALLED.
 std::string StopName(v1::IkStop stop) {
@@ -70,9 +69,11 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
   auto f = std::make_shared<IkFlags>();
   cmd->add_option("SKELETON", f->skeleton, "Skeleton name")->required();
   cmd->add_option("--effector,-e", f->effectors, "JOINT=x,y,z: a world target for a joint (repeatable)")
-      ->required()->allow_extra_args(false);
+      ->required()
+      ->allow_extra_args(false);
   cmd->add_option("--solver", f->solver, "dls, ccd, fabrik, two-bone or aim")
-      ->capture_default_str()->transform(OneOf({"dls", "ccd", "fabrik", "two-bone", "aim"}));
+      ->capture_default_str()
+      ->transform(OneOf({"dls", "ccd", "fabrik", "two-bone", "aim"}));
   auto* clip = cmd->add_option("--from-clip", f->from_clip, "Start from this clip's pose (default: the rest pose)");
   cmd->add_option("--time,-t", f->time, "Clip time of the start pose, in seconds")->needs(clip);
   cmd->add_option("--max-iterations", f->max_iterations, "Solver iterations (default: the server's, 200)")
@@ -84,7 +85,8 @@ void AddIkCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_flag("--free-root{both}", f->free_root,
                 "Let the skeleton root (the hips) turn and move too; --free-root=rotation or =translation for one");
   cmd->add_option("--space", f->space, "Print the pose in local or world space")
-      ->capture_default_str()->transform(OneOf({"local", "world"}));
+      ->capture_default_str()
+      ->transform(OneOf({"local", "world"}));
   cmd->callback([&ctx, f] {
     ctx.run = [&ctx, f] {
       v1::SolveIkRequest request;

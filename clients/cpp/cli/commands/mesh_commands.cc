@@ -46,8 +46,8 @@ std::span<const T> Span(const google::protobuf::RepeatedField<T>& values) {
 }  // namespace
 
 void AddSkinCommand(CLI::App& app, CliContext& ctx) {
-  auto* cmd = app.add_subcommand("skin",
-                                 "Skin a mesh by a clip or a motion at a time (world-space positions and normals)");
+  auto* cmd =
+      app.add_subcommand("skin", "Skin a mesh by a clip or a motion at a time (world-space positions and normals)");
   auto f = std::make_shared<SkinFlags>();
   cmd->add_option("MESH", f->mesh, "Mesh name")->required();
   auto* clip = cmd->add_option("--clip", f->clip, "Clip posing the mesh (its joints and morph weights)");
@@ -68,8 +68,10 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
       client::Client client = ctx.MakeClient();
       v1::SkinMeshRequest request;
       request.set_mesh(f->mesh);
-      if (f->motion.empty()) request.set_clip(f->clip);
-      else *request.mutable_motion() = ReadMotionFile(f->motion);
+      if (f->motion.empty())
+        request.set_clip(f->clip);
+      else
+        *request.mutable_motion() = ReadMotionFile(f->motion);
       request.set_time(f->time);
       request.set_wrap(f->loop ? v1::LOOP : v1::CLAMP);
       request.set_method(kMethods.at(f->method));
@@ -79,9 +81,8 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
         const v1::MeshGeometry geometry = client.GetMeshGeometry(f->mesh);  // the triangles
         const std::string obj =
             ObjText(Span(response.positions()), Span(response.normals()), Span(geometry.triangles()),
-                    "armature skin " + f->mesh +
-                        (f->motion.empty() ? " --clip " + f->clip : " --motion " + f->motion) + " --time " +
-                        TimeText(f->time) + " --method " + f->method);
+                    "armature skin " + f->mesh + (f->motion.empty() ? " --clip " + f->clip : " --motion " + f->motion) +
+                        " --time " + TimeText(f->time) + " --method " + f->method);
         WriteOutputFile(f->out, obj);
         std::cerr << "wrote " << f->out << " (" << response.vertex_count() << " vertices, "
                   << geometry.triangles_size() / 3 << " triangles)\n";
@@ -106,8 +107,7 @@ void AddSkinCommand(CLI::App& app, CliContext& ctx) {
                   response.vertex_count(), f->method.c_str(), (f->motion.empty() ? f->clip : f->motion).c_str(),
                   f->time);
       if (response.vertex_count() > 0)
-        std::printf("bounds min (%.6g, %.6g, %.6g) max (%.6g, %.6g, %.6g)\n", lo[0], lo[1], lo[2], hi[0], hi[1],
-                    hi[2]);
+        std::printf("bounds min (%.6g, %.6g, %.6g) max (%.6g, %.6g, %.6g)\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
       return 0;
     };
   });

@@ -92,9 +92,7 @@ void AddPlayCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("--crossfade", f->crossfade, "Crossfade seconds for --then")->capture_default_str();
   cmd->add_option("--fps", f->fps, "Frames per second")->capture_default_str()->check(PositiveNumber());
   cmd->add_option("--duration", f->duration, "Session seconds")->capture_default_str()->check(PositiveNumber());
-  cmd->add_option("--space", f->space, "local or world")
-      ->capture_default_str()
-      ->transform(OneOf({"local", "world"}));
+  cmd->add_option("--space", f->space, "local or world")->capture_default_str()->transform(OneOf({"local", "world"}));
   cmd->add_option("--joints", f->joints, "Only these joints")->delimiter(',');
   cmd->callback([&ctx, f] { ctx.run = [&ctx, f] { return Play(ctx, *f); }; });
 }

@@ -40,8 +40,9 @@ void PrintText(const v1::RetargetClipResponse& r) {
 }  // namespace
 
 void AddRetargetCommand(CLI::App& app, CliContext& ctx) {
-  auto* cmd = app.add_subcommand("retarget", "Move a clip onto another skeleton (names mapped, rest poses "
-                                             "compensated, root scaled) and store it as a new asset");
+  auto* cmd = app.add_subcommand("retarget",
+                                 "Move a clip onto another skeleton (names mapped, rest poses "
+                                 "compensated, root scaled) and store it as a new asset");
   auto clip = std::make_shared<std::string>();
   auto skeleton = std::make_shared<std::string>();
   auto pairs = std::make_shared<std::vector<std::string>>();
@@ -50,9 +51,11 @@ void AddRetargetCommand(CLI::App& app, CliContext& ctx) {
   auto replace = std::make_shared<bool>(false);
   cmd->add_option("CLIP", *clip, "The source clip")->required();
   cmd->add_option("--to", *skeleton, "The target skeleton")->required();
-  cmd->add_option("--map", *pairs, "SOURCE=TARGET: drive this target joint from this source joint (repeatable; "
-                                   "overrides the automatic map)");
-  cmd->add_option("--name", *name, "The new clip's name, a clip of the target skeleton (default <clip>_on_<skeleton>, dots as '_')");
+  cmd->add_option("--map", *pairs,
+                  "SOURCE=TARGET: drive this target joint from this source joint (repeatable; "
+                  "overrides the automatic map)");
+  cmd->add_option("--name", *name,
+                  "The new clip's name, a clip of the target skeleton (default <clip>_on_<skeleton>, dots as '_')");
   cmd->add_flag("--feet", *feet, "Keep the feet where the source plants them (two-bone IK per leg)");
   cmd->add_flag("--replace", *replace, "Replace an asset of the same name");
   cmd->callback([&ctx, clip, skeleton, pairs, name, feet, replace] {
@@ -75,8 +78,7 @@ void AddRetargetCommand(CLI::App& app, CliContext& ctx) {
       for (const auto& p : r.mapping()) j["mapping"].push_back({{"source", p.source()}, {"target", p.target()}});
       for (const auto& n : r.unmapped().source()) j["unmapped"]["source"].push_back(n);
       for (const auto& n : r.unmapped().target()) j["unmapped"]["target"].push_back(n);
-      if (r.warnings_size() > 0)
-        j["warnings"] = std::vector<std::string>(r.warnings().begin(), r.warnings().end());
+      if (r.warnings_size() > 0) j["warnings"] = std::vector<std::string>(r.warnings().begin(), r.warnings().end());
       PrintJson(j);
       return 0;
     };

@@ -15,7 +15,8 @@ void ReadJsonMessageFile(const std::string& path, const std::string& flag, const
   std::ostringstream text;
   text << in.rdbuf();
   const auto status = google::protobuf::util::JsonStringToMessage(text.str(), &message);
-  if (!status.ok()) throw std::runtime_error(flag + " " + path + ": not " + what + ": " + std::string(status.message()));
+  if (!status.ok())
+    throw std::runtime_error(flag + " " + path + ": not " + what + ": " + std::string(status.message()));
 }
 
 v1::Motion ReadMotionFile(const std::string& path) {

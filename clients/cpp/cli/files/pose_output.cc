@@ -9,13 +9,13 @@ nlohmann::json PoseJointsJson(const v1::Skeleton& skeleton, const google::protob
   nlohmann::json out = nlohmann::json::array();
   for (int k = 0; k < joints.size(); ++k) {
     const v1::Joint& joint = skeleton.joints(joints[k]);
-    nlohmann::json j = {{"name", joint.name()},
-                        {"parent", joint.parent() >= 0 ? nlohmann::json(skeleton.joints(joint.parent()).name())
-                                                       : nlohmann::json(nullptr)},
-                        {"translation", {pose.translations(3 * k), pose.translations(3 * k + 1),
-                                         pose.translations(3 * k + 2)}},
-                        {"rotation", {pose.rotations(4 * k), pose.rotations(4 * k + 1), pose.rotations(4 * k + 2),
-                                      pose.rotations(4 * k + 3)}}};
+    nlohmann::json j = {
+        {"name", joint.name()},
+        {"parent",
+         joint.parent() >= 0 ? nlohmann::json(skeleton.joints(joint.parent()).name()) : nlohmann::json(nullptr)},
+        {"translation", {pose.translations(3 * k), pose.translations(3 * k + 1), pose.translations(3 * k + 2)}},
+        {"rotation",
+         {pose.rotations(4 * k), pose.rotations(4 * k + 1), pose.rotations(4 * k + 2), pose.rotations(4 * k + 3)}}};
     if (pose.scales_size() == 3 * joints.size())
       j["scale"] = {pose.scales(3 * k), pose.scales(3 * k + 1), pose.scales(3 * k + 2)};
     out.push_back(std::move(j));

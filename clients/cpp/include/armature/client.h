@@ -32,11 +32,11 @@ class ClientError : public std::runtime_error {
 };
 
 struct ClientOptions {
-  std::string target = "localhost:50051";      // host:port
-  std::chrono::milliseconds timeout{30000};    // deadline of unary calls
+  std::string target = "localhost:50051";       // host:port
+  std::chrono::milliseconds timeout{30000};     // deadline of unary calls
   std::chrono::milliseconds stream_timeout{0};  // deadline of streams; 0 = none
-  std::string token;                           // sent as "authorization: Bearer <token>" when set
-  std::string ca_file;                         // use TLS, trusting this CA (PEM)
+  std::string token;                            // sent as "authorization: Bearer <token>" when set
+  std::string ca_file;                          // use TLS, trusting this CA (PEM)
   int max_message_bytes = 64 << 20;
   size_t upload_chunk_bytes = 1 << 20;
 
@@ -131,8 +131,7 @@ class Client {
   v1::ListSkeletonsResponse ListSkeletons();
   v1::Skeleton GetSkeleton(const std::string& skeleton);
   // format: "bvh" (default when empty), "glb" or "gltf"; with_meshes: glTF only.
-  v1::ExportClipResponse ExportClip(const std::string& clip, const std::string& format = "",
-                                    bool with_meshes = false);
+  v1::ExportClipResponse ExportClip(const std::string& clip, const std::string& format = "", bool with_meshes = false);
 
   v1::EvaluateClipResponse EvaluateClip(const v1::EvaluateClipRequest& request);
   // A motion (clips composed in layers) at one or many times.

@@ -38,15 +38,9 @@ SegmentPosition Locate(const CompressedClip& clip, double t) {
 
 void Store(TrackKind kind, const float* v, Trs& out) {
   switch (kind) {
-    case TrackKind::kRotation:
-      out.rotation = Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
-      break;
-    case TrackKind::kTranslation:
-      out.translation = Eigen::Vector3d(v[0], v[1], v[2]);
-      break;
-    case TrackKind::kScale:
-      out.scale = Eigen::Vector3d(v[0], v[1], v[2]);
-      break;
+    case TrackKind::kRotation: out.rotation = Eigen::Quaterniond(v[3], v[0], v[1], v[2]); break;
+    case TrackKind::kTranslation: out.translation = Eigen::Vector3d(v[0], v[1], v[2]); break;
+    case TrackKind::kScale: out.scale = Eigen::Vector3d(v[0], v[1], v[2]); break;
   }
 }
 

@@ -1,9 +1,5 @@
 
 
-
-
-
-
 #include "armature/engine/anim/compression/compressed_clip.h"
 
 #include <algorithm>
@@ -87,9 +83,11 @@ void ClassifyTracks(const Clip& clip, const ClipReference& reference, double bou
       TrackValues values = ReadTrack(reference, j, kind);
       const Trs& rest = skeleton.rest[j];
       ConstantTrack rest_value{j, kind, {0, 0, 0, 0}}, first{j, kind, {0, 0, 0, 0}};
-      const Eigen::Vector4d r = kind == TrackKind::kRotation      ? rest.rotation.normalized().coeffs()
-                                : kind == TrackKind::kTranslation ? Eigen::Vector4d(rest.translation.x(), rest.translation.y(), rest.translation.z(), 0)
-                                                                  : Eigen::Vector4d(rest.scale.x(), rest.scale.y(), rest.scale.z(), 0);
+      const Eigen::Vector4d r =
+          kind == TrackKind::kRotation ? rest.rotation.normalized().coeffs()
+          : kind == TrackKind::kTranslation
+              ? Eigen::Vector4d(rest.translation.x(), rest.translation.y(), rest.translation.z(), 0)
+              : Eigen::Vector4d(rest.scale.x(), rest.scale.y(), rest.scale.z(), 0);
       for (int c = 0; c < 4; ++c) {
         rest_value.value[c] = static_cast<float>(r[c]);
         first.value[c] = static_cast<float>(values.raw[c]);
@@ -108,7 +106,8 @@ void ClassifyTracks(const Clip& clip, const ClipReference& reference, double bou
 bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t segment) {
   for (TrackState& state : states) {
     SegmentTrackInput in = SegmentInput(state, out.frames, segment);
-    const SegmentTrackChoice& hint = state.choice[segment > 0 && state.choice[segment].bits == 0 ? segment - 1 : segment];
+    const SegmentTrackChoice& hint =
+        state.choice[segment > 0 && state.choice[segment].bits == 0 ? segment - 1 : segment];
     if (hint.bits > 0) {
       in.hint_bits = kCodes[hint.code].bits;
       in.hint_stride_log = kCodes[hint.code].stride_log;
@@ -270,8 +269,7 @@ StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<con
     out->animated_parts.push_back(static_cast<uint8_t>((jt.rotation.empty() ? 0 : 1) |
                                                        (jt.translation.empty() ? 0 : 2) | (jt.scale.empty() ? 0 : 4)));
   if (!precision.exact) {
-    ARMATURE_ASSIGN_OR_RETURN(const ClipReference reference,
-                              SampleReference(*clip, out->frames, bound.shell_distance));
+    ARMATURE_ASSIGN_OR_RETURN(const ClipReference reference, SampleReference(*clip, out->frames, bound.shell_distance));
     std::string why;
     if (CompressLossy(*clip, reference, *out, why)) return std::shared_ptr<const CompressedClip>(std::move(out));
     out->warning = "clip kept exact: " + why + " (" + std::to_string(precision.centimetres) + " cm)";

@@ -33,7 +33,8 @@ double UnitsPerCentimetre(const Skeleton& skeleton) {
       linear[i] = linear[parent] * local;
     }
     extend(position[i]);
-    if (i < skeleton.end_sites.size() && skeleton.end_sites[i]) extend(position[i] + linear[i] * *skeleton.end_sites[i]);
+    if (i < skeleton.end_sites.size() && skeleton.end_sites[i])
+      extend(position[i] + linear[i] * *skeleton.end_sites[i]);
   }
   if (n == 0) return 1;
   return (hi - lo).maxCoeff() >= kCentimetreSpan ? 1.0 : 0.01;

@@ -33,7 +33,7 @@ namespace armature::compression_internal {
 
 inline constexpr size_t kSegmentFrames = 16;
 inline constexpr int kMinBits = 3, kMaxBits = 23, kRateCount = kMaxBits - kMinBits + 1;
-inline constexpr int kStrideLogs = 5;  // strides 1, 2, 4, 8, 16
+inline constexpr int kStrideLogs = 5;     // strides 1, 2, 4, 8, 16
 inline constexpr size_t kRangeBytes = 6;  // segment range: low and extent bytes of 3 components
 inline constexpr size_t kReadPadding = 8;
 // AnimatedTrack::dropped when each segment names its own (one byte before its range).

@@ -40,8 +40,7 @@ uint32_t Quantize(double normalized, const uint8_t* range, int c, int bits) {
 }
 
 // The decoded samples a choice keeps (as the sampling job reads them).
-size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range,
-                     float (*out)[4]) {
+size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, float (*out)[4]) {
   const SampleLayout layout = MakeLayout(bits, in.clip_extent, range);
   const Dequantizer d = MakeDequantizer(in.clip_min, in.clip_extent, range, layout);
   size_t count = 0;

@@ -17,16 +17,16 @@ namespace armature::compression_internal {
 // A track's frames in one segment.
 struct SegmentTrackInput {
   TrackKind kind = TrackKind::kRotation;
-  int dropped = 3;                      // rotations: the component rebuilt
-  size_t intervals = 0;                 // frames − 1
-  std::span<const double> raw;          // (intervals + 1) × 4: x y z w, or x y z 0, as stored
-  std::span<const double> normalized;   // (intervals + 1) × 3: quantized components in the clip range, in [0, 1]
-  const float* clip_min = nullptr;      // 3
-  const float* clip_extent = nullptr;   // 3
+  int dropped = 3;                     // rotations: the component rebuilt
+  size_t intervals = 0;                // frames − 1
+  std::span<const double> raw;         // (intervals + 1) × 4: x y z w, or x y z 0, as stored
+  std::span<const double> normalized;  // (intervals + 1) × 3: quantized components in the clip range, in [0, 1]
+  const float* clip_min = nullptr;     // 3
+  const float* clip_extent = nullptr;  // 3
   // World displacement per unit of value error: rotations per unit of
   // chord (2·sin(angle/2)), vectors per unit of distance.
   double lever = 1;
-  int hint_bits = 0;  // bits likely to be near the answer (a neighbour's), or 0
+  int hint_bits = 0;         // bits likely to be near the answer (a neighbour's), or 0
   int hint_stride_log = -1;  // the stride the hint is for
 };
 

@@ -14,10 +14,10 @@ namespace armature::compression_internal {
 
 struct TrackState {
   TrackValues values;
-  AnimatedTrack track;                 // what the runtime form keeps of it
-  std::vector<uint8_t> dropped;        // per segment (rotations)
-  std::vector<double> normalized;      // per segment: (kSegmentFrames + 1) × 3
-  std::vector<double> target;          // per segment
+  AnimatedTrack track;             // what the runtime form keeps of it
+  std::vector<uint8_t> dropped;    // per segment (rotations)
+  std::vector<double> normalized;  // per segment: (kSegmentFrames + 1) × 3
+  std::vector<double> target;      // per segment
   std::vector<SegmentTrackChoice> choice;
 };
 

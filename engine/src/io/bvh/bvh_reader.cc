@@ -155,8 +155,8 @@ class Scanner {
 struct JointDef {
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   std::vector<Channel> channels;
-  std::vector<Axis> rotation_axes;     // rotation channels in order
-  std::vector<int> rotation_columns;   // their columns in a frame line
+  std::vector<Axis> rotation_axes;         // rotation channels in order
+  std::vector<int> rotation_columns;       // their columns in a frame line
   int position_columns[3] = {-1, -1, -1};  // x, y, z (−1: none)
   bool has_position = false;
 };
@@ -304,7 +304,8 @@ class BvhParser {
       if (EqualsIgnoreCase(tok, "End")) {
         bool brace = false;
         const std::string_view site = scan_.LineTail(&brace);
-        if (!StartsWithIgnoreCase(site, "Site")) return Error("expected 'End Site', found " + Quoted("End " + std::string(site)));
+        if (!StartsWithIgnoreCase(site, "Site"))
+          return Error("expected 'End Site', found " + Quoted("End " + std::string(site)));
         ARMATURE_RETURN_IF_ERROR(ExpectOpenBrace(brace));
         Eigen::Vector3d offset;
         ARMATURE_RETURN_IF_ERROR(ReadOffset(&offset));
@@ -355,9 +356,9 @@ class BvhParser {
     header.frames_line = scan_.token_line();
     const auto frame_count = static_cast<uint64_t>(header.frames);
     if (frame_count > limits_.max_clip_frames)
-      return Status::ResourceExhausted("line " + std::to_string(header.frames_line) + ": " +
-                                       OverImportLimitCount(frame_count, "frames (Frames:)", "max_clip_frames",
-                                                            limits_.max_clip_frames));
+      return Status::ResourceExhausted(
+          "line " + std::to_string(header.frames_line) + ": " +
+          OverImportLimitCount(frame_count, "frames (Frames:)", "max_clip_frames", limits_.max_clip_frames));
     ARMATURE_RETURN_IF_ERROR(ReadLabeledLine({"Frame", "Time"}, &value));
     if (!ParseDouble(value, &header.dt) || !std::isfinite(header.dt) || !(header.dt > 0))
       return Error("frame time " + Quoted(value) + " is not a positive number of seconds");
@@ -456,7 +457,8 @@ class BvhParser {
     for (size_t j = 0; j < joints_.size(); ++j) {
       const JointDef& def = joints_[j];
       JointTrack& track = clip_->joints[j];
-      if (!def.rotation_axes.empty()) track.rotation.values.push_back(bvh_detail::EulerDegreesToQuaternion(
+      if (!def.rotation_axes.empty())
+        track.rotation.values.push_back(bvh_detail::EulerDegreesToQuaternion(
             def.rotation_axes.data(), def.rotation_columns.data(), def.rotation_axes.size(), row.data()));
       if (def.has_position) {
         Eigen::Vector3d t = def.offset;

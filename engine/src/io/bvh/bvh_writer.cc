@@ -41,8 +41,7 @@ std::vector<std::vector<Channel>> ChannelLists(const Skeleton& sk) {
   if (any) return sk.channels;
   std::vector<std::vector<Channel>> lists(sk.size());
   for (size_t i = 0; i < sk.size(); ++i) {
-    if (sk.parents[i] < 0)
-      lists[i] = {Channel::kXposition, Channel::kYposition, Channel::kZposition};
+    if (sk.parents[i] < 0) lists[i] = {Channel::kXposition, Channel::kYposition, Channel::kZposition};
     lists[i].insert(lists[i].end(), {Channel::kZrotation, Channel::kXrotation, Channel::kYrotation});
   }
   return lists;
@@ -54,8 +53,10 @@ std::vector<size_t> DepthFirstOrder(const Skeleton& sk) {
   std::vector<std::vector<size_t>> children(sk.size());
   std::vector<size_t> stack;
   for (size_t i = 0; i < sk.size(); ++i) {
-    if (sk.parents[i] < 0) stack.push_back(i);
-    else children[static_cast<size_t>(sk.parents[i])].push_back(i);
+    if (sk.parents[i] < 0)
+      stack.push_back(i);
+    else
+      children[static_cast<size_t>(sk.parents[i])].push_back(i);
   }
   std::reverse(stack.begin(), stack.end());
   std::vector<size_t> order;

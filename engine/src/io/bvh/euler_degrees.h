@@ -30,31 +30,41 @@ inline void SinCos(double x, double* sin_out, double* cos_out) {
   const double k = (x * kTwoOverPi + kRound) - kRound;
   const double r0 = x - k * kPiOver2Hi;
   const double w = k * kPiOver2Lo;
-  const double y = r0 - w;           // reduced argument, |y| <= π/4 (a hair more)
+  const double y = r0 - w;             // reduced argument, |y| <= π/4 (a hair more)
   const double y_tail = (r0 - y) - w;  // what y lost to rounding
 
   const double z = y * y;
   // fdlibm __kernel_sin(y, y_tail, 1)
-  constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03,
-                   S3 = -1.98412698298579493134e-04, S4 = 2.75573137070700676789e-06,
-                   S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
+  constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03, S3 = -1.98412698298579493134e-04,
+                   S4 = 2.75573137070700676789e-06, S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
   const double v = z * y;
   const double rs = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
   const double s = y - ((z * (0.5 * y_tail - v * rs) - y_tail) - v * S1);
   // fdlibm __kernel_cos(y, y_tail)
-  constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03,
-                   C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
-                   C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
+  constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03, C3 = 2.48015872894767294178e-05,
+                   C4 = -2.75573143513906633035e-07, C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
   const double rc = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
   const double hz = 0.5 * z;
   const double one_minus_hz = 1.0 - hz;
   const double c = one_minus_hz + (((1.0 - one_minus_hz) - hz) + (z * rc - y * y_tail));
 
   switch (static_cast<long long>(k) & 3) {
-    case 0: *sin_out = s; *cos_out = c; break;
-    case 1: *sin_out = c; *cos_out = -s; break;
-    case 2: *sin_out = -s; *cos_out = -c; break;
-    default: *sin_out = -c; *cos_out = s; break;
+    case 0:
+      *sin_out = s;
+      *cos_out = c;
+      break;
+    case 1:
+      *sin_out = c;
+      *cos_out = -s;
+      break;
+    case 2:
+      *sin_out = -s;
+      *cos_out = -c;
+      break;
+    default:
+      *sin_out = -c;
+      *cos_out = s;
+      break;
   }
 }
 

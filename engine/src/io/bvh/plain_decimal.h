@@ -25,7 +25,8 @@ inline const char* ParsePlainDecimal(const char* p, const char* end, double* out
   size_t digits = static_cast<size_t>(p - digits_start), fraction = 0;
   if (p < end && *p == '.') {
     const char* fraction_start = ++p;
-    while (p < end && static_cast<unsigned>(*p - '0') < 10) mantissa = mantissa * 10 + static_cast<unsigned>(*p++ - '0');
+    while (p < end && static_cast<unsigned>(*p - '0') < 10)
+      mantissa = mantissa * 10 + static_cast<unsigned>(*p++ - '0');
     fraction = static_cast<size_t>(p - fraction_start);
     digits += fraction;
   }

@@ -93,8 +93,8 @@ double Component(const unsigned char* p, int component_type, bool normalize) {
 // The bytes of bufferView `view_index` starting at `offset`, checked to hold
 // `count` elements of `element` bytes every `stride` bytes. `who` names the
 // accessor and `offset_field` its offset's field, for the message.
-StatusOr<const unsigned char*> ViewBytes(const tinygltf::Model& model, int view_index, uint64_t offset,
-                                         uint64_t count, uint64_t element, uint64_t stride, const std::string& who,
+StatusOr<const unsigned char*> ViewBytes(const tinygltf::Model& model, int view_index, uint64_t offset, uint64_t count,
+                                         uint64_t element, uint64_t stride, const std::string& who,
                                          const char* offset_field) {
   if (view_index < 0 || static_cast<size_t>(view_index) >= model.bufferViews.size())
     return Status::InvalidArgument(who + " refers to bufferView " + std::to_string(view_index) + " (file has " +
@@ -137,8 +137,8 @@ Status CheckAccessorKind(const tinygltf::Accessor& a, const std::string& who, Ac
     return Status::InvalidArgument(who + " has type " + AccessorTypeName(a.type) + ", expected " +
                                    AccessorTypeName(static_cast<int>(type)));
   const bool is_float = a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
-  const bool listed = std::find(component_types.begin(), component_types.end(), a.componentType) !=
-                      component_types.end();
+  const bool listed =
+      std::find(component_types.begin(), component_types.end(), a.componentType) != component_types.end();
   if (!(is_float && float_allowed) && !listed) {
     std::string expected = float_allowed ? "FLOAT" : "";
     for (int t : component_types) expected += (expected.empty() ? "" : " or ") + ComponentTypeName(t);
@@ -154,8 +154,8 @@ Status CheckAccessorKind(const tinygltf::Accessor& a, const std::string& who, Ac
 
 // Sparse substitution: the listed elements replaced by the sparse values.
 template <class T>
-Status ApplySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, const std::string& who,
-                   size_t components, size_t bytes, bool convert, std::vector<T>& result) {
+Status ApplySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, const std::string& who, size_t components,
+                   size_t bytes, bool convert, std::vector<T>& result) {
   const std::string swho = who + " sparse";
   const auto& s = a.sparse;
   const uint64_t element = components * bytes;
@@ -173,10 +173,10 @@ Status ApplySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, co
   ARMATURE_ASSIGN_OR_RETURN(const unsigned char* indices,
                             ViewBytes(model, s.indices.bufferView, static_cast<uint64_t>(s.indices.byteOffset),
                                       static_cast<uint64_t>(s.count), ib, ib, swho + " indices", "byteOffset"));
-  ARMATURE_ASSIGN_OR_RETURN(const unsigned char* vals,
-                            ViewBytes(model, s.values.bufferView, static_cast<uint64_t>(s.values.byteOffset),
-                                      static_cast<uint64_t>(s.count), element, element, swho + " values",
-                                      "byteOffset"));
+  ARMATURE_ASSIGN_OR_RETURN(
+      const unsigned char* vals,
+      ViewBytes(model, s.values.bufferView, static_cast<uint64_t>(s.values.byteOffset), static_cast<uint64_t>(s.count),
+                element, element, swho + " values", "byteOffset"));
   double previous = -1;
   for (int k = 0; k < s.count; ++k) {
     const double target = Component(indices + static_cast<size_t>(k) * ib, it, false);
@@ -222,21 +222,20 @@ StatusOr<uint64_t> AccessorReader::ChargeValues(const tinygltf::Accessor& a, con
     // pay for these, so they have a cap of their own.
     const std::optional<uint64_t> unbacked = MulAdd(a.count, element, 0);
     if (!unbacked || *unbacked > limits_.max_unbacked_accessor_bytes)
-      return Status::ResourceExhausted(who + " has no bufferView: " +
-                                       OverImportLimit("count " + std::to_string(a.count) + " × " +
-                                                           std::to_string(element) + " bytes =",
-                                                       unbacked.value_or(UINT64_MAX), "max_unbacked_accessor_bytes",
-                                                       limits_.max_unbacked_accessor_bytes));
+      return Status::ResourceExhausted(
+          who + " has no bufferView: " +
+          OverImportLimit("count " + std::to_string(a.count) + " × " + std::to_string(element) + " bytes =",
+                          unbacked.value_or(UINT64_MAX), "max_unbacked_accessor_bytes",
+                          limits_.max_unbacked_accessor_bytes));
   }
   const std::optional<uint64_t> values = MulAdd(a.count, components, 0);
   const std::optional<uint64_t> total = values ? MulAdd(1, *values, values_read_) : std::nullopt;
   if (!total || *total > limits_.max_accessor_values)
-    return Status::ResourceExhausted(who + ": " +
-                                     OverImportLimit("count " + std::to_string(a.count) + " × " +
-                                                         std::to_string(components) + " components, with the " +
-                                                         std::to_string(values_read_) + " values read before,",
-                                                     total.value_or(UINT64_MAX), "max_accessor_values",
-                                                     limits_.max_accessor_values));
+    return Status::ResourceExhausted(
+        who + ": " +
+        OverImportLimit("count " + std::to_string(a.count) + " × " + std::to_string(components) +
+                            " components, with the " + std::to_string(values_read_) + " values read before,",
+                        total.value_or(UINT64_MAX), "max_accessor_values", limits_.max_accessor_values));
   return *total;
 }
 
@@ -263,8 +262,8 @@ StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where,
                                     model_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride
                                 ? model_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride
                                 : element;
-    ARMATURE_ASSIGN_OR_RETURN(const unsigned char* data, ViewBytes(model_, a.bufferView, a.byteOffset, a.count,
-                                                                   element, stride, who, "byteOffset"));
+    ARMATURE_ASSIGN_OR_RETURN(const unsigned char* data, ViewBytes(model_, a.bufferView, a.byteOffset, a.count, element,
+                                                                   stride, who, "byteOffset"));
     result.resize(values);
     for (size_t i = 0; i < a.count; ++i)
       for (size_t c = 0; c < components; ++c)
@@ -273,8 +272,7 @@ StatusOr<AccessorData> AccessorReader::Read(int index, const std::string& where,
     result.assign(values, T{});
   }
   values_read_ = total;
-  if (a.sparse.isSparse)
-    ARMATURE_RETURN_IF_ERROR(ApplySparse(model_, a, who, components, bytes, convert, result));
+  if (a.sparse.isSparse) ARMATURE_RETURN_IF_ERROR(ApplySparse(model_, a, who, components, bytes, convert, result));
   if constexpr (std::is_floating_point_v<T>) {
     for (size_t i = 0; i < result.size(); ++i)
       if (!std::isfinite(result[i]))

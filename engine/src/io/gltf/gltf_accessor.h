@@ -14,7 +14,7 @@
 namespace tinygltf {
 class Model;
 struct Accessor;
-}
+}  // namespace tinygltf
 
 namespace armature::gltf_internal {
 

@@ -85,8 +85,10 @@ void FillVec3Track(const std::vector<double>& times, const SamplerOutput& output
 void SetWeightsTrack(WeightsTrack track, Clip& clip) {
   auto same = std::find_if(clip.weights.begin(), clip.weights.end(),
                            [&](const WeightsTrack& w) { return w.mesh == track.mesh; });
-  if (same != clip.weights.end()) *same = std::move(track);
-  else clip.weights.push_back(std::move(track));
+  if (same != clip.weights.end())
+    *same = std::move(track);
+  else
+    clip.weights.push_back(std::move(track));
 }
 
 }  // namespace
@@ -122,8 +124,8 @@ Status Importer::ImportAnimation(size_t a) {
     if (!animated.insert({channel.target_node, path}).second)
       warnings_.push_back(cwhere + " animates node " + std::to_string(channel.target_node) + " " + path +
                           " again; the later channel wins");
-    ARMATURE_RETURN_IF_ERROR(ImportChannel(anim, channel, where + ".samplers[" + std::to_string(channel.sampler) + "]",
-                                           *clip));
+    ARMATURE_RETURN_IF_ERROR(
+        ImportChannel(anim, channel, where + ".samplers[" + std::to_string(channel.sampler) + "]", *clip));
   }
   clip->default_interpolation = SharedInterpolation(*clip);
   ARMATURE_RETURN_IF_ERROR(clip->Validate().WithContext(where + ": "));
@@ -139,13 +141,14 @@ StatusOr<std::vector<double>> Importer::ReadKeyTimes(const tinygltf::AnimationSa
                                                      const std::string& swhere) {
   ARMATURE_ASSIGN_OR_RETURN(const size_t declared, reader_.Count(sampler.input, swhere + ".input"));
   if (declared > limits_.max_clip_frames)
-    return Status::ResourceExhausted(swhere + ".input: accessor " + std::to_string(sampler.input) + ": " +
-                                     OverImportLimit("key count", declared, "max_clip_frames",
-                                                     limits_.max_clip_frames));
+    return Status::ResourceExhausted(
+        swhere + ".input: accessor " + std::to_string(sampler.input) + ": " +
+        OverImportLimit("key count", declared, "max_clip_frames", limits_.max_clip_frames));
   if (__builtin_add_overflow(clip_keys_, declared, &clip_keys_)) clip_keys_ = UINT64_MAX;
   if (clip_keys_ > limits_.max_clip_keys)
-    return Status::ResourceExhausted(swhere + ".input: " + OverImportLimit("keys of the clip's tracks", clip_keys_,
-                                                                           "max_clip_keys", limits_.max_clip_keys));
+    return Status::ResourceExhausted(
+        swhere +
+        ".input: " + OverImportLimit("keys of the clip's tracks", clip_keys_, "max_clip_keys", limits_.max_clip_keys));
   // Memory before decoding: a key's time (decoded float, kept double) and its
   // output elements (decoded floats, kept as up to four doubles).
   ARMATURE_ASSIGN_OR_RETURN(const size_t outputs, reader_.Count(sampler.output, swhere + ".output"));
@@ -161,8 +164,7 @@ StatusOr<std::vector<double>> Importer::ReadKeyTimes(const tinygltf::AnimationSa
   for (size_t k = 1; k < times.size(); ++k)
     if (!(times[k] > times[k - 1]))
       return Status::InvalidArgument(swhere + ".input: accessor " + std::to_string(sampler.input) + " key " +
-                                     std::to_string(k) + " time " + std::to_string(times[k]) +
-                                     " does not increase");
+                                     std::to_string(k) + " time " + std::to_string(times[k]) + " does not increase");
   return times;
 }
 
@@ -202,13 +204,11 @@ Status Importer::ImportChannel(const tinygltf::Animation& anim, const tinygltf::
   ARMATURE_ASSIGN_OR_RETURN(const AccessorData out,
                             reader_.ReadFloats(sampler.output, swhere + ".output", type, normalized, &output));
   if (out.count != keys * per_key)
-    return Status::InvalidArgument(swhere + ".output: accessor " + std::to_string(sampler.output) + " has " +
-                                   std::to_string(out.count) + " elements, expected " +
-                                   std::to_string(keys * per_key) + " (" + std::to_string(keys) + " keys" +
-                                   (cubic ? " × 3 for CUBICSPLINE" : "") +
-                                   (mesh >= 0 ? " × " + std::to_string(ImportedMesh(mesh).targets.size()) + " targets"
-                                              : std::string()) +
-                                   ")");
+    return Status::InvalidArgument(
+        swhere + ".output: accessor " + std::to_string(sampler.output) + " has " + std::to_string(out.count) +
+        " elements, expected " + std::to_string(keys * per_key) + " (" + std::to_string(keys) + " keys" +
+        (cubic ? " × 3 for CUBICSPLINE" : "") +
+        (mesh >= 0 ? " × " + std::to_string(ImportedMesh(mesh).targets.size()) + " targets" : std::string()) + ")");
   clip.duration = std::max(clip.duration, times.back());
   clip.frame_count = std::max(clip.frame_count, keys);
 

@@ -51,8 +51,10 @@ uint64_t TrackBytes(const Track<V>& track, size_t components, double step) {
   if (track.empty()) return 0;
   uint64_t keys = track.times.size(), per_key = components;
   if (track.interpolation == Interpolation::kCubic) {
-    if (HasTangents(track)) per_key *= 3;
-    else keys = ResampledKeyCount(track.times, step);
+    if (HasTangents(track))
+      per_key *= 3;
+    else
+      keys = ResampledKeyCount(track.times, step);
   }
   // times, values, alignment, and the JSON of two accessors, views, a sampler and a channel
   return Add(Mul(keys, 4 * (per_key + 1)), 8 + 6 * kJsonBytesPerObject);
@@ -88,9 +90,9 @@ class AnimationWriter {
       values[i] = f;
     }
     // Cubic weights without tangents are written LINEAR at their keys.
-    const Interpolation mode = triplets ? Interpolation::kCubic
+    const Interpolation mode = triplets                                      ? Interpolation::kCubic
                                : track.interpolation == Interpolation::kStep ? Interpolation::kStep
-                                                                              : Interpolation::kLinear;
+                                                                             : Interpolation::kLinear;
     return Channel(track.times, values, TINYGLTF_TYPE_SCALAR, values.size(), mode, node, "weights", where);
   }
 
@@ -150,11 +152,13 @@ class AnimationWriter {
     }
     const bool cubic = track.interpolation == Interpolation::kCubic;
     for (size_t k = 0; k < track.values.size(); ++k) {
-      if (cubic) ARMATURE_RETURN_IF_ERROR(Append(values, {track.in_tangents[k].x(), track.in_tangents[k].y(),
-                                                          track.in_tangents[k].z()}, what));
+      if (cubic)
+        ARMATURE_RETURN_IF_ERROR(
+            Append(values, {track.in_tangents[k].x(), track.in_tangents[k].y(), track.in_tangents[k].z()}, what));
       ARMATURE_RETURN_IF_ERROR(Append(values, {track.values[k].x(), track.values[k].y(), track.values[k].z()}, what));
-      if (cubic) ARMATURE_RETURN_IF_ERROR(Append(values, {track.out_tangents[k].x(), track.out_tangents[k].y(),
-                                                          track.out_tangents[k].z()}, what));
+      if (cubic)
+        ARMATURE_RETURN_IF_ERROR(
+            Append(values, {track.out_tangents[k].x(), track.out_tangents[k].y(), track.out_tangents[k].z()}, what));
     }
     return Channel(track.times, values, TINYGLTF_TYPE_VEC3, values.size() / 3, track.interpolation, j, path, where);
   }

@@ -13,8 +13,7 @@ int MaterialWriter::Add(const Material& material) {
   if (auto it = materials_.find(&material); it != materials_.end()) return it->second;
   tinygltf::Material out;
   out.name = material.name;
-  out.pbrMetallicRoughness.baseColorFactor.assign(material.base_color_factor.begin(),
-                                                  material.base_color_factor.end());
+  out.pbrMetallicRoughness.baseColorFactor.assign(material.base_color_factor.begin(), material.base_color_factor.end());
   out.pbrMetallicRoughness.metallicFactor = material.metallic_factor;
   out.pbrMetallicRoughness.roughnessFactor = material.roughness_factor;
   out.emissiveFactor.assign(material.emissive_factor.begin(), material.emissive_factor.end());

@@ -37,7 +37,9 @@ int AddVectors(const std::vector<Eigen::Vector3f>& vectors, ModelBuilder& builde
   return builder.AddFloats(xyz, TINYGLTF_TYPE_VEC3, vectors.size(), kArrayBuffer);
 }
 
-size_t InfluenceSets(const Mesh& mesh) { return mesh.skinned() ? std::max<size_t>(1, (mesh.max_influences() + 3) / 4) : 0; }
+size_t InfluenceSets(const Mesh& mesh) {
+  return mesh.skinned() ? std::max<size_t>(1, (mesh.max_influences() + 3) / 4) : 0;
+}
 
 // JOINTS_n and WEIGHTS_n: four influences per set, in the mesh's order.
 void AddInfluences(const Mesh& mesh, tinygltf::Primitive& primitive, ModelBuilder& builder) {
@@ -53,9 +55,8 @@ void AddInfluences(const Mesh& mesh, tinygltf::Primitive& primitive, ModelBuilde
       }
     }
     const std::string index = std::to_string(s);
-    primitive.attributes["JOINTS_" + index] =
-        builder.Add(std::span<const uint16_t>(joints), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, n,
-                    kArrayBuffer);
+    primitive.attributes["JOINTS_" + index] = builder.Add(
+        std::span<const uint16_t>(joints), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, n, kArrayBuffer);
     primitive.attributes["WEIGHTS_" + index] = builder.AddFloats(weights, TINYGLTF_TYPE_VEC4, n, kArrayBuffer);
   }
 }
@@ -64,8 +65,9 @@ void AddInfluences(const Mesh& mesh, tinygltf::Primitive& primitive, ModelBuilde
 // and names (extras.targetNames, as three.js and Blender read them).
 void AddTargets(const Mesh& mesh, tinygltf::Primitive& primitive, tinygltf::Mesh& out, ModelBuilder& builder) {
   if (mesh.targets.empty()) return;
-  const bool normals = !mesh.normals.empty() && std::any_of(mesh.targets.begin(), mesh.targets.end(),
-                                                            [](const MorphTarget& t) { return !t.normal_deltas.empty(); });
+  const bool normals =
+      !mesh.normals.empty() && std::any_of(mesh.targets.begin(), mesh.targets.end(),
+                                           [](const MorphTarget& t) { return !t.normal_deltas.empty(); });
   tinygltf::Value::Array names;
   for (const MorphTarget& target : mesh.targets) {
     std::vector<Eigen::Vector3f> positions(mesh.vertex_count(), Eigen::Vector3f::Zero());

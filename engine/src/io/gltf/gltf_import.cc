@@ -188,16 +188,14 @@ StatusOr<Importer::SkinBinding> Importer::ReadSkin(int s) {
                                                             AccessorType::kMat4, {}, &m));
     if (data.count < skin.joints.size())
       return Status::InvalidArgument(where + ".inverseBindMatrices: accessor " +
-                                     std::to_string(skin.inverseBindMatrices) + " has " +
-                                     std::to_string(data.count) + " matrices for " +
-                                     std::to_string(skin.joints.size()) + " joints");
+                                     std::to_string(skin.inverseBindMatrices) + " has " + std::to_string(data.count) +
+                                     " matrices for " + std::to_string(skin.joints.size()) + " joints");
     for (size_t k = 0; k < skin.joints.size(); ++k)
       b.inverse_bind[k].matrix() = Eigen::Map<const Eigen::Matrix4f>(m.data() + 16 * k).cast<double>();
   }
   if (skin.skeleton >= 0) {
     if (static_cast<size_t>(skin.skeleton) >= model_.nodes.size())
-      return Status::InvalidArgument(where + ".skeleton: node " + std::to_string(skin.skeleton) +
-                                     " does not exist");
+      return Status::InvalidArgument(where + ".skeleton: node " + std::to_string(skin.skeleton) + " does not exist");
     b.root = joint_of_[static_cast<size_t>(skin.skeleton)];
   }
   return b;

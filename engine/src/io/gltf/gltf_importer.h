@@ -111,8 +111,7 @@ class Importer {
   Status AppendTexcoords(const tinygltf::Primitive& prim, const std::string& attrs, size_t base, size_t count,
                          Mesh& mesh);
   void FinishUvsAndMaterials(const tinygltf::Mesh& gm, const std::string& where, Mesh& mesh);
-  Status AddMaterialGroup(const tinygltf::Primitive& prim, const std::string& where, size_t first_triangle,
-                          Mesh& mesh);
+  Status AddMaterialGroup(const tinygltf::Primitive& prim, const std::string& where, size_t first_triangle, Mesh& mesh);
   Status ImportAnimation(size_t a);
   StatusOr<std::vector<double>> ReadKeyTimes(const tinygltf::AnimationSampler& sampler, const std::string& swhere);
   Status ImportChannel(const tinygltf::Animation& anim, const tinygltf::AnimationChannel& channel,
@@ -125,12 +124,12 @@ class Importer {
   AssetContents contents_;
   std::vector<std::string> warnings_;
   std::shared_ptr<const Skeleton> skeleton_;
-  std::vector<int> joint_of_;            // node → skeleton joint
-  std::vector<int> instance_;            // mesh → first node using it, or -1
+  std::vector<int> joint_of_;  // node → skeleton joint
+  std::vector<int> instance_;  // mesh → first node using it, or -1
   std::set<std::string> used_mesh_names_, used_clip_names_;
   std::vector<std::shared_ptr<const Material>> materials_;  // by glTF index, built on first use
   std::vector<std::shared_ptr<const MaterialImage>> images_;
-  uint64_t clip_keys_ = 0;  // keys of the clip being imported, all tracks
+  uint64_t clip_keys_ = 0;      // keys of the clip being imported, all tracks
   uint64_t decoded_bytes_ = 0;  // estimated memory of everything decoded so far (ChargeDecoded)
 };
 

@@ -70,8 +70,8 @@ bool WriteWholeFile(std::string*, const std::string&, const std::vector<unsigned
 // Images are kept as stored, never decoded. A uri's bytes (data: or a
 // resource) are copied here; a bufferView's are read by the importer, which
 // checks the view against its buffer (tinygltf passes them unchecked).
-bool KeepImageBytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                    const unsigned char* bytes, int size, void*) {
+bool KeepImageBytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes,
+                    int size, void*) {
   if (image->bufferView < 0 && size > 0) image->image.assign(bytes, bytes + size);
   return true;
 }
@@ -115,8 +115,9 @@ StatusOr<std::string_view> CheckGlbContainer(std::string_view bytes) {
                                    "the header's length of " + std::to_string(length) + " bytes");
   if (json_end < length) {
     if (json_end + 8 > length)
-      return Status::InvalidArgument("glb: " + std::to_string(length - json_end) + " bytes after the JSON chunk (at byte " +
-                                     std::to_string(json_end) + ") are too few for a chunk header");
+      return Status::InvalidArgument("glb: " + std::to_string(length - json_end) +
+                                     " bytes after the JSON chunk (at byte " + std::to_string(json_end) +
+                                     ") are too few for a chunk header");
     const uint64_t bin_length = LittleEndian32(bytes, json_end);
     if (LittleEndian32(bytes, json_end + 4) != kBin)
       return Status::InvalidArgument("glb: the second chunk (at byte " + std::to_string(json_end) +

@@ -52,15 +52,18 @@ StatusOr<std::shared_ptr<const MaterialImage>> Importer::ImageOf(int index) {
     size = view->byteLength;
   }
   if (size > limits_.max_image_bytes)
-    return Status::ResourceExhausted(where + ": " + OverImportLimitCount(size, "bytes", "max_image_bytes",
-                                                                         limits_.max_image_bytes));
+    return Status::ResourceExhausted(where + ": " +
+                                     OverImportLimitCount(size, "bytes", "max_image_bytes", limits_.max_image_bytes));
   if (size == 0) {
-    warnings_.push_back(where + (gi.uri.empty() ? " has no bytes" : " uri '" + EscapeForMessage(gi.uri, 200) +
-                                 "' was not provided") + "; the textures using it are dropped");
+    warnings_.push_back(
+        where + (gi.uri.empty() ? " has no bytes" : " uri '" + EscapeForMessage(gi.uri, 200) + "' was not provided") +
+        "; the textures using it are dropped");
     return std::shared_ptr<const MaterialImage>();
   }
-  if (view) image->bytes.assign(reinterpret_cast<const char*>(buffer->data.data()) + view->byteOffset, size);
-  else image->bytes.assign(gi.image.begin(), gi.image.end());
+  if (view)
+    image->bytes.assign(reinterpret_cast<const char*>(buffer->data.data()) + view->byteOffset, size);
+  else
+    image->bytes.assign(gi.image.begin(), gi.image.end());
   image->mime_type = SniffImageType(image->bytes);
   if (image->mime_type.empty()) {
     warnings_.push_back(where + " is not PNG, JPEG, WebP or KTX2; the textures using it are dropped");
@@ -80,8 +83,9 @@ StatusOr<TextureRef> Importer::ReadTexture(int texture, int texcoord, double sca
   if (!std::isfinite(scale)) return Status::InvalidArgument(where + ": scale is not finite");
   const tinygltf::Texture& gt = model_.textures[static_cast<size_t>(texture)];
   if (texcoord != 0 || gt.source < 0) {
-    warnings_.push_back(where + (texcoord != 0 ? " samples TEXCOORD_" + std::to_string(texcoord) + "; only TEXCOORD_0 is kept"
-                                               : ": texture " + std::to_string(texture) + " has no source image") +
+    warnings_.push_back(where +
+                        (texcoord != 0 ? " samples TEXCOORD_" + std::to_string(texcoord) + "; only TEXCOORD_0 is kept"
+                                       : ": texture " + std::to_string(texture) + " has no source image") +
                         "; dropped");
     return ref;
   }
@@ -90,8 +94,8 @@ StatusOr<TextureRef> Importer::ReadTexture(int texture, int texcoord, double sca
   if (!*image) return ref;
   if (gt.sampler >= 0) {
     if (static_cast<size_t>(gt.sampler) >= model_.samplers.size())
-      return Status::InvalidArgument("textures[" + std::to_string(texture) + "].sampler " +
-                                     std::to_string(gt.sampler) + " does not exist");
+      return Status::InvalidArgument("textures[" + std::to_string(texture) + "].sampler " + std::to_string(gt.sampler) +
+                                     " does not exist");
     const tinygltf::Sampler& s = model_.samplers[static_cast<size_t>(gt.sampler)];
     ref.sampler = {std::max(s.magFilter, 0), std::max(s.minFilter, 0), s.wrapS, s.wrapT};
   }
@@ -110,7 +114,8 @@ StatusOr<std::shared_ptr<const Material>> Importer::MaterialOf(int index) {
   const std::string where = "materials[" + std::to_string(index) + "]";
   if (index < 0) return std::shared_ptr<const Material>();
   if (static_cast<size_t>(index) >= model_.materials.size())
-    return Status::InvalidArgument(where + " does not exist (file has " + std::to_string(model_.materials.size()) + ")");
+    return Status::InvalidArgument(where + " does not exist (file has " + std::to_string(model_.materials.size()) +
+                                   ")");
   if (materials_.empty()) materials_.resize(model_.materials.size());
   auto& cached = materials_[static_cast<size_t>(index)];
   if (cached) return cached;
@@ -142,8 +147,8 @@ StatusOr<std::shared_ptr<const Material>> Importer::MaterialOf(int index) {
   const Slot slots[] = {
       {&material->base_color_texture, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, 1,
        ".pbrMetallicRoughness.baseColorTexture"},
-      {&material->metallic_roughness_texture, pbr.metallicRoughnessTexture.index,
-       pbr.metallicRoughnessTexture.texCoord, 1, ".pbrMetallicRoughness.metallicRoughnessTexture"},
+      {&material->metallic_roughness_texture, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+       1, ".pbrMetallicRoughness.metallicRoughnessTexture"},
       {&material->normal_texture, gm.normalTexture.index, gm.normalTexture.texCoord, gm.normalTexture.scale,
        ".normalTexture"},
       {&material->occlusion_texture, gm.occlusionTexture.index, gm.occlusionTexture.texCoord,

@@ -41,10 +41,10 @@ Status Importer::ImportMesh(size_t m) {
   MeshInProgress progress;
   for (size_t p = 0; p < gm.primitives.size(); ++p) {
     const size_t triangles_before = mesh->triangle_count();
-    ARMATURE_RETURN_IF_ERROR(AppendPrimitive(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
-                                             p == 0, skin, *mesh, progress));
-    ARMATURE_RETURN_IF_ERROR(AddMaterialGroup(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]",
-                                              triangles_before, *mesh));
+    ARMATURE_RETURN_IF_ERROR(AppendPrimitive(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]", p == 0,
+                                             skin, *mesh, progress));
+    ARMATURE_RETURN_IF_ERROR(
+        AddMaterialGroup(gm.primitives[p], where + ".primitives[" + std::to_string(p) + "]", triangles_before, *mesh));
   }
   if (!progress.any_normals) std::vector<Eigen::Vector3f>().swap(mesh->normals);  // the zeros' memory too
   if (progress.any_normals && !progress.missing_normals.empty()) {
@@ -70,8 +70,8 @@ Status Importer::ImportMesh(size_t m) {
 }
 
 // Morph targets: sparse deltas, names, default weights (the node's override the mesh's).
-Status Importer::AddMorphTargets(const tinygltf::Mesh& gm, int node, const std::string& where,
-                                 MeshInProgress& progress, Mesh& mesh) {
+Status Importer::AddMorphTargets(const tinygltf::Mesh& gm, int node, const std::string& where, MeshInProgress& progress,
+                                 Mesh& mesh) {
   std::vector<SparseTarget>& targets = progress.targets;
   std::vector<std::string> names(targets.size());
   for (size_t t = 0; t < targets.size(); ++t) names[t] = std::to_string(t);
@@ -139,9 +139,9 @@ uint64_t SaturatingSum(std::initializer_list<uint64_t> terms) {
 Status Importer::ChargeDecoded(uint64_t bytes, const std::string& where) {
   decoded_bytes_ = SaturatingSum({decoded_bytes_, bytes});
   if (decoded_bytes_ > limits_.max_decoded_bytes)
-    return Status::ResourceExhausted(where + ": " + OverImportLimit("the estimated memory of the parts decoded so far,",
-                                                                    decoded_bytes_, "max_decoded_bytes",
-                                                                    limits_.max_decoded_bytes) +
+    return Status::ResourceExhausted(where + ": " +
+                                     OverImportLimit("the estimated memory of the parts decoded so far,",
+                                                     decoded_bytes_, "max_decoded_bytes", limits_.max_decoded_bytes) +
                                      " bytes");
   return Status::Ok();
 }
@@ -203,22 +203,21 @@ Status Importer::AppendPositions(PrimitiveSlot& slot, int skin, Mesh& mesh) {
   ARMATURE_ASSIGN_OR_RETURN(const uint64_t declared, reader_.Count(position_accessor, slot.attrs + "POSITION"));
   const uint64_t vertices = static_cast<uint64_t>(slot.base) + std::min<uint64_t>(declared, UINT64_MAX / 2);
   if (vertices > limits_.max_mesh_vertices)
-    return Status::ResourceExhausted(slot.attrs + "POSITION: " +
-                                     OverImportLimitCount(vertices, "vertices", "max_mesh_vertices",
-                                                          limits_.max_mesh_vertices));
+    return Status::ResourceExhausted(
+        slot.attrs +
+        "POSITION: " + OverImportLimitCount(vertices, "vertices", "max_mesh_vertices", limits_.max_mesh_vertices));
   uint64_t morph = 0;
   if (__builtin_mul_overflow(vertices, prim.targets.size(), &morph)) morph = UINT64_MAX;
   if (morph > limits_.max_morph_target_vertices)
-    return Status::ResourceExhausted(where + ".targets: " +
-                                     OverImportLimit(std::to_string(prim.targets.size()) + " morph targets × " +
-                                                         std::to_string(vertices) + " vertices =",
-                                                     morph, "max_morph_target_vertices",
-                                                     limits_.max_morph_target_vertices));
+    return Status::ResourceExhausted(
+        where + ".targets: " +
+        OverImportLimit(
+            std::to_string(prim.targets.size()) + " morph targets × " + std::to_string(vertices) + " vertices =", morph,
+            "max_morph_target_vertices", limits_.max_morph_target_vertices));
   ARMATURE_RETURN_IF_ERROR(ChargePrimitive(prim, where, declared, skin));
   std::vector<float> positions;
-  ARMATURE_ASSIGN_OR_RETURN(
-      const AccessorData pos,
-      reader_.ReadFloats(position_accessor, slot.attrs + "POSITION", AccessorType::kVec3, {}, &positions));
+  ARMATURE_ASSIGN_OR_RETURN(const AccessorData pos, reader_.ReadFloats(position_accessor, slot.attrs + "POSITION",
+                                                                       AccessorType::kVec3, {}, &positions));
   slot.count = pos.count;
   mesh.positions.reserve(slot.base + slot.count);  // exactly: doubling growth would hold up to twice the charge
   for (size_t v = 0; v < slot.count; ++v)
@@ -239,8 +238,8 @@ Status Importer::AppendTriangles(const PrimitiveSlot& slot, Mesh& mesh) {
     for (size_t i = 0; i < indices.size(); ++i)
       if (indices[i] >= count)
         return Status::InvalidArgument(where + ".indices: accessor " + std::to_string(prim.indices) + " element " +
-                                       std::to_string(i) + " = " + std::to_string(indices[i]) +
-                                       " is out of range (" + std::to_string(count) + " vertices)");
+                                       std::to_string(i) + " = " + std::to_string(indices[i]) + " is out of range (" +
+                                       std::to_string(count) + " vertices)");
   } else {
     indices.resize(count);
     for (size_t i = 0; i < count; ++i) indices[i] = static_cast<uint32_t>(i);
@@ -275,9 +274,8 @@ Status Importer::AppendNormals(const PrimitiveSlot& slot, Mesh& mesh, MeshInProg
     return Status::Ok();
   }
   std::vector<float> normals;
-  ARMATURE_ASSIGN_OR_RETURN(
-      const AccessorData nrm,
-      reader_.ReadFloats(normal_accessor, slot.attrs + "NORMAL", AccessorType::kVec3, {}, &normals));
+  ARMATURE_ASSIGN_OR_RETURN(const AccessorData nrm, reader_.ReadFloats(normal_accessor, slot.attrs + "NORMAL",
+                                                                       AccessorType::kVec3, {}, &normals));
   ARMATURE_RETURN_IF_ERROR(CheckCount(nrm, slot.attrs + "NORMAL", normal_accessor, count));
   mesh.normals.resize(base);
   mesh.normals.reserve(base + count);
@@ -299,13 +297,11 @@ StatusOr<Importer::InfluenceSets> Importer::ReadInfluenceSets(const PrimitiveSlo
       return Status::InvalidArgument(attrs + (ja < 0 ? ws : js) + " has no matching " + (ja < 0 ? js : ws));
     std::vector<uint32_t>& joints = sets.joints.emplace_back();
     std::vector<float>& weights = sets.weights.emplace_back();
-    ARMATURE_ASSIGN_OR_RETURN(
-        const AccessorData jd,
-        reader_.ReadUints(ja, attrs + js, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort}, &joints));
+    ARMATURE_ASSIGN_OR_RETURN(const AccessorData jd, reader_.ReadUints(ja, attrs + js, AccessorType::kVec4,
+                                                                       {kUnsignedByte, kUnsignedShort}, &joints));
     ARMATURE_RETURN_IF_ERROR(CheckCount(jd, attrs + js, ja, slot.count));
-    ARMATURE_ASSIGN_OR_RETURN(
-        const AccessorData wd,
-        reader_.ReadFloats(wa, attrs + ws, AccessorType::kVec4, {kUnsignedByte, kUnsignedShort}, &weights));
+    ARMATURE_ASSIGN_OR_RETURN(const AccessorData wd, reader_.ReadFloats(wa, attrs + ws, AccessorType::kVec4,
+                                                                        {kUnsignedByte, kUnsignedShort}, &weights));
     ARMATURE_RETURN_IF_ERROR(CheckCount(wd, attrs + ws, wa, slot.count));
     for (size_t i = 0; i < joints.size(); ++i) {
       const float w = weights[i];
@@ -383,9 +379,8 @@ Status Importer::AppendMorphTargets(const PrimitiveSlot& slot, bool first, std::
       const char* semantic = k == 0 ? "POSITION" : "NORMAL";
       auto it = prim.targets[t].find(semantic);
       if (it == prim.targets[t].end()) continue;
-      ARMATURE_ASSIGN_OR_RETURN(
-          const AccessorData d,
-          reader_.ReadFloats(it->second, twhere + semantic, AccessorType::kVec3, {}, &deltas[k]));
+      ARMATURE_ASSIGN_OR_RETURN(const AccessorData d,
+                                reader_.ReadFloats(it->second, twhere + semantic, AccessorType::kVec3, {}, &deltas[k]));
       ARMATURE_RETURN_IF_ERROR(CheckCount(d, twhere + semantic, it->second, slot.count));
       if (k == 1) sparse.has_normals = true;
     }
@@ -404,8 +399,8 @@ Status Importer::AppendMorphTargets(const PrimitiveSlot& slot, bool first, std::
   return Status::Ok();
 }
 
-Status Importer::AppendTexcoords(const tinygltf::Primitive& prim, const std::string& attrs, size_t base,
-                                 size_t count, Mesh& mesh) {
+Status Importer::AppendTexcoords(const tinygltf::Primitive& prim, const std::string& attrs, size_t base, size_t count,
+                                 Mesh& mesh) {
   const auto it = prim.attributes.find("TEXCOORD_0");
   mesh.uvs.resize(base, Eigen::Vector2f::Zero());
   if (it == prim.attributes.end()) {
@@ -427,7 +422,8 @@ Status Importer::AppendTexcoords(const tinygltf::Primitive& prim, const std::str
 void Importer::FinishUvsAndMaterials(const tinygltf::Mesh& gm, const std::string& where, Mesh& mesh) {
   size_t with_uvs = 0;
   for (const tinygltf::Primitive& p : gm.primitives) with_uvs += p.attributes.count("TEXCOORD_0");
-  if (with_uvs == 0) mesh.uvs.clear();
+  if (with_uvs == 0)
+    mesh.uvs.clear();
   else if (with_uvs < gm.primitives.size())
     warnings_.push_back(where + ": some primitives have no TEXCOORD_0; their vertices get UV (0, 0)");
   bool any_material = false;

@@ -47,8 +47,8 @@ StatusOr<int> ModelBuilder::AddTimes(const std::vector<double>& times, const std
   }
   std::vector<double> lo, hi;
   if (!f.empty()) lo = {f.front()}, hi = {f.back()};
-  const int accessor = Add(std::span<const float>(f), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, f.size(),
-                           0, std::move(lo), std::move(hi));
+  const int accessor = Add(std::span<const float>(f), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, f.size(), 0,
+                           std::move(lo), std::move(hi));
   times_.emplace(times, accessor);
   return accessor;
 }
@@ -83,8 +83,10 @@ void AddSkeletonNodes(const Skeleton& skeleton, tinygltf::Model& model) {
       node.rotation = {rest.rotation.x(), rest.rotation.y(), rest.rotation.z(), rest.rotation.w()};
     if (rest.scale != Eigen::Vector3d::Ones()) node.scale = {rest.scale.x(), rest.scale.y(), rest.scale.z()};
     const int parent = skeleton.parents[j];
-    if (parent >= 0) model.nodes[static_cast<size_t>(parent)].children.push_back(static_cast<int>(j));
-    else scene.nodes.push_back(static_cast<int>(j));
+    if (parent >= 0)
+      model.nodes[static_cast<size_t>(parent)].children.push_back(static_cast<int>(j));
+    else
+      scene.nodes.push_back(static_cast<int>(j));
   }
   model.scenes.push_back(std::move(scene));
   model.defaultScene = 0;

@@ -49,8 +49,7 @@ StatusOr<Eigen::Vector3f> ParseVector(const std::vector<std::string_view>& token
 }
 
 // A face index: 1-based, or negative counting back from the latest element.
-StatusOr<uint32_t> ResolveIndex(std::string_view t, size_t defined, const char* what, const char* plural,
-                                size_t line) {
+StatusOr<uint32_t> ResolveIndex(std::string_view t, size_t defined, const char* what, const char* plural, size_t line) {
   long long i = 0;
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), i);
   if (ec != std::errc() || end != t.data() + t.size())
@@ -153,8 +152,7 @@ class ObjReader {
       mesh_.normals = ComputeVertexNormals(mesh_.positions, mesh_.triangles);
     }
     if (warnings && ignored_ > 0)
-      warnings->push_back(std::to_string(ignored_) + " unsupported statements ignored (first: " + first_ignored_ +
-                          ")");
+      warnings->push_back(std::to_string(ignored_) + " unsupported statements ignored (first: " + first_ignored_ + ")");
     return std::move(mesh_);
   }
 
@@ -186,15 +184,16 @@ class ObjReader {
     const size_t s2 = rest.find('/');
     const std::string_view t = rest.substr(0, s2);
     if (!t.empty())
-      ARMATURE_RETURN_IF_ERROR(
-          ResolveIndex(t, texcoords_, "texture coordinate", "texture coordinates", line).status());
+      ARMATURE_RETURN_IF_ERROR(ResolveIndex(t, texcoords_, "texture coordinate", "texture coordinates", line).status());
     if (s2 == std::string_view::npos) return v;
     ARMATURE_ASSIGN_OR_RETURN(const uint32_t ni,
                               ResolveIndex(rest.substr(s2 + 1), file_normals_.size(), "normal", "normals", line));
     any_corner_normal_ = true;
     const Eigen::Vector3f& n = file_normals_[ni];
-    if (normal_first_[v] == 0) normal_first_[v] = ni + 1;
-    else if (normal_first_[v] != ni + 1 && !file_normals_[normal_first_[v] - 1].isApprox(n)) ++conflicting_;
+    if (normal_first_[v] == 0)
+      normal_first_[v] = ni + 1;
+    else if (normal_first_[v] != ni + 1 && !file_normals_[normal_first_[v] - 1].isApprox(n))
+      ++conflicting_;
     normal_sum_[v] += n.normalized();
     return v;
   }

@@ -69,13 +69,13 @@ Quaterniond YawBetween(const Vector3d& from, const Vector3d& to) {
 
 // What stays the same for every frame.
 struct Plan {
-  std::vector<int> source_of;       // per target joint
-  std::vector<int> target_of;       // per source joint
-  std::vector<int> tail;            // per target joint: the mapped joint its bone points to, or -1
-  std::vector<Quaterniond> align;   // C per target joint
+  std::vector<int> source_of;              // per target joint
+  std::vector<int> target_of;              // per source joint
+  std::vector<int> tail;                   // per target joint: the mapped joint its bone points to, or -1
+  std::vector<Quaterniond> align;          // C per target joint
   std::vector<Vector3d> source_rest_bone;  // Rs0-frame bone vector (world, rest) per target joint
-  std::vector<int> carrier;         // per target joint: the joint carrying it rigidly, or -1
-  std::vector<int> carried;         // target joints with a carrier, in source order
+  std::vector<int> carrier;                // per target joint: the joint carrying it rigidly, or -1
+  std::vector<int> carried;                // target joints with a carrier, in source order
   Quaterniond yaw = Quaterniond::Identity();
   double scale = 1.0;
   int source_left_thigh = -1, source_right_thigh = -1, target_left_thigh = -1, target_right_thigh = -1;
@@ -93,11 +93,11 @@ Status ValidatePairs(const Clip& source, const Skeleton& target, const BodyPartM
         static_cast<size_t>(p.target) >= target.size())
       return Status::InvalidArgument("pairs[" + std::to_string(i) + "]: joint index out of range");
     if (plan.source_of[static_cast<size_t>(p.target)] >= 0)
-      return Status::InvalidArgument("pairs[" + std::to_string(i) + "]: target joint '" + target.names[static_cast<size_t>(p.target)] +
-                                     "' is mapped twice");
+      return Status::InvalidArgument("pairs[" + std::to_string(i) + "]: target joint '" +
+                                     target.names[static_cast<size_t>(p.target)] + "' is mapped twice");
     if (plan.target_of[static_cast<size_t>(p.source)] >= 0)
-      return Status::InvalidArgument("pairs[" + std::to_string(i) + "]: source joint '" + s.names[static_cast<size_t>(p.source)] +
-                                     "' is mapped twice");
+      return Status::InvalidArgument("pairs[" + std::to_string(i) + "]: source joint '" +
+                                     s.names[static_cast<size_t>(p.source)] + "' is mapped twice");
     plan.source_of[static_cast<size_t>(p.target)] = p.source;
     plan.target_of[static_cast<size_t>(p.source)] = p.target;
   }
@@ -159,8 +159,9 @@ void PlanBones(const Skeleton& s, const Skeleton& t, const WorldPose& s0, const 
     const Vector3d target_bone = t0.At(k) - t0.At(static_cast<int>(j));
     plan.align[j] = Quaterniond::FromTwoVectors(target_bone, plan.yaw * source_bone);
   }
-  std::sort(plan.carried.begin(), plan.carried.end(),
-            [&](int a, int b) { return plan.source_of[static_cast<size_t>(a)] < plan.source_of[static_cast<size_t>(b)]; });
+  std::sort(plan.carried.begin(), plan.carried.end(), [&](int a, int b) {
+    return plan.source_of[static_cast<size_t>(a)] < plan.source_of[static_cast<size_t>(b)];
+  });
 }
 
 // Per-frame scratch, allocated once.
@@ -238,7 +239,12 @@ StatusOr<std::vector<double>> FrameTimes(const Clip& source, double dt, size_t m
 class FramePoser {
  public:
   FramePoser(const Clip& source, const Skeleton& target, const Plan& plan, const WorldPose& s0, const WorldPose& t0)
-      : source_(source), s_(*source.skeleton), target_(target), plan_(plan), s0_(s0), t0_(t0),
+      : source_(source),
+        s_(*source.skeleton),
+        target_(target),
+        plan_(plan),
+        s0_(s0),
+        t0_(t0),
         yaw_inv_(plan.yaw.conjugate()) {
     f_.source_local.resize(s_.size());
     f_.source.world.resize(s_.size());
@@ -409,17 +415,19 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
 
   FeetPlan feet;
   if (options.feet) ARMATURE_RETURN_IF_ERROR(PlanFeet(target, tp, t0.world, feet));
-  const double dt = options.frame_time > 0 ? options.frame_time : (source.frame_time > 0 ? source.frame_time : 1.0 / 30);
+  const double dt =
+      options.frame_time > 0 ? options.frame_time : (source.frame_time > 0 ? source.frame_time : 1.0 / 30);
   ARMATURE_ASSIGN_OR_RETURN(const std::vector<double> times, FrameTimes(source, dt, options.max_frames));
 
   FramePoser poser(source, target, plan, s0, t0);
   Frame& f = poser.frame();
   std::vector<FootPins> pins;
   if (options.feet) {
-    ARMATURE_RETURN_IF_ERROR(
-        FindPlantedFeet(times, sp, [&](double time) { return poser.SampleSource(time); }, f.source.world, pins));
+    ARMATURE_RETURN_IF_ERROR(FindPlantedFeet(
+        times, sp, [&](double time) { return poser.SampleSource(time); }, f.source.world, pins));
     for (const FootPins& p : pins)
-      result.planted_frames += static_cast<size_t>(std::count_if(p.stretch.begin(), p.stretch.end(), [](int s) { return s >= 0; }));
+      result.planted_frames +=
+          static_cast<size_t>(std::count_if(p.stretch.begin(), p.stretch.end(), [](int s) { return s >= 0; }));
   }
 
   Clip& out = result.clip;
@@ -431,7 +439,8 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
   for (size_t fi = 0; fi < times.size(); ++fi) {
     ARMATURE_RETURN_IF_ERROR(poser.Pose(times[fi]));
     if (options.feet) {
-      ARMATURE_RETURN_IF_ERROR(PinFeet(target, feet, pins, fi, plan.moved_root, f.local, f.world, f.rotation, ik_workspace, ik_result));
+      ARMATURE_RETURN_IF_ERROR(
+          PinFeet(target, feet, pins, fi, plan.moved_root, f.local, f.world, f.rotation, ik_workspace, ik_result));
       AfterPinnedFeet(target, t0, plan, f);
     }
     KeyFrame(plan, keyed, f, times[fi], out);

@@ -21,7 +21,9 @@ Status PlanFeet(const Skeleton& target, const BodyParts& parts, std::span<const 
     const std::string which = std::string("feet: the target's ") + kSide[side] + " leg";
     if (leg.upper < 0 || leg.lower < 0 || leg.end < 0)
       return Status::InvalidArgument(which + " has no hip–knee–ankle chain (" +
-                                     (leg.upper < 0 ? "no thigh" : leg.lower < 0 ? "no shin" : "no foot") +
+                                     (leg.upper < 0   ? "no thigh"
+                                      : leg.lower < 0 ? "no shin"
+                                                      : "no foot") +
                                      " joint found); map the leg's joints explicitly or retarget without feet");
     if (target.parents[static_cast<size_t>(leg.lower)] != leg.upper)
       return Status::InvalidArgument(which + " has no hip–knee–ankle chain: the shin '" +
@@ -46,8 +48,12 @@ Status PlanFeet(const Skeleton& target, const BodyParts& parts, std::span<const 
       out.offset = rest_world[static_cast<size_t>(out.effector)].inverse() *
                    rest_world[static_cast<size_t>(leg.end)].translation();
     }
-    total += (rest_world[static_cast<size_t>(leg.lower)].translation() - rest_world[static_cast<size_t>(leg.upper)].translation()).norm() +
-             (rest_world[static_cast<size_t>(leg.end)].translation() - rest_world[static_cast<size_t>(leg.lower)].translation()).norm();
+    total += (rest_world[static_cast<size_t>(leg.lower)].translation() -
+              rest_world[static_cast<size_t>(leg.upper)].translation())
+                 .norm() +
+             (rest_world[static_cast<size_t>(leg.end)].translation() -
+              rest_world[static_cast<size_t>(leg.lower)].translation())
+                 .norm();
     IkEffector effector;
     effector.joint = target.names[static_cast<size_t>(out.effector)];
     effector.local_offset = out.offset;
@@ -60,8 +66,8 @@ Status PlanFeet(const Skeleton& target, const BodyParts& parts, std::span<const 
 }
 
 Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_parts,
-                       const std::function<Status(double)>& sample,
-                       const std::vector<Eigen::Affine3d>& source_world, std::vector<FootPins>& pins) {
+                       const std::function<Status(double)>& sample, const std::vector<Eigen::Affine3d>& source_world,
+                       std::vector<FootPins>& pins) {
   const size_t n = times.size();
   pins.assign(2, FootPins{});
   for (size_t side = 0; side < 2; ++side) {
@@ -79,9 +85,11 @@ Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_pa
       ankle[side].push_back(source_world[static_cast<size_t>(leg.end)].translation());
       if (i == 0)
         leg_length += 0.5 * ((source_world[static_cast<size_t>(leg.lower)].translation() -
-                              source_world[static_cast<size_t>(leg.upper)].translation()).norm() +
+                              source_world[static_cast<size_t>(leg.upper)].translation())
+                                 .norm() +
                              (source_world[static_cast<size_t>(leg.end)].translation() -
-                              source_world[static_cast<size_t>(leg.lower)].translation()).norm());
+                              source_world[static_cast<size_t>(leg.lower)].translation())
+                                 .norm());
     }
   }
   if (n < 3 || leg_length <= 0) {
@@ -158,7 +166,8 @@ Status PinFeet(const Skeleton& target, FeetPlan& plan, std::vector<FootPins>& pi
     const FeetPlan::Leg& leg = plan.legs[side];
     const Eigen::Vector3d hip = world[static_cast<size_t>(leg.hip)].translation();
     const Eigen::Vector3d knee = world[static_cast<size_t>(leg.knee)].translation();
-    const double reach = 0.999 * ((knee - hip).norm() + (world[static_cast<size_t>(leg.effector)] * leg.offset - knee).norm());
+    const double reach =
+        0.999 * ((knee - hip).norm() + (world[static_cast<size_t>(leg.effector)] * leg.offset - knee).norm());
     const Eigen::Vector3d v = hip - p.pin[static_cast<size_t>(stretch)];
     const double horizontal2 = v.x() * v.x() + v.z() * v.z();
     if (v.squaredNorm() <= reach * reach || horizontal2 >= reach * reach) continue;
@@ -181,9 +190,9 @@ Status PinFeet(const Skeleton& target, FeetPlan& plan, std::vector<FootPins>& pi
     local[static_cast<size_t>(leg.knee)].rotation = result.pose[static_cast<size_t>(leg.knee)].rotation;
     if (leg.effector == leg.foot) {
       const int hp = target.parents[static_cast<size_t>(leg.hip)];
-      const Eigen::Quaterniond knee_world = (hp < 0 ? Eigen::Quaterniond::Identity() : rotation[static_cast<size_t>(hp)]) *
-                                            local[static_cast<size_t>(leg.hip)].rotation *
-                                            local[static_cast<size_t>(leg.knee)].rotation;
+      const Eigen::Quaterniond knee_world =
+          (hp < 0 ? Eigen::Quaterniond::Identity() : rotation[static_cast<size_t>(hp)]) *
+          local[static_cast<size_t>(leg.hip)].rotation * local[static_cast<size_t>(leg.knee)].rotation;
       local[static_cast<size_t>(leg.foot)].rotation = (knee_world.conjugate() * foot_world).normalized();
     }
   }

@@ -56,8 +56,8 @@ struct FootPins {
 // three frames; stretches less than 0.1 s apart whose ends are within 5 % of
 // the leg length of each other are one). One FootPins per leg (left, right).
 Status FindPlantedFeet(std::span<const double> times, const BodyParts& source_parts,
-                       const std::function<Status(double)>& sample,
-                       const std::vector<Eigen::Affine3d>& source_world, std::vector<FootPins>& pins);
+                       const std::function<Status(double)>& sample, const std::vector<Eigen::Affine3d>& source_world,
+                       std::vector<FootPins>& pins);
 
 // Each stretch's pin: the mean of `natural` (per leg, per frame: where the
 // retargeted motion puts the target's foot) over it, so the pin is the

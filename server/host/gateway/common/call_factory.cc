@@ -42,7 +42,9 @@ bool IsPrintableAscii(const std::string& s) {
 
 CallFactory::CallFactory(GatewayOptions options, google::protobuf::MessageFactory* factory,
                          std::shared_ptr<grpc::Channel> channel)
-    : options_(std::move(options)), factory_(factory), channel_(std::move(channel)),
+    : options_(std::move(options)),
+      factory_(factory),
+      channel_(std::move(channel)),
       stub_(std::make_unique<grpc::GenericStub>(channel_)) {}
 
 grpc::Status CallFactory::Authenticate(const std::string& authorization) const {
@@ -71,7 +73,8 @@ grpc::Status CallFactory::MakeContext(const httplib::Request& req, bool server_s
     if (!req.has_header(name)) continue;
     const std::string value = req.get_header_value(name);
     if (!IsPrintableAscii(value))
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, std::string("header ") + name + ": must be printable ASCII");
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          std::string("header ") + name + ": must be printable ASCII");
     ctx->AddMetadata(name, value);
   }
   // Per-client limits (streams, sessions) count each HTTP client apart; behind

@@ -31,7 +31,8 @@ namespace armature::server::gateway {
 class CallFactory {
  public:
   // `factory` makes the request and response messages (generated or dynamic).
-  CallFactory(GatewayOptions options, google::protobuf::MessageFactory* factory, std::shared_ptr<grpc::Channel> channel);
+  CallFactory(GatewayOptions options, google::protobuf::MessageFactory* factory,
+              std::shared_ptr<grpc::Channel> channel);
 
   const GatewayOptions& options() const { return options_; }
   const google::protobuf::Message& Prototype(const google::protobuf::Descriptor* type) const {

@@ -79,7 +79,8 @@ std::string TrustedProxies::ClientOf(const std::string& peer, std::string_view f
   std::string client = peer;
   while (!forwarded_for.empty()) {
     const size_t comma = forwarded_for.rfind(',');
-    const std::string_view item = Trim(comma == std::string_view::npos ? forwarded_for : forwarded_for.substr(comma + 1));
+    const std::string_view item =
+        Trim(comma == std::string_view::npos ? forwarded_for : forwarded_for.substr(comma + 1));
     forwarded_for = comma == std::string_view::npos ? std::string_view() : forwarded_for.substr(0, comma);
     if (!ParseAddress(item)) break;  // not an address: nothing left of it can be trusted
     client = std::string(item);

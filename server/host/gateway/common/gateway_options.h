@@ -26,7 +26,8 @@ struct GatewayOptions {
   // with a plain HTTP error; later ones arrive as the final SSE status event.
   std::chrono::milliseconds first_response_wait{2000};
   std::chrono::milliseconds sse_heartbeat{15000};
-  size_t max_streams = 200;  // open SSE and gRPC-Web streams and WebSocket sessions; more are refused (each holds an HTTP thread)
+  size_t max_streams =
+      200;  // open SSE and gRPC-Web streams and WebSocket sessions; more are refused (each holds an HTTP thread)
   // A WebSocket session whose client sends no message for this long is closed (1001).
   std::chrono::milliseconds websocket_idle_timeout{300000};
   // Longest a write to a WebSocket client may block (a client that stops reading).

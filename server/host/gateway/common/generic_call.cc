@@ -56,7 +56,8 @@ std::string TakeFront(std::deque<std::string>& queue) {
 // A slice owning `message`'s bytes, without copying them.
 grpc::Slice SliceOf(std::string message) {
   auto* owned = new std::string(std::move(message));
-  return grpc::Slice(owned->data(), owned->size(), [](void* p) { delete static_cast<std::string*>(p); }, owned);
+  return grpc::Slice(
+      owned->data(), owned->size(), [](void* p) { delete static_cast<std::string*>(p); }, owned);
 }
 
 }  // namespace

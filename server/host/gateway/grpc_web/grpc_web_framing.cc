@@ -77,8 +77,8 @@ grpc::Status ParseGrpcWebFrames(std::string_view body, size_t max_message_bytes,
   messages->clear();
   size_t offset = 0;
   while (offset < body.size()) {
-    const std::string where = "gRPC-Web frame " + std::to_string(messages->size() + 1) + " at byte " +
-                              std::to_string(offset);
+    const std::string where =
+        "gRPC-Web frame " + std::to_string(messages->size() + 1) + " at byte " + std::to_string(offset);
     if (body.size() - offset < kGrpcWebFrameHeaderBytes)
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
                           where + ": " + std::to_string(body.size() - offset) +
@@ -95,9 +95,9 @@ grpc::Status ParseGrpcWebFrames(std::string_view body, size_t max_message_bytes,
     if (flag != kGrpcWebDataFlag)
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, where + ": unknown flag byte " + std::to_string(flag));
     if (length > max_message_bytes)
-      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                          where + ": its length " + std::to_string(length) + " exceeds the limit of " +
-                              std::to_string(max_message_bytes) + " bytes");
+      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, where + ": its length " + std::to_string(length) +
+                                                                    " exceeds the limit of " +
+                                                                    std::to_string(max_message_bytes) + " bytes");
     offset += kGrpcWebFrameHeaderBytes;
     if (body.size() - offset < length)
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,

@@ -14,9 +14,7 @@ namespace {
 
 namespace pb = google::protobuf;
 
-const char* ResponseType(bool text) {
-  return text ? "application/grpc-web-text+proto" : "application/grpc-web+proto";
-}
+const char* ResponseType(bool text) { return text ? "application/grpc-web-text+proto" : "application/grpc-web+proto"; }
 
 // The text mode encodes each write on its own (padded): clients decode the
 // body as concatenated base64 chunks.
@@ -69,11 +67,11 @@ void GrpcWebHandler::Handle(const httplib::Request& req, httplib::Response& res,
   const pb::MethodDescriptor& method = *found->second;
   if (method.client_streaming()) {
     res.set_header("Connection", "close");
-    return AnswerStatus(res, text,
-                        grpc::Status(grpc::StatusCode::UNIMPLEMENTED,
-                                     method.full_name() +
-                                         " streams requests, which gRPC-Web over HTTP/1.1 cannot carry; call it over "
-                                         "gRPC, or over a WebSocket on its REST path"));
+    return AnswerStatus(
+        res, text,
+        grpc::Status(grpc::StatusCode::UNIMPLEMENTED,
+                     method.full_name() + " streams requests, which gRPC-Web over HTTP/1.1 cannot carry; call it over "
+                                          "gRPC, or over a WebSocket on its REST path"));
   }
   // The token before the body, as REST does: a token-less request costs no memory.
   if (grpc::Status st = calls_.Authenticate(req.get_header_value("Authorization")); !st.ok()) {
@@ -107,10 +105,9 @@ grpc::Status GrpcWebHandler::ReadRequestMessage(const httplib::ContentReader& re
   });
   if (too_large) {
     res.set_header("Connection", "close");
-    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                        "request body: more than " + std::to_string(body_limit) +
-                            " bytes; the request message is limited to " + std::to_string(limit) +
-                            " bytes (--max-request-kb)");
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, "request body: more than " + std::to_string(body_limit) +
+                                                                  " bytes; the request message is limited to " +
+                                                                  std::to_string(limit) + " bytes (--max-request-kb)");
   }
   if (!complete) return Invalid("request body: could not be read (cut short?)");
   if (text) {
@@ -138,7 +135,8 @@ void GrpcWebHandler::CallUnary(const pb::MethodDescriptor& method, bool text,
                                std::unique_ptr<grpc::ClientContext> context, std::string request,
                                httplib::Response& res) {
   std::vector<std::string> responses;
-  const grpc::Status status = calls_.CallWhole(GrpcMethodPath(method), std::move(context), {std::move(request)}, &responses);
+  const grpc::Status status =
+      calls_.CallWhole(GrpcMethodPath(method), std::move(context), {std::move(request)}, &responses);
   if (!status.ok()) return AnswerStatus(res, text, status);
   if (responses.size() != 1)
     return AnswerStatus(res, text,

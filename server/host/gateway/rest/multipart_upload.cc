@@ -53,10 +53,12 @@ void AppendChunks(std::unique_ptr<pb::Message> head, const pb::Message& prototyp
 // The part that is the main file: the one .gltf, else the only file.
 grpc::Status MainPart(const std::vector<FormPart*>& files, FormPart** main) {
   if (files.empty())
-    return Invalid("multipart/form-data body: no file part; send the file as a part with a filename "
-                   "(a .gltf with the files it refers to, or one .glb, .bvh or .obj)");
+    return Invalid(
+        "multipart/form-data body: no file part; send the file as a part with a filename "
+        "(a .gltf with the files it refers to, or one .glb, .bvh or .obj)");
   std::vector<FormPart*> gltfs;
-  std::copy_if(files.begin(), files.end(), std::back_inserter(gltfs), [](FormPart* p) { return IsGltfName(p->filename); });
+  std::copy_if(files.begin(), files.end(), std::back_inserter(gltfs),
+               [](FormPart* p) { return IsGltfName(p->filename); });
   if (gltfs.size() > 1)
     return Invalid("form parts " + Quoted(gltfs[0]->filename) + " and " + Quoted(gltfs[1]->filename) +
                    " are both .gltf files: send one .gltf per import, with the files it refers to");
@@ -70,9 +72,10 @@ grpc::Status MainPart(const std::vector<FormPart*>& files, FormPart** main) {
   }
   std::string names;
   for (size_t i = 0; i < files.size() && i < 4; ++i) names += (i ? ", " : "") + Quoted(files[i]->filename);
-  return Invalid("multipart/form-data body: " + std::to_string(files.size()) + " file parts (" + names +
-                 (files.size() > 4 ? ", ..." : "") +
-                 ") and no .gltf among them: only a .gltf takes further files; send one file, or a .gltf and its files");
+  return Invalid(
+      "multipart/form-data body: " + std::to_string(files.size()) + " file parts (" + names +
+      (files.size() > 4 ? ", ..." : "") +
+      ") and no .gltf among them: only a .gltf takes further files; send one file, or a .gltf and its files");
 }
 
 }  // namespace
@@ -101,17 +104,18 @@ grpc::Status ReadMultipartForm(const httplib::ContentReader& reader, size_t limi
     return true;
   };
   auto over_limit = [&] {
-    return refuse(grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                               PartName(parts->back()) + ": the upload exceeds the limit of " +
-                                   std::to_string(limit_bytes) +
-                                   " bytes (--max-upload-mb) at this part; every part, filename and field name counts"));
+    return refuse(
+        grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                     PartName(parts->back()) + ": the upload exceeds the limit of " + std::to_string(limit_bytes) +
+                         " bytes (--max-upload-mb) at this part; every part, filename and field name counts"));
   };
   const bool complete = reader(
       [&](const httplib::MultipartFormData& header) {
         if (!refused.ok()) return (dropped += header.name.size() + header.filename.size()) <= drain_bytes;
         if (parts->size() >= kMaxFormParts)
-          return refuse(grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                                     "multipart/form-data body: more than " + std::to_string(kMaxFormParts) + " parts"));
+          return refuse(
+              grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                           "multipart/form-data body: more than " + std::to_string(kMaxFormParts) + " parts"));
         parts->push_back(FormPart{header.name, header.filename, {}});
         total += header.name.size() + header.filename.size();
         return total <= limit_bytes || over_limit();
@@ -127,7 +131,8 @@ grpc::Status ReadMultipartForm(const httplib::ContentReader& reader, size_t limi
   *unread_left = !complete;
   if (!refused.ok()) return refused;
   if (!complete)
-    return Invalid("multipart/form-data body: malformed (no or a wrong boundary, a part without headers, or cut short)");
+    return Invalid(
+        "multipart/form-data body: malformed (no or a wrong boundary, a part without headers, or cut short)");
   return grpc::Status::OK;
 }
 
@@ -164,7 +169,8 @@ grpc::Status TranscodeMultipartUpload(const HttpBinding& binding, const pb::Mess
     return Invalid("'" + filename->name() + "': the main file part's filename gives it (here " +
                    Quoted(main->filename) + "); set no such query parameter or form field");
   if (!reflection->GetString(*first, resource).empty())
-    return Invalid("'" + resource->name() + "': the file parts besides the main one are the resources, each named "
+    return Invalid("'" + resource->name() +
+                   "': the file parts besides the main one are the resources, each named "
                    "by its filename; set no such query parameter or form field");
   reflection->SetString(first.get(), filename, main->filename);
 

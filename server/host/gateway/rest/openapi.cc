@@ -103,8 +103,8 @@ bool Contains(const std::vector<FieldPath>& paths, const FieldPath& p) {
 
 // Query parameters: every scalar leaf not set by the path or the body,
 // reached through singular message fields (dotted names).
-void QueryParameters(const pb::Descriptor* d, const HttpBinding& b, FieldPath prefix, std::set<const pb::Descriptor*> seen,
-                     SchemaBuilder& schemas, json& out) {
+void QueryParameters(const pb::Descriptor* d, const HttpBinding& b, FieldPath prefix,
+                     std::set<const pb::Descriptor*> seen, SchemaBuilder& schemas, json& out) {
   if (!seen.insert(d).second) return;
   for (int i = 0; i < d->field_count(); ++i) {
     const pb::FieldDescriptor* f = d->field(i);
@@ -132,15 +132,14 @@ std::string Lower(std::string s) {
 json Operation(const HttpBinding& b, SchemaBuilder& schemas) {
   const pb::MethodDescriptor* m = b.method;
   std::string kind = m->client_streaming() && m->server_streaming() ? "bidirectional-streaming"
-                     : m->client_streaming()                         ? "client-streaming"
-                     : m->server_streaming()                         ? "server-streaming"
-                                                                     : "unary";
+                     : m->client_streaming()                        ? "client-streaming"
+                     : m->server_streaming()                        ? "server-streaming"
+                                                                    : "unary";
   std::string description = "gRPC " + m->full_name() + " (" + kind + ").";
   if (m->server_streaming())
     description += " The response is a text/event-stream: each `data:` event is one JSON " + m->output_type()->name() +
                    ", and a final `event: status` carries {code, message, details} (code 0: the stream ended well).";
-  if (m->client_streaming())
-    description += " An application/x-ndjson body sends one request message per line.";
+  if (m->client_streaming()) description += " An application/x-ndjson body sends one request message per line.";
   json op = {{"operationId", m->service()->name() + "_" + m->name() + (b.index ? "_" + std::to_string(b.index) : "")},
              {"summary", m->service()->name() + "." + m->name()},
              {"description", description},
@@ -185,11 +184,10 @@ json Operation(const HttpBinding& b, SchemaBuilder& schemas) {
     response_schema = raw ? json{{"type", "string"}, {"format", "binary"}} : schemas.FieldSchema(f);
     if (raw) media = "application/octet-stream";
   }
-  op["responses"] = {
-      {"200", {{"description", "OK"}, {"content", {{media, {{"schema", response_schema}}}}}}},
-      {"default",
-       {{"description", "An error: the HTTP status follows the gRPC code"},
-        {"content", {{"application/json", {{"schema", {{"$ref", Ref("Status")}}}}}}}}}};
+  op["responses"] = {{"200", {{"description", "OK"}, {"content", {{media, {{"schema", response_schema}}}}}}},
+                     {"default",
+                      {{"description", "An error: the HTTP status follows the gRPC code"},
+                       {"content", {{"application/json", {{"schema", {{"$ref", Ref("Status")}}}}}}}}}};
   return op;
 }
 

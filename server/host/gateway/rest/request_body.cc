@@ -9,12 +9,12 @@
 namespace armature::server::gateway {
 
 std::string TooLarge(size_t size, size_t limit, bool raw) {
-  return "request body: " + std::to_string(size) + " bytes exceed the limit of " + std::to_string(limit) +
-         " bytes (" + (raw ? "--max-upload-mb" : "--max-request-kb") + ")";
+  return "request body: " + std::to_string(size) + " bytes exceed the limit of " + std::to_string(limit) + " bytes (" +
+         (raw ? "--max-upload-mb" : "--max-request-kb") + ")";
 }
 
-bool ReadBoundedBody(const httplib::Request& req, const httplib::ContentReader* reader, size_t limit,
-                     uint64_t declared, bool raw, httplib::Response& res, std::string* body) {
+bool ReadBoundedBody(const httplib::Request& req, const httplib::ContentReader* reader, size_t limit, uint64_t declared,
+                     bool raw, httplib::Response& res, std::string* body) {
   if (!reader) {
     *body = req.body;
     if (body->size() <= limit) return true;

@@ -26,7 +26,7 @@ std::string TooLarge(size_t size, size_t limit, bool raw);
 // The body into `body` (from `reader`, or httplib's `req.body` when null), at
 // most `limit` bytes; `declared` is its Content-Length. False once it has
 // written the error (413 past the limit, 400 cut short).
-bool ReadBoundedBody(const httplib::Request& req, const httplib::ContentReader* reader, size_t limit,
-                     uint64_t declared, bool raw, httplib::Response& res, std::string* body);
+bool ReadBoundedBody(const httplib::Request& req, const httplib::ContentReader* reader, size_t limit, uint64_t declared,
+                     bool raw, httplib::Response& res, std::string* body);
 
 }  // namespace armature::server::gateway

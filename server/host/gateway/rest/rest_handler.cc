@@ -52,7 +52,8 @@ void RestHandler::Handle(const httplib::Request& req, httplib::Response& res, co
                         "header Content-Type: write multipart/form-data in lower case, with its boundary");
     }
     std::vector<std::string> requests;
-    if (ReadMultipartUpload(binding, reader, declared, parts, res, &requests)) Dispatch(req, binding, std::move(requests), res);
+    if (ReadMultipartUpload(binding, reader, declared, parts, res, &requests))
+      Dispatch(req, binding, std::move(requests), res);
     return;
   }
   // A file upload goes on to the RPC as it arrives, never held whole here.
@@ -70,8 +71,7 @@ void RestHandler::Handle(const httplib::Request& req, httplib::Response& res, co
 }
 
 size_t RestHandler::BodyLimit(const HttpBinding& binding, const std::string& content_type) const {
-  return IsRawBytesBody(binding, content_type) ? calls_.options().max_upload_bytes
-                                               : calls_.options().max_request_bytes;
+  return IsRawBytesBody(binding, content_type) ? calls_.options().max_upload_bytes : calls_.options().max_request_bytes;
 }
 
 bool RestHandler::ReadMultipartUpload(const HttpBinding& binding, const httplib::ContentReader* reader,
@@ -116,7 +116,8 @@ void RestHandler::Dispatch(const httplib::Request& req, const HttpBinding& bindi
   if (!proto_response) context->AddMetadata(kReplyEncodingMetadata, "json");
   if (binding.server_streaming()) return CallStreaming(binding, std::move(context), std::move(requests), res);
   std::vector<std::string> responses;
-  const grpc::Status status = calls_.CallWhole(binding.grpc_method(), std::move(context), std::move(requests), &responses);
+  const grpc::Status status =
+      calls_.CallWhole(binding.grpc_method(), std::move(context), std::move(requests), &responses);
   WriteUnaryAnswer(binding, status, std::move(responses), proto_response, res);
 }
 
@@ -124,15 +125,16 @@ void RestHandler::WriteUnaryAnswer(const HttpBinding& binding, const grpc::Statu
                                    std::vector<std::string> responses, bool proto_response, httplib::Response& res) {
   if (!status.ok()) return WriteError(res, status);
   if (responses.size() != 1)
-    return WriteError(res, grpc::Status(grpc::StatusCode::INTERNAL, binding.method->full_name() + " returned " +
-                                                                        std::to_string(responses.size()) + " responses"));
+    return WriteError(res,
+                      grpc::Status(grpc::StatusCode::INTERNAL, binding.method->full_name() + " returned " +
+                                                                   std::to_string(responses.size()) + " responses"));
   if (proto_response) {  // Accept: application/x-protobuf, the response's own encoding
     res.status = 200;
     return res.set_content(std::move(responses[0]), kProtobufMediaType);
   }
   HttpBody body;
   if (auto st = TranscodeResponse(binding, calls_.Prototype(binding.method->output_type()), std::move(responses[0]),
-                                 calls_.options().max_reply_bytes, &body);
+                                  calls_.options().max_reply_bytes, &body);
       !st.ok())
     return WriteError(res, st);
   res.status = 200;

@@ -25,7 +25,7 @@ std::string SseEvent(std::string_view data, std::string_view event = {});
 
 struct SseStream {
   std::shared_ptr<GenericCall> call;
-  std::vector<std::string> already_read;  // responses read before the stream started
+  std::vector<std::string> already_read;                   // responses read before the stream started
   std::function<std::string(const std::string&)> to_json;  // serialized response → JSON
   std::chrono::milliseconds heartbeat{15000};
   std::function<void()> on_close;  // when the stream ends or the client goes away

@@ -18,9 +18,8 @@ namespace armature::server::gateway {
 
 namespace pb = google::protobuf;
 
-void RestHandler::StreamRawUpload(const httplib::Request& req, const HttpBinding& binding,
-                                  const HttpRequestParts& http, const httplib::ContentReader& reader, uint64_t declared,
-                                  httplib::Response& res) {
+void RestHandler::StreamRawUpload(const httplib::Request& req, const HttpBinding& binding, const HttpRequestParts& http,
+                                  const httplib::ContentReader& reader, uint64_t declared, httplib::Response& res) {
   const pb::Message& prototype = calls_.Prototype(binding.method->input_type());
   std::unique_ptr<pb::Message> first(prototype.New());
   grpc::Status st = ParamsMessage(binding, http, first.get());

@@ -60,7 +60,7 @@ int FindConnectionFd(const httplib::Request& req) {
 }  // namespace
 
 std::optional<UpgradedConnection> UpgradedConnection::TakeOver(const httplib::Request& req,
-                                                              std::chrono::milliseconds write_timeout) {
+                                                               std::chrono::milliseconds write_timeout) {
   SSL* ssl = req.ssl ? const_cast<SSL*>(req.ssl) : nullptr;
   const int fd = ssl ? SSL_get_fd(ssl) : FindConnectionFd(req);
   if (fd < 0) return std::nullopt;

@@ -93,8 +93,8 @@ WsEvent WebSocketReader::Next() {
     if (!IsKnown(opcode)) return Fail(kWsCloseProtocolError, "frame: unknown opcode " + std::to_string(opcode));
     const bool masked = p[1] & 0x80;
     if (masked != require_mask_)
-      return Fail(kWsCloseProtocolError, require_mask_ ? "frame: client frames must be masked"
-                                                       : "frame: server frames must not be masked");
+      return Fail(kWsCloseProtocolError,
+                  require_mask_ ? "frame: client frames must be masked" : "frame: server frames must not be masked");
     uint64_t length = p[1] & 0x7F;
     size_t header = 2;
     if (length == 126) {
@@ -136,14 +136,21 @@ WsEvent WebSocketReader::Next() {
 
     WsEvent e;
     switch (static_cast<WsOpcode>(opcode)) {
-      case WsOpcode::kPing: e.kind = WsEvent::Kind::kPing; e.payload = std::move(payload); return e;
-      case WsOpcode::kPong: e.kind = WsEvent::Kind::kPong; e.payload = std::move(payload); return e;
+      case WsOpcode::kPing:
+        e.kind = WsEvent::Kind::kPing;
+        e.payload = std::move(payload);
+        return e;
+      case WsOpcode::kPong:
+        e.kind = WsEvent::Kind::kPong;
+        e.payload = std::move(payload);
+        return e;
       case WsOpcode::kClose:
         e.kind = WsEvent::Kind::kClose;
         if (payload.size() == 1) return Fail(kWsCloseProtocolError, "close frame: a 1-byte payload");
         e.close_code = 1005;
         if (payload.size() >= 2) {
-          e.close_code = static_cast<uint16_t>((static_cast<uint8_t>(payload[0]) << 8) | static_cast<uint8_t>(payload[1]));
+          e.close_code =
+              static_cast<uint16_t>((static_cast<uint8_t>(payload[0]) << 8) | static_cast<uint8_t>(payload[1]));
           if (!IsSendableCloseCode(e.close_code))
             return Fail(kWsCloseProtocolError, "close frame: code " + std::to_string(e.close_code) + " is not allowed");
           e.payload = payload.substr(2);

@@ -55,7 +55,8 @@ bool CheckUpgradeRequest(const httplib::Request& req, httplib::Response& res) {
     return false;
   }
   if (!IsValidWebSocketKey(req.get_header_value("Sec-WebSocket-Key"))) {
-    WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT, "header Sec-WebSocket-Key: must be the base64 of 16 bytes");
+    WriteError(res, 400, grpc::StatusCode::INVALID_ARGUMENT,
+               "header Sec-WebSocket-Key: must be the base64 of 16 bytes");
     return false;
   }
   return true;

@@ -16,8 +16,12 @@ namespace pb = google::protobuf;
 
 WebSocketSession::WebSocketSession(const UpgradedConnection& connection, WebSocketSessionParts parts, BidiCall& call,
                                    const GatewayOptions& options)
-    : connection_(connection), parts_(std::move(parts)), call_(call), options_(options),
-      reader_(options.max_request_bytes), buf_(64 << 10),
+    : connection_(connection),
+      parts_(std::move(parts)),
+      call_(call),
+      options_(options),
+      reader_(options.max_request_bytes),
+      buf_(64 << 10),
       idle_deadline_(Clock::now() + options.websocket_idle_timeout) {}
 
 void WebSocketSession::Run() {
@@ -111,7 +115,7 @@ bool WebSocketSession::ReadClient(bool more_frames, Clock::time_point now) {
 bool WebSocketSession::Feed() {
   const ssize_t n = connection_.Read(buf_.data(), buf_.size());
   if (n == UpgradedConnection::kNothingYet) return true;  // part of a TLS record: the rest comes later
-  if (n <= 0) return false;  // the client went away: the call is cancelled
+  if (n <= 0) return false;                               // the client went away: the call is cancelled
   reader_.Feed(std::string_view(buf_.data(), static_cast<size_t>(n)));
   return true;
 }

@@ -43,8 +43,8 @@ bool SameBits(const Trs& a, const Trs& b) {
 
 TEST(CompressedClipTest, BadBoundsAreRefusedNamingPrecision) {
   SKIP_WITHOUT_SHARED_DATA();
-  for (double cm : {0.0, -0.01, std::numeric_limits<double>::quiet_NaN(), 10.0001,
-                    std::numeric_limits<double>::infinity()}) {
+  for (double cm :
+       {0.0, -0.01, std::numeric_limits<double>::quiet_NaN(), 10.0001, std::numeric_limits<double>::infinity()}) {
     ClipPrecision precision;
     precision.centimetres = cm;
     StatusOr<std::shared_ptr<const CompressedClip>> c = CompressClip(Cmu(), precision);
@@ -60,7 +60,7 @@ TEST(CompressedClipTest, BadBoundsAreRefusedNamingPrecision) {
 TEST(CompressedClipTest, UnitsAreMetresForGltfAndBySpanForBvh) {
   SKIP_WITHOUT_SHARED_DATA();
   EXPECT_EQ(UnitsPerCentimetre(*Cmu()->skeleton), 1.0);  // CMU's body spans about 35 units
-  Skeleton metres;  // a BVH skeleton 1.7 units tall
+  Skeleton metres;                                       // a BVH skeleton 1.7 units tall
   metres.names = {"hips", "head"};
   metres.parents = {-1, 0};
   metres.rest.resize(2);
@@ -144,8 +144,10 @@ TEST(CompressedClipTest, ExactKeepsTheStoredKeysBitForBit) {
       const JointTrack& b = kept.joints[j];
       ASSERT_EQ(a.rotation.values.size(), b.rotation.values.size());
       for (size_t k = 0; k < a.rotation.values.size(); ++k)
-        ASSERT_EQ(std::memcmp(a.rotation.values[k].coeffs().data(), b.rotation.values[k].coeffs().data(),
-                              4 * sizeof(double)), 0) << c.name;
+        ASSERT_EQ(
+            std::memcmp(a.rotation.values[k].coeffs().data(), b.rotation.values[k].coeffs().data(), 4 * sizeof(double)),
+            0)
+            << c.name;
       for (size_t k = 0; k < a.translation.values.size(); ++k)
         ASSERT_EQ(std::memcmp(a.translation.values[k].data(), b.translation.values[k].data(), 3 * sizeof(double)), 0);
       for (double t : a.rotation.times) {  // at each key time the job gives what SampleClip gives

@@ -56,8 +56,8 @@ class DynamicService {
   }
 
  private:
-  static void AddField(pb::DescriptorProto* msg, const std::string& name, int number, pb::FieldDescriptorProto::Type type,
-                       bool repeated) {
+  static void AddField(pb::DescriptorProto* msg, const std::string& name, int number,
+                       pb::FieldDescriptorProto::Type type, bool repeated) {
     auto* f = msg->add_field();
     f->set_name(name);
     f->set_number(number);
@@ -150,8 +150,10 @@ class DynamicGateway : public ::testing::Test {
 std::vector<std::string> DataEvents(const std::string& sse, std::string* status) {
   std::vector<std::string> data;
   for (const auto& e : testing::ParseSse(sse)) {
-    if (e.event == "status") *status = e.data;
-    else data.push_back(e.data);
+    if (e.event == "status")
+      *status = e.data;
+    else
+      data.push_back(e.data);
   }
   return data;
 }

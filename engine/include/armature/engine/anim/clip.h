@@ -56,8 +56,8 @@ struct Clip {
   std::shared_ptr<const Skeleton> skeleton;
   std::vector<JointTrack> joints;  // one per skeleton joint
   std::vector<WeightsTrack> weights;
-  double duration = 0;    // seconds; the last key time
-  double frame_time = 0;  // seconds between frames when sampled uniformly (BVH), else 0
+  double duration = 0;     // seconds; the last key time
+  double frame_time = 0;   // seconds between frames when sampled uniformly (BVH), else 0
   size_t frame_count = 0;  // frames in the source (BVH frames, or the most keys of any track)
   Interpolation default_interpolation = Interpolation::kLinear;
 

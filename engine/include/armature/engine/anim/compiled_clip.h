@@ -24,10 +24,10 @@ namespace armature {
 // group, `components` (4: x y z w, or 3: x y z) vectors of four floats.
 struct CompiledLanes {
   size_t components = 0;
-  size_t groups = 0;               // ceil(tracks / 4)
-  std::vector<uint32_t> joints;    // joint per lane, tracks only (no padding)
-  std::vector<float> linear;       // per lane (padded): 1 interpolates, 0 holds the key (STEP)
-  std::vector<float> keys;         // frames × groups × components × 4; padding lanes are identity
+  size_t groups = 0;             // ceil(tracks / 4)
+  std::vector<uint32_t> joints;  // joint per lane, tracks only (no padding)
+  std::vector<float> linear;     // per lane (padded): 1 interpolates, 0 holds the key (STEP)
+  std::vector<float> keys;       // frames × groups × components × 4; padding lanes are identity
 };
 
 struct CompiledClip {

@@ -43,7 +43,7 @@ struct MotionLayer {
   double speed = 1;
   double time_offset = 0;  // seconds of clip time
   LayerMode mode = LayerMode::kOverride;
-  double reference_time = 0;  // ADDITIVE: clip time of the reference pose
+  double reference_time = 0;    // ADDITIVE: clip time of the reference pose
   std::vector<MaskJoint> mask;  // empty: the whole skeleton
   WrapMode wrap = WrapMode::kLoop;
 };

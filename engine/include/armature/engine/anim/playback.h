@@ -23,9 +23,9 @@ namespace armature {
 
 // One playing motion as a frame reports it.
 struct PlayingMotion {
-  uint64_t id = 0;     // the id given to Play
-  double weight = 0;   // its fade weight now (0..1)
-  double time = 0;     // its own motion time now
+  uint64_t id = 0;    // the id given to Play
+  double weight = 0;  // its fade weight now (0..1)
+  double time = 0;    // its own motion time now
 };
 
 class Playback {
@@ -76,16 +76,16 @@ class Playback {
  private:
   struct Entry {
     uint64_t id = 0;
-    Motion motion;     // as played, with SetLayer* applied
-    MotionPlan plan;   // bound: its layers' times (PHASE) and speeds
-    double time = 0;   // motion time
+    Motion motion;    // as played, with SetLayer* applied
+    MotionPlan plan;  // bound: its layers' times (PHASE) and speeds
+    double time = 0;  // motion time
     double weight_from = 0, weight_to = 1, fade_elapsed = 0, fade_duration = 0;
     double Weight() const;
     bool FadedOut() const;
   };
   Status CheckLayer(size_t layer) const;
-  Status Rebind();   // rebuilds blend_ after the playing motions changed
-  void Refresh();    // writes the weights and times of now into blend_
+  Status Rebind();  // rebuilds blend_ after the playing motions changed
+  void Refresh();   // writes the weights and times of now into blend_
 
   std::shared_ptr<const Skeleton> skeleton_;
   std::vector<Entry> motions_;  // oldest first

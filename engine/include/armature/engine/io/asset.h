@@ -17,12 +17,12 @@
 
 namespace armature {
 
-struct Mesh;  // engine/include/armature/engine/mesh/mesh.h
+struct Mesh;          // engine/include/armature/engine/mesh/mesh.h
 struct CompiledClip;  // engine/include/armature/engine/anim/compiled_clip.h
 
 enum class AssetFormat { kBvh, kGltf, kGlb, kObj };
 
-std::string_view FormatName(AssetFormat f);  // "bvh", "gltf", "glb", "obj"
+std::string_view FormatName(AssetFormat f);       // "bvh", "gltf", "glb", "obj"
 std::string_view FormatExtension(AssetFormat f);  // ".bvh" …
 
 struct NamedSkeleton {
@@ -53,8 +53,7 @@ struct AssetContents {
 
 // Format from an explicit name ("bvh", "gltf", "glb", "obj"), else the
 // filename's extension, else the content's first bytes.
-StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string_view filename,
-                                   std::string_view bytes);
+StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string_view filename, std::string_view bytes);
 
 // Further files a main file refers to (a .gltf's external .bin buffers),
 // keyed by the uri the main file uses.

@@ -7,11 +7,11 @@
 namespace armature {
 
 // What MakeDemoWalk produces.
-inline constexpr double kDemoWalkCycleSeconds = 1.0;   // one stride: left step + right step
+inline constexpr double kDemoWalkCycleSeconds = 1.0;  // one stride: left step + right step
 inline constexpr int kDemoWalkCycles = 3;
 inline constexpr double kDemoWalkFrameTime = 1.0 / 30.0;
-inline constexpr double kDemoWalkSpeed = 110.0;        // cm/s along +Z
-inline constexpr double kDemoWalkHipHeight = 93.0;     // cm, mean root height
+inline constexpr double kDemoWalkSpeed = 110.0;     // cm/s along +Z
+inline constexpr double kDemoWalkHipHeight = 93.0;  // cm, mean root height
 
 // A 19-joint humanoid (Hips root with 6 channels; per side Hip, Knee, Ankle,
 // Toe; Spine, Chest, Neck, Head; per side Shoulder, Elbow, Wrist; End Sites

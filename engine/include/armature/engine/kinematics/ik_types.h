@@ -146,11 +146,11 @@ enum class IkStop : unsigned char {
   kStalled,       // no further progress (unreachable target, restarts exhausted)
   kDeadline,
   kCancelled,
-  kDone,          // a one-shot solver (two-bone, aim) finished short of a target
+  kDone,  // a one-shot solver (two-bone, aim) finished short of a target
 };
 
 struct IkResult {
-  std::vector<Trs> pose;                       // full local pose, size = joints
+  std::vector<Trs> pose;                      // full local pose, size = joints
   std::vector<IkEffectorResidual> residuals;  // one per request effector, same order
   int iterations = 0;
   int restarts = 0;

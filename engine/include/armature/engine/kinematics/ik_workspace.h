@@ -38,18 +38,18 @@ struct IkWorkspace {
   std::vector<int> name_hints;  // joint indices found by the previous request's name lookups
   size_t name_lookups = 0;
   std::vector<int> paths;
-  std::vector<int> limit_of;            // per joint: index into request.limits, or -1
-  std::vector<int> free_joints;         // ascending
-  std::vector<int> translated_roots;    // ascending
-  std::vector<int> update;              // joints whose world transform follows the free ones, ascending
-  std::vector<unsigned char> mark;      // per joint scratch
-  double chain_length = 1.0;            // longest free path to an effector point (world units)
-  double position_tolerance = 0.0;      // resolved (world units)
+  std::vector<int> limit_of;          // per joint: index into request.limits, or -1
+  std::vector<int> free_joints;       // ascending
+  std::vector<int> translated_roots;  // ascending
+  std::vector<int> update;            // joints whose world transform follows the free ones, ascending
+  std::vector<unsigned char> mark;    // per joint scratch
+  double chain_length = 1.0;          // longest free path to an effector point (world units)
+  double position_tolerance = 0.0;    // resolved (world units)
 
   // The pose being solved and its world transforms (only joints that lead
   // to an effector are kept current).
   std::vector<Trs> local;
-  std::vector<Eigen::Matrix3d> world_linear;    // rotation · scale, maps child offsets
+  std::vector<Eigen::Matrix3d> world_linear;  // rotation · scale, maps child offsets
   std::vector<Eigen::Quaterniond> world_rotation;
   std::vector<Eigen::Vector3d> world_position;
 
@@ -66,7 +66,7 @@ struct IkWorkspace {
     Eigen::Vector3d lower = Eigen::Vector3d::Zero();
     Eigen::Vector3d upper = Eigen::Vector3d::Zero();
     Eigen::Quaterniond start_rotation = Eigen::Quaterniond::Identity();
-    Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // world axes of the columns this iteration
+    Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();    // world axes of the columns this iteration
     Eigen::Vector3d unit_axis = Eigen::Vector3d::UnitX();  // hinge or twist axis, in the rest frame
     Eigen::Quaterniond parts[3] = {Eigen::Quaterniond::Identity(), Eigen::Quaterniond::Identity(),
                                    Eigen::Quaterniond::Identity()};  // Euler: the rotation about each axis
@@ -74,8 +74,8 @@ struct IkWorkspace {
       Trs local;
       Eigen::Vector3d coords = Eigen::Vector3d::Zero();
     };
-    Snapshot saved;  // before a trial step
-    Snapshot best;   // the best pose before a restart
+    Snapshot saved;               // before a trial step
+    Snapshot best;                // the best pose before a restart
     bool swing_at_bound = false;  // cone joints: the active set's swing direction is axes.col(0)
     int twist_at_bound = 0;       // −1 lower, +1 upper; its direction is axes.col(1)
   };

@@ -21,9 +21,9 @@ enum class WeightMethod {
 
 struct BindOptions {
   WeightMethod method = WeightMethod::kHeat;
-  int max_influences = 4;  // keep at most this many joints per vertex, renormalized
-  double falloff = 4;      // kDistance: weight ∝ 1/d^falloff
-  double heat = 1;         // kHeat: c in H_ii = c/d_i²
+  int max_influences = 4;    // keep at most this many joints per vertex, renormalized
+  double falloff = 4;        // kDistance: weight ∝ 1/d^falloff
+  double heat = 1;           // kHeat: c in H_ii = c/d_i²
   double min_weight = 1e-3;  // drop smaller weights (before renormalizing)
 };
 

@@ -26,15 +26,15 @@ struct TextureSampler {
 };
 
 struct TextureRef {
-  int image = -1;     // index into Material::images; -1: no texture
-  int texcoord = 0;   // the TEXCOORD_n set it samples (only TEXCOORD_0 is kept)
-  double scale = 1;   // normalTexture.scale, occlusionTexture.strength; 1 otherwise
+  int image = -1;    // index into Material::images; -1: no texture
+  int texcoord = 0;  // the TEXCOORD_n set it samples (only TEXCOORD_0 is kept)
+  double scale = 1;  // normalTexture.scale, occlusionTexture.strength; 1 otherwise
   TextureSampler sampler;
   bool present() const { return image >= 0; }
 };
 
 struct Material {
-  std::string name;  // the glTF material's name, or its index
+  std::string name;                                     // the glTF material's name, or its index
   std::array<double, 4> base_color_factor{1, 1, 1, 1};  // linear RGBA
   double metallic_factor = 1;
   double roughness_factor = 1;

@@ -35,18 +35,18 @@ struct SkinningLayout {
     uint32_t influences = 0;      // per vertex (zero-weight padded above 8 to a multiple of 4)
     size_t first = 0;             // offset of this group's first influence in joints/weights
   };
-  struct Target {  // a morph target in runtime vertex order
+  struct Target {                    // a morph target in runtime vertex order
     std::vector<uint32_t> vertices;  // strictly increasing runtime indices
     std::vector<float> dx, dy, dz;   // position deltas
     std::vector<float> nx, ny, nz;   // normal deltas (empty when the target has none)
   };
 
-  std::vector<uint32_t> order;     // runtime index → mesh vertex index
-  std::vector<float> x, y, z;      // rest positions
-  std::vector<float> nx, ny, nz;   // rest normals (empty when the mesh has none)
-  std::vector<Group> groups;       // ascending influence count, covering [0, vertices)
-  std::vector<uint16_t> joints;    // skin joint per influence, vertex-major within a group
-  std::vector<float> weights;      // normalized, descending per vertex
+  std::vector<uint32_t> order;    // runtime index → mesh vertex index
+  std::vector<float> x, y, z;     // rest positions
+  std::vector<float> nx, ny, nz;  // rest normals (empty when the mesh has none)
+  std::vector<Group> groups;      // ascending influence count, covering [0, vertices)
+  std::vector<uint16_t> joints;   // skin joint per influence, vertex-major within a group
+  std::vector<float> weights;     // normalized, descending per vertex
   // Dual quaternion blending flips an influence whose rotation lies in the
   // other hemisphere from the vertex's heaviest one. That depends only on
   // the pair (heaviest joint, joint), so each influence names its pair and

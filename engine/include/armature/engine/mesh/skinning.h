@@ -38,12 +38,12 @@ struct SkinningWorkspace {
   std::vector<Eigen::Affine3d> world;
   std::vector<double> sampled_weights;
   std::vector<float> morph_weights;
-  std::vector<Matrix> matrices;         // LBS: world·inverse_bind per skin joint
-  std::vector<Matrix> normal_matrices;  // LBS normals when a joint scales non-uniformly
-  std::vector<DualQuaternion> dual_quaternions;  // per skin joint
+  std::vector<Matrix> matrices;                       // LBS: world·inverse_bind per skin joint
+  std::vector<Matrix> normal_matrices;                // LBS normals when a joint scales non-uniformly
+  std::vector<DualQuaternion> dual_quaternions;       // per skin joint
   std::vector<DualQuaternion> pair_dual_quaternions;  // per layout pair, in its heaviest joint's hemisphere
-  std::vector<Matrix> stretch;          // DQS: the scale/shear left of each joint's rotation
-  std::vector<float> morphed;           // morphed rest geometry, 6 SoA arrays of vertex_count
+  std::vector<Matrix> stretch;                        // DQS: the scale/shear left of each joint's rotation
+  std::vector<float> morphed;                         // morphed rest geometry, 6 SoA arrays of vertex_count
 };
 
 struct SkinningOptions {
@@ -75,9 +75,8 @@ struct SkinningJob {
 
 // Poses `skeleton` with `local` (one Trs per joint, e.g. from PoseFromArrays)
 // and skins `mesh` (whose joints index `skeleton`).
-Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs> local,
-                const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
-                SkinningWorkspace& workspace);
+Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs> local, const SkinningOptions& options,
+                std::span<float> positions, std::span<float> normals, SkinningWorkspace& workspace);
 
 // Samples `clip` at `time` (joint tracks, and the weights track whose `mesh`
 // is mesh.name when there is one) and skins `mesh`, whose joints index
@@ -95,8 +94,8 @@ Status SkinClip(const Mesh& mesh, const CompiledClip& clip, double time, const S
 // As SkinClip, for a clip of another skeleton with `skeleton`'s joint names
 // (anim/joint_map.h): `mesh`'s joints index `skeleton`, and `map` =
 // MapJointsByName(skeleton, *clip.skeleton).
-Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip,
-                    double time, const SampleOptions& sample, const SkinningOptions& options,
-                    std::span<float> positions, std::span<float> normals, SkinningWorkspace& workspace);
+Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip, double time,
+                    const SampleOptions& sample, const SkinningOptions& options, std::span<float> positions,
+                    std::span<float> normals, SkinningWorkspace& workspace);
 
 }  // namespace armature

@@ -30,8 +30,10 @@ Decimal ParseScientific(const char* p, const char* end) {
   int exponent = 0;
   bool negative_exponent = false;
   for (++p; p < end; ++p) {
-    if (*p == '-') negative_exponent = true;
-    else if (*p != '+') exponent = exponent * 10 + (*p - '0');
+    if (*p == '-')
+      negative_exponent = true;
+    else if (*p != '+')
+      exponent = exponent * 10 + (*p - '0');
   }
   d.exponent = negative_exponent ? -exponent : exponent;
   return d;

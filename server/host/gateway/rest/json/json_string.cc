@@ -8,7 +8,7 @@ namespace {
 constexpr char kHex[] = "0123456789abcdef";
 
 void AppendHex16(uint32_t unit, std::string* out) {
-  const char text[] = {'\\', 'u', kHex[(unit >> 12) & 15], kHex[(unit >> 8) & 15], kHex[(unit >> 4) & 15],
+  const char text[] = {'\\',           'u', kHex[(unit >> 12) & 15], kHex[(unit >> 8) & 15], kHex[(unit >> 4) & 15],
                        kHex[unit & 15]};
   out->append(text, sizeof text);
 }
@@ -56,12 +56,21 @@ void AppendEscaped(std::string_view text, std::string* out) {
     const auto lead = static_cast<unsigned char>(text[i]);
     uint32_t cp = lead;
     int more = 0;
-    if (lead <= 0x7f) more = 0;
-    else if (lead <= 0xbf) { ++i; continue; }
-    else if (lead <= 0xdf) cp &= 0x1f, more = 1;
-    else if (lead <= 0xef) cp &= 0x0f, more = 2;
-    else if (lead <= 0xf7) cp &= 0x07, more = 3;
-    else { ++i; continue; }
+    if (lead <= 0x7f)
+      more = 0;
+    else if (lead <= 0xbf) {
+      ++i;
+      continue;
+    } else if (lead <= 0xdf)
+      cp &= 0x1f, more = 1;
+    else if (lead <= 0xef)
+      cp &= 0x0f, more = 2;
+    else if (lead <= 0xf7)
+      cp &= 0x07, more = 3;
+    else {
+      ++i;
+      continue;
+    }
     size_t length = 1;
     bool valid = true;
     while (more > 0 && i + length < text.size()) {

@@ -86,9 +86,7 @@ class JsonWriter {
     out_.push_back('[');
     bool ok = true;
     switch (field.cpp_type()) {
-      case Cpp::CPPTYPE_FLOAT:
-        ok = Elements<float>(message, field, [&](float v) { AppendJsonFloat(v, &out_); });
-        break;
+      case Cpp::CPPTYPE_FLOAT: ok = Elements<float>(message, field, [&](float v) { AppendJsonFloat(v, &out_); }); break;
       case Cpp::CPPTYPE_DOUBLE:
         ok = Elements<double>(message, field, [&](double v) { AppendJsonDouble(v, &out_); });
         break;
@@ -218,8 +216,7 @@ bool AppendMessageJson(const pb::Message& message, size_t max_bytes, std::string
   return JsonWriter(max_bytes, out).Message(message);
 }
 
-bool AppendFieldJson(const pb::Message& message, const pb::FieldDescriptor& field, size_t max_bytes,
-                     std::string* out) {
+bool AppendFieldJson(const pb::Message& message, const pb::FieldDescriptor& field, size_t max_bytes, std::string* out) {
   return JsonWriter(max_bytes, out).Field(message, field);
 }
 

@@ -12,15 +12,13 @@ StatusOr<FieldPath> ResolveFieldPath(const google::protobuf::Descriptor* message
     const size_t dot = dotted.find('.', start);
     const std::string name(dotted.substr(start, dot == std::string_view::npos ? std::string_view::npos : dot - start));
     if (current == nullptr)
-      return Status::InvalidArgument(where + "'" + path.back()->name() +
-                                     "' is not a message, so it has no field '" + name + "'");
+      return Status::InvalidArgument(where + "'" + path.back()->name() + "' is not a message, so it has no field '" +
+                                     name + "'");
     const google::protobuf::FieldDescriptor* field = current->FindFieldByName(name);
     if (field == nullptr) field = current->FindFieldByCamelcaseName(name);
     for (int i = 0; field == nullptr && i < current->field_count(); ++i)
       if (current->field(i)->json_name() == name) field = current->field(i);
-    if (field == nullptr)
-      return Status::InvalidArgument(where + current->name() + " has no field '" +
-                                     name + "'");
+    if (field == nullptr) return Status::InvalidArgument(where + current->name() + " has no field '" + name + "'");
     path.push_back(field);
     if (dot == std::string_view::npos) break;
     if (field->is_repeated())

@@ -66,7 +66,8 @@ StatusOr<std::vector<HttpBinding>> BindingsOf(const pb::MethodDescriptor* method
   for (size_t i = 0; i < rules.size(); ++i) {
     auto b = Compile(method, *rules[i], static_cast<int>(i));
     if (!b.ok())
-      return b.status().WithContext(method->full_name() + (i ? " additional_bindings[" + std::to_string(i - 1) + "]" : "") +
+      return b.status().WithContext(method->full_name() +
+                                    (i ? " additional_bindings[" + std::to_string(i - 1) + "]" : "") +
                                     " (google.api.http): ");
     out.push_back(std::move(*b));
   }

@@ -23,7 +23,7 @@ struct HttpBinding {
   std::string response_body;  // "" (the whole response) or a field of the response
   FieldPath response_field;
   std::vector<FieldPath> path_fields;  // the path variables' fields
-  int index = 0;  // 0: the main rule; i: additional_bindings[i-1]
+  int index = 0;                       // 0: the main rule; i: additional_bindings[i-1]
 
   // "/armature.v1.PoseService/EvaluateClip", what a gRPC channel calls.
   std::string grpc_method() const;

@@ -100,7 +100,8 @@ StatusOr<PathTemplate> PathTemplate::Parse(std::string_view text) {
       const std::string_view field = p.Literal();
       for (size_t start = 0; start <= field.size();) {
         const size_t dot = std::min(field.find('.', start), field.size());
-        if (!IsIdentifier(field.substr(start, dot - start))) return p.Fail("bad field path '" + std::string(field) + "'");
+        if (!IsIdentifier(field.substr(start, dot - start)))
+          return p.Fail("bad field path '" + std::string(field) + "'");
         start = dot + 1;
       }
       current = Variable{std::string(field), t.segments_.size(), 0};
@@ -138,7 +139,8 @@ StatusOr<PathTemplate> PathTemplate::Parse(std::string_view text) {
     break;
   }
   for (size_t i = 0; i + 1 < t.segments_.size(); ++i)
-    if (t.segments_[i].kind == Kind::kAny) return Status::InvalidArgument("path template '" + t.text_ + "': '**' must be last");
+    if (t.segments_[i].kind == Kind::kAny)
+      return Status::InvalidArgument("path template '" + t.text_ + "': '**' must be last");
   return t;
 }
 

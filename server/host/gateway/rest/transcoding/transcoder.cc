@@ -103,7 +103,8 @@ grpc::Status ParamsMessage(const HttpBinding& binding, const HttpRequestParts& h
 namespace {
 
 // One JSON value of the body into `message` according to the body rule.
-grpc::Status BodyInto(const HttpBinding& binding, std::string_view body, const std::string& where, pb::Message* message) {
+grpc::Status BodyInto(const HttpBinding& binding, std::string_view body, const std::string& where,
+                      pb::Message* message) {
   const std::string label = where + " field";
   if (binding.body == "*") return JsonToMessage(body, message, where, label);
   const pb::FieldDescriptor* field = binding.body_field.front();

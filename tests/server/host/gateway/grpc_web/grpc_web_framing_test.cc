@@ -78,8 +78,12 @@ TEST(GrpcWebFraming, MalformedRequestFramesAreRefusedWithTheirReason) {
 }
 
 TEST(GrpcWebFraming, Base64MatchesRfc4648Vectors) {
-  const std::pair<const char*, const char*> vectors[] = {{"", ""},         {"f", "Zg=="},         {"fo", "Zm8="},
-                                                         {"foo", "Zm9v"}, {"foob", "Zm9vYg=="}, {"fooba", "Zm9vYmE="},
+  const std::pair<const char*, const char*> vectors[] = {{"", ""},
+                                                         {"f", "Zg=="},
+                                                         {"fo", "Zm8="},
+                                                         {"foo", "Zm9v"},
+                                                         {"foob", "Zm9vYg=="},
+                                                         {"fooba", "Zm9vYmE="},
                                                          {"foobar", "Zm9vYmFy"}};
   for (const auto& [plain, encoded] : vectors) {
     EXPECT_EQ(Base64Encode(plain), encoded);
@@ -94,11 +98,11 @@ TEST(GrpcWebFraming, Base64TakesConcatenatedPaddedChunksAndRefusesGarbage) {
   std::string decoded;
   ASSERT_TRUE(Base64Decode("Zg==Zm8=Zm9v", &decoded));  // three writes, each padded
   EXPECT_EQ(decoded, "ffofoo");
-  EXPECT_FALSE(Base64Decode("Zm9", &decoded));    // a group cut short
-  EXPECT_FALSE(Base64Decode("Zm9*", &decoded));   // not in the alphabet
-  EXPECT_FALSE(Base64Decode("Z===", &decoded));   // too much padding
-  EXPECT_FALSE(Base64Decode("Zg=a", &decoded));   // a character after the padding
-  EXPECT_FALSE(Base64Decode("Zm9v\n", &decoded)); // whitespace is the caller's business
+  EXPECT_FALSE(Base64Decode("Zm9", &decoded));     // a group cut short
+  EXPECT_FALSE(Base64Decode("Zm9*", &decoded));    // not in the alphabet
+  EXPECT_FALSE(Base64Decode("Z===", &decoded));    // too much padding
+  EXPECT_FALSE(Base64Decode("Zg=a", &decoded));    // a character after the padding
+  EXPECT_FALSE(Base64Decode("Zm9v\n", &decoded));  // whitespace is the caller's business
 }
 
 TEST(GrpcWebFraming, ContentTypesSelectBinaryOrText) {

@@ -13,9 +13,9 @@ using Kind = WsEvent::Kind;
 TEST(WebSocketFraming, TheAcceptKeyIsRfc6455sExample) {
   EXPECT_EQ(WebSocketAccept("dGhlIHNhbXBsZSBub25jZQ=="), "s3pPLMBiTxaQ9kYGzzhZRbK+xOo=");
   EXPECT_TRUE(IsValidWebSocketKey("dGhlIHNhbXBsZSBub25jZQ=="));
-  EXPECT_FALSE(IsValidWebSocketKey("dGhlIHNhbXBsZSBub25jZQ"));     // cut short
-  EXPECT_FALSE(IsValidWebSocketKey("dGhlIHNhbXBsZSBub25jZSE="));   // 17 bytes
-  EXPECT_FALSE(IsValidWebSocketKey("dGhlIHNhbXBsZSBub25jZ!=="));   // not base64
+  EXPECT_FALSE(IsValidWebSocketKey("dGhlIHNhbXBsZSBub25jZQ"));    // cut short
+  EXPECT_FALSE(IsValidWebSocketKey("dGhlIHNhbXBsZSBub25jZSE="));  // 17 bytes
+  EXPECT_FALSE(IsValidWebSocketKey("dGhlIHNhbXBsZSBub25jZ!=="));  // not base64
 }
 
 TEST(WebSocketFraming, ServerFramesAreTheRfcExamples) {
@@ -77,7 +77,9 @@ TEST(WebSocketFraming, FragmentsReassembleAroundAPingAndBytesMayArriveOneByOne) 
 TEST(WebSocketFraming, CloseCarriesItsCodeAndReason) {
   std::string wire;
   AppendWebSocketFrame(WsOpcode::kClose, WebSocketClosePayload(1000, "bye"), &wire, true, 7);
-  EXPECT_EQ(WebSocketClosePayload(1000, "bye"), "\x03\xE8" "bye"s);
+  EXPECT_EQ(WebSocketClosePayload(1000, "bye"),
+            "\x03\xE8"
+            "bye"s);
   WebSocketReader reader(16);
   reader.Feed(wire);
   const WsEvent e = reader.Next();

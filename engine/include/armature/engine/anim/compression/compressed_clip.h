@@ -43,11 +43,11 @@ struct AnimatedTrack {
 struct CompressedClip {
   std::shared_ptr<const Skeleton> skeleton;
   double duration = 0;
-  FrameGrid frames;           // the frames the bound holds at (the source's, or 30 fps at least)
-  ClipPrecision precision;    // as asked (exact also when the bound could not be met)
-  ErrorBound bound;           // in the skeleton's units
-  ClipError error;            // measured against the source at every frame
-  std::string warning;        // why a bound was not kept (then stored exact)
+  FrameGrid frames;         // the frames the bound holds at (the source's, or 30 fps at least)
+  ClipPrecision precision;  // as asked (exact also when the bound could not be met)
+  ErrorBound bound;         // in the skeleton's units
+  ClipError error;          // measured against the source at every frame
+  std::string warning;      // why a bound was not kept (then stored exact)
   // Per joint, what the source animates (bit 0 rotation, 1 translation, 2
   // scale): what a joint map replaces on another skeleton.
   std::vector<uint8_t> animated_parts;

@@ -22,7 +22,9 @@ struct WorldQvv {
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();
 
-  Eigen::Vector3d Apply(const Eigen::Vector3d& point) const { return translation + rotation * scale.cwiseProduct(point); }
+  Eigen::Vector3d Apply(const Eigen::Vector3d& point) const {
+    return translation + rotation * scale.cwiseProduct(point);
+  }
 };
 
 // world[i] = world[parent(i)] ∘ local[i].

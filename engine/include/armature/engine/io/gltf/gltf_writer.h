@@ -33,8 +33,8 @@ struct Mesh;  // engine/include/armature/engine/mesh/mesh.h
 inline constexpr uint64_t kMaxGltfExportBytes = uint64_t{1} << 30;
 
 struct GltfExportOptions {
-  bool binary = true;                     // .glb (one BIN chunk), else .gltf with the buffer as a data: URI
-  std::string animation_name = "clip";    // the glTF animation's name
+  bool binary = true;                        // .glb (one BIN chunk), else .gltf with the buffer as a data: URI
+  std::string animation_name = "clip";       // the glTF animation's name
   uint64_t max_bytes = kMaxGltfExportBytes;  // RESOURCE_EXHAUSTED beyond, before allocating
 };
 

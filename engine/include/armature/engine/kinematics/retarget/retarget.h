@@ -45,10 +45,10 @@ struct RetargetOptions {
 };
 
 struct RetargetResult {
-  Clip clip;                    // on a copy of the target skeleton (joint names, order, rest)
-  double scale = 1.0;           // k: target leg length / source leg length
+  Clip clip;           // on a copy of the target skeleton (joint names, order, rest)
+  double scale = 1.0;  // k: target leg length / source leg length
   Eigen::Quaterniond yaw = Eigen::Quaterniond::Identity();  // Y
-  size_t planted_frames = 0;    // feet: frames (summed over both feet) pinned
+  size_t planted_frames = 0;                                // feet: frames (summed over both feet) pinned
   std::vector<std::string> warnings;
 };
 

@@ -11,8 +11,8 @@ namespace {
 TEST(JsonCodec, EnumNamesAreAcceptedInAnyCase) {
   for (const char* spelling : {"WORLD", "world", "World"}) {
     v1::EvaluateClipRequest request;
-    const grpc::Status st = JsonToMessage(std::string(R"({"space":")") + spelling + "\"}", &request, "request body",
-                                          "request body field");
+    const grpc::Status st =
+        JsonToMessage(std::string(R"({"space":")") + spelling + "\"}", &request, "request body", "request body field");
     ASSERT_TRUE(st.ok()) << spelling << ": " << st.error_message();
     EXPECT_EQ(request.space(), v1::WORLD) << spelling;
   }

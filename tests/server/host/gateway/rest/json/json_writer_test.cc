@@ -67,11 +67,27 @@ class Filler {
   uint64_t Pick(uint64_t n) { return rng_() % n; }
 
   float Float() {
-    static const float kSpecial[] = {0.f, -0.f, 1.f, -1.f, 0.1f, 1.f / 3, 1e-5f, 1e20f, 123456.789f, 0.70710677f,
-                                     std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
-                                     -std::numeric_limits<float>::infinity(), 1e-40f,
-                                     std::numeric_limits<float>::max(), std::numeric_limits<float>::min(), 1e6f,
-                                     999999.5f, 100000.f, 0.0001f, 0.00001f};
+    static const float kSpecial[] = {0.f,
+                                     -0.f,
+                                     1.f,
+                                     -1.f,
+                                     0.1f,
+                                     1.f / 3,
+                                     1e-5f,
+                                     1e20f,
+                                     123456.789f,
+                                     0.70710677f,
+                                     std::numeric_limits<float>::quiet_NaN(),
+                                     std::numeric_limits<float>::infinity(),
+                                     -std::numeric_limits<float>::infinity(),
+                                     1e-40f,
+                                     std::numeric_limits<float>::max(),
+                                     std::numeric_limits<float>::min(),
+                                     1e6f,
+                                     999999.5f,
+                                     100000.f,
+                                     0.0001f,
+                                     0.00001f};
     if (Pick(2)) return kSpecial[Pick(std::size(kSpecial))];
     const uint32_t bits = static_cast<uint32_t>(rng_());
     float f;
@@ -79,8 +95,17 @@ class Filler {
     return Pick(2) ? f : std::uniform_real_distribution<float>(-2, 2)(rng_);
   }
   double Double() {
-    static const double kSpecial[] = {0., -0., 1. / 30, 0.1, 1e15, 1e16, 1e-300, 4.9e-324, 1e300,
-                                      std::numeric_limits<double>::quiet_NaN(), -std::numeric_limits<double>::infinity(),
+    static const double kSpecial[] = {0.,
+                                      -0.,
+                                      1. / 30,
+                                      0.1,
+                                      1e15,
+                                      1e16,
+                                      1e-300,
+                                      4.9e-324,
+                                      1e300,
+                                      std::numeric_limits<double>::quiet_NaN(),
+                                      -std::numeric_limits<double>::infinity(),
                                       123456789012345678.0};
     if (Pick(2)) return kSpecial[Pick(std::size(kSpecial))];
     const uint64_t bits = rng_();
@@ -89,11 +114,23 @@ class Filler {
     return Pick(2) ? d : std::uniform_real_distribution<double>(-100, 100)(rng_);
   }
   std::string Text() {
-    static const char* kSpecial[] = {"", "walk", "a\"b\\c/d", "<script>&", "tab\tnew\nline\r\b\f", "\x01\x1f\x7f",
-                                     "caf\xc3\xa9 \xe6\x97\xa5\xe6\x9c\xac", "\xff bad", "cut \xc3", "\xc3(x",
-                                     "\xed\xa0\x80 surrogate", "\xe2\x80\xa8 sep \xc2\x85 \xc2\xad \xef\xbb\xbf",
-                                     "\xf0\x9d\x85\xb3 music \xf3\xa0\x80\x81 tag", "\xc0\x80 overlong \xc1\x81",
-                                     "\xf4\x90\x80\x80 past", "\xf0\x9f\x98\x80 emoji", "\xd8\x80 \xe2\x81\xaa"};
+    static const char* kSpecial[] = {"",
+                                     "walk",
+                                     "a\"b\\c/d",
+                                     "<script>&",
+                                     "tab\tnew\nline\r\b\f",
+                                     "\x01\x1f\x7f",
+                                     "caf\xc3\xa9 \xe6\x97\xa5\xe6\x9c\xac",
+                                     "\xff bad",
+                                     "cut \xc3",
+                                     "\xc3(x",
+                                     "\xed\xa0\x80 surrogate",
+                                     "\xe2\x80\xa8 sep \xc2\x85 \xc2\xad \xef\xbb\xbf",
+                                     "\xf0\x9d\x85\xb3 music \xf3\xa0\x80\x81 tag",
+                                     "\xc0\x80 overlong \xc1\x81",
+                                     "\xf4\x90\x80\x80 past",
+                                     "\xf0\x9f\x98\x80 emoji",
+                                     "\xd8\x80 \xe2\x81\xaa"};
     return kSpecial[Pick(std::size(kSpecial))];
   }
   std::string Bytes() {
@@ -106,8 +143,8 @@ class Filler {
     return e.value(static_cast<int>(Pick(e.value_count())))->number();
   }
   int64_t Int64() {
-    static const int64_t kSpecial[] = {0, -1, 1, std::numeric_limits<int64_t>::min(),
-                                       std::numeric_limits<int64_t>::max(), 9007199254740993};
+    static const int64_t kSpecial[] = {
+        0, -1, 1, std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max(), 9007199254740993};
     return kSpecial[Pick(std::size(kSpecial))];
   }
 
@@ -201,11 +238,11 @@ const pb::Descriptor* EverythingType(pb::DescriptorPool* pool) {
   };
   using T = pb::FieldDescriptorProto;
   const std::pair<const char*, T::Type> scalars[] = {
-      {"f_double", T::TYPE_DOUBLE},     {"f_float", T::TYPE_FLOAT},       {"f_int64", T::TYPE_INT64},
-      {"f_uint64", T::TYPE_UINT64},     {"f_int32", T::TYPE_INT32},       {"f_fixed64", T::TYPE_FIXED64},
-      {"f_fixed32", T::TYPE_FIXED32},   {"f_bool", T::TYPE_BOOL},         {"f_string", T::TYPE_STRING},
-      {"f_bytes", T::TYPE_BYTES},       {"f_uint32", T::TYPE_UINT32},     {"f_sfixed32", T::TYPE_SFIXED32},
-      {"f_sfixed64", T::TYPE_SFIXED64}, {"f_sint32", T::TYPE_SINT32},     {"f_sint64", T::TYPE_SINT64}};
+      {"f_double", T::TYPE_DOUBLE},     {"f_float", T::TYPE_FLOAT},   {"f_int64", T::TYPE_INT64},
+      {"f_uint64", T::TYPE_UINT64},     {"f_int32", T::TYPE_INT32},   {"f_fixed64", T::TYPE_FIXED64},
+      {"f_fixed32", T::TYPE_FIXED32},   {"f_bool", T::TYPE_BOOL},     {"f_string", T::TYPE_STRING},
+      {"f_bytes", T::TYPE_BYTES},       {"f_uint32", T::TYPE_UINT32}, {"f_sfixed32", T::TYPE_SFIXED32},
+      {"f_sfixed64", T::TYPE_SFIXED64}, {"f_sint32", T::TYPE_SINT32}, {"f_sint64", T::TYPE_SINT64}};
   for (const auto& [name, type] : scalars) {
     add(name, type, false);
     add(std::string("r") + name, type, true);

@@ -42,7 +42,8 @@ TEST(PathTemplate, VariablesVerbsAndWildcards) {
 }
 
 TEST(PathTemplate, MalformedTemplatesAndPathsAreErrors) {
-  for (const char* bad : {"v1/x", "/v1//x", "/v1/{x", "/v1/{x=**}/y", "/v1/{1x}", "/v1/{a.}", "/v1/x:", "/v1/{a={b}}"}) {
+  for (const char* bad :
+       {"v1/x", "/v1//x", "/v1/{x", "/v1/{x=**}/y", "/v1/{1x}", "/v1/{a.}", "/v1/x:", "/v1/{a={b}}"}) {
     auto t = PathTemplate::Parse(bad);
     EXPECT_FALSE(t.ok()) << bad;
     if (!t.ok()) EXPECT_NE(t.status().message().find("path template"), std::string::npos) << t.status().message();

@@ -33,9 +33,9 @@ TEST(Transcoder, ABodyBoundToAFieldIsOneJsonValue) {
   EXPECT_EQ(st.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_EQ(st.error_message().rfind("request body: malformed JSON (byte 7): ", 0), 0u) << st.error_message();
 
-  const auto line = TranscodeRequest(binding, v1::ImportAssetRequest::default_instance(),
-                                     Import("\"AAAA\"\n\"AAAA\",\"resource\":\"r\"\n", "application/x-ndjson"),
-                                     1 << 20, &requests);
+  const auto line =
+      TranscodeRequest(binding, v1::ImportAssetRequest::default_instance(),
+                       Import("\"AAAA\"\n\"AAAA\",\"resource\":\"r\"\n", "application/x-ndjson"), 1 << 20, &requests);
   EXPECT_EQ(line.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_EQ(line.error_message().rfind("request body line 2: malformed JSON (byte 7): ", 0), 0u)
       << line.error_message();
