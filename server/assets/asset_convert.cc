@@ -16,7 +16,7 @@ v1::SkeletonInfo SkeletonInfoOf(const StoredAsset& asset, const NamedSkeleton& s
 v1::ClipInfo ClipInfoOf(const StoredAsset& asset, const NamedClip& c, bool with_joints) {
   v1::ClipInfo info;
   info.set_name(c.name);
-  info.set_skeleton(c.skeleton);
+  info.set_skeleton(c.skeleton_name);
   info.set_asset(asset.record.name);
   info.set_duration(c.clip->duration);
   info.set_frames(static_cast<int32_t>(c.clip->frame_count));
@@ -45,7 +45,7 @@ v1::MeshInfo MeshInfoOf(const StoredAsset& asset, const NamedMesh& m) {
   v1::MeshInfo info;
   info.set_name(m.name);
   info.set_asset(asset.record.name);
-  info.set_skeleton(m.skeleton);
+  info.set_skeleton(m.skeleton_name);
   if (m.mesh) {
     info.set_vertex_count(static_cast<int32_t>(m.mesh->vertex_count()));
     info.set_triangle_count(static_cast<int32_t>(m.mesh->triangle_count()));

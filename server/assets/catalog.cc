@@ -56,7 +56,7 @@ StatusOr<PartRef<NamedMesh>> Catalog::FindMesh(std::string_view name) const {
 std::vector<const NamedMesh*> Catalog::MeshesOf(std::string_view skeleton) const {
   std::vector<const NamedMesh*> out;
   for (const auto& [name, ref] : meshes)
-    if (!skeleton.empty() && ref.part->skeleton == skeleton) out.push_back(ref.part);
+    if (!skeleton.empty() && ref.part->skeleton_name == skeleton) out.push_back(ref.part);
   return out;
 }
 
@@ -76,7 +76,7 @@ Status AdoptDerivedClip(const AssetRecord& record, AssetContents& contents) {
                                    "' must hold one clip and no mesh, not " + std::to_string(contents.clips.size()) +
                                    " clips and " + std::to_string(contents.meshes.size()) + " meshes");
   contents.clips[0].name = record.name;
-  contents.clips[0].skeleton = record.animates;
+  contents.clips[0].skeleton_name = record.animates;
   contents.skeletons.clear();
   return Status::Ok();
 }

@@ -48,14 +48,14 @@ std::vector<const Mesh*> CharacterMeshes(const Catalog& catalog, const NamedClip
   std::vector<const Mesh*> same_object;
   std::map<std::string, std::vector<const Mesh*>> same_joints;  // by skeleton name
   for (const auto& [name, ref] : catalog.meshes) {
-    if (ref.part->skeleton.empty() || !ref.part->mesh->skinned()) continue;
-    auto skeleton = catalog.FindSkeleton(ref.part->skeleton);
+    if (ref.part->skeleton_name.empty() || !ref.part->mesh->skinned()) continue;
+    auto skeleton = catalog.FindSkeleton(ref.part->skeleton_name);
     if (!skeleton.ok()) continue;
     const Skeleton& theirs = *skeleton->part->skeleton;
-    if (&theirs == &own || ref.part->skeleton == clip.skeleton)
+    if (&theirs == &own || ref.part->skeleton_name == clip.skeleton_name)
       same_object.push_back(ref.part->mesh.get());
     else if (theirs.names == own.names && theirs.parents == own.parents)
-      same_joints[ref.part->skeleton].push_back(ref.part->mesh.get());
+      same_joints[ref.part->skeleton_name].push_back(ref.part->mesh.get());
   }
   if (!same_object.empty() || same_joints.empty()) return same_object;
   return same_joints.begin()->second;

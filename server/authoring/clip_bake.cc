@@ -42,7 +42,7 @@ StatusOr<BakedClip> BakeMotion(const Catalog& catalog, const Limits& limits, con
   if (StoredKeyTime(bake.duration()) > times.back()) times.push_back(StoredKeyTime(bake.duration()));
 
   BakedClip out;
-  out.skeleton = catalog.FindClip(bake.motion().layers(0).clip())->part->skeleton;
+  out.skeleton = catalog.FindClip(bake.motion().layers(0).clip())->part->skeleton_name;
   Clip& clip = out.clip;
   clip.skeleton = plan.skeleton;
   const size_t joints = plan.skeleton->size();

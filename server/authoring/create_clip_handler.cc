@@ -94,7 +94,7 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
     skeleton = found.part->skeleton;
   } else if (stored) {
     skeleton = stored->part->clip->skeleton;
-    skeleton_name = stored->part->skeleton;
+    skeleton_name = stored->part->skeleton_name;
   } else {
     return Status::InvalidArgument("skeleton: required (the skeleton the clip animates)");
   }

@@ -164,7 +164,7 @@ Status StartFromClip(const Catalog& catalog, const v1::ClipTime& in, const Named
   std::vector<int> map;
   if (Status mapped = MapJointsByName(sk, *clip->part->clip->skeleton, "'" + skeleton.name + "'", map); !mapped.ok())
     return Status::InvalidArgument("from_clip.clip: '" + clip->part->name + "' animates skeleton '" +
-                                   clip->part->skeleton + "', which " + mapped.message());
+                                   clip->part->skeleton_name + "', which " + mapped.message());
   ARMATURE_RETURN_IF_ERROR(ValidateFinite(in.time(), "from_clip.time"));
   if (in.time() < 0) return Status::InvalidArgument("from_clip.time: must not be negative");
   SampleOptions options;
@@ -180,7 +180,7 @@ Status StartFromClip(const Catalog& catalog, const v1::ClipTime& in, const Named
 std::vector<uint8_t> BodyRootCandidatesOf(const Catalog& catalog, const NamedSkeleton& skeleton) {
   std::vector<const Clip*> clips;
   for (const auto& [name, ref] : catalog.clips)
-    if (ref.part->skeleton == skeleton.name && ref.part->clip->skeleton->size() == skeleton.skeleton->size())
+    if (ref.part->skeleton_name == skeleton.name && ref.part->clip->skeleton->size() == skeleton.skeleton->size())
       clips.push_back(ref.part->clip.get());
   return BodyRootCandidates(*skeleton.skeleton, clips);
 }

@@ -23,14 +23,14 @@ StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const 
   if (!clip_ref.ok()) return clip_ref.status().WithContext("clip: ");
   MeshClip out;
   out.clip_ref = std::move(*clip_ref);
-  if (mesh.skeleton.empty() || out.clip_ref.part->skeleton == mesh.skeleton) return out;
-  auto skeleton_ref = catalog.FindSkeleton(mesh.skeleton);
+  if (mesh.skeleton_name.empty() || out.clip_ref.part->skeleton_name == mesh.skeleton_name) return out;
+  auto skeleton_ref = catalog.FindSkeleton(mesh.skeleton_name);
   if (!skeleton_ref.ok()) return skeleton_ref.status().WithContext("mesh '" + mesh.name + "': ");
   out.skeleton_ref = std::move(*skeleton_ref);
   const Status mapped = MapJointsByName(*out.skeleton_ref.part->skeleton, *out.clip_ref.part->clip->skeleton,
-                                        "the mesh's skeleton '" + mesh.skeleton + "'", out.joint_map);
+                                        "the mesh's skeleton '" + mesh.skeleton_name + "'", out.joint_map);
   if (!mapped.ok())
-    return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + out.clip_ref.part->skeleton +
+    return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + out.clip_ref.part->skeleton_name +
                                    "', which " + mapped.message());
   return out;
 }
@@ -54,9 +54,10 @@ StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, co
   const std::string& first = motion.layers(0).clip();
   auto clip = catalog.FindClip(first);
   if (!clip.ok()) return clip.status().WithContext("motion.layers[0]: ");
-  if (!mesh.skeleton.empty() && clip->part->skeleton != mesh.skeleton)
+  if (!mesh.skeleton_name.empty() && clip->part->skeleton_name != mesh.skeleton_name)
     return Status::InvalidArgument("motion.layers[0] (clip '" + first + "'): animates skeleton '" +
-                                   clip->part->skeleton + "', not the mesh's skeleton '" + mesh.skeleton + "'");
+                                   clip->part->skeleton_name + "', not the mesh's skeleton '" + mesh.skeleton_name +
+                                   "'");
   return BindMotionProto(catalog, motion, limits, "motion");
 }
 

@@ -81,9 +81,9 @@ Status SkinMesh(const Catalog& catalog, const Limits& limits, const v1::SkinMesh
     auto [positions, normals] = OutputsOf(mesh, response);
     ARMATURE_RETURN_IF_ERROR(SkinByClip(mesh, mesh_clip, request.time(), sample, options, positions, normals, ws.skin));
   } else {
-    if (named.skeleton.empty())
+    if (named.skeleton_name.empty())
       return Status::InvalidArgument("pose: mesh '" + named.name + "' has no skeleton to pose; give a clip");
-    ARMATURE_ASSIGN_OR_RETURN(auto skeleton_ref, catalog.FindSkeleton(named.skeleton));
+    ARMATURE_ASSIGN_OR_RETURN(auto skeleton_ref, catalog.FindSkeleton(named.skeleton_name));
     const Skeleton& skeleton = *skeleton_ref.part->skeleton;
     ws.local.resize(skeleton.size());
     ARMATURE_RETURN_IF_ERROR(

@@ -35,7 +35,7 @@ Status ClipStreamPlan::Fill(uint64_t index, double t, WrapMode wrap, Frame& fram
   frame.set_time(t);
   if (index == 0) {
     for (int j : joints_) frame.add_joints(j);
-    frame.set_skeleton(clip_.part->skeleton);
+    frame.set_skeleton(clip_.part->skeleton_name);
   }
   PackPose(*clip.skeleton, space_, joints_, ws_, frame.mutable_pose());
   return Status::Ok();

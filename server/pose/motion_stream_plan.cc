@@ -14,7 +14,7 @@ StatusOr<MotionStreamPlan> MotionStreamPlan::Make(const Catalog& catalog, const 
                                               static_cast<int64_t>(plan.skeleton->size()), pacing.fps, limits,
                                               "motion"));
   const v1::Space space = request.space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
-  std::string skeleton = catalog.FindClip(request.motion().layers(0).clip())->part->skeleton;
+  std::string skeleton = catalog.FindClip(request.motion().layers(0).clip())->part->skeleton_name;
   return MotionStreamPlan(pacing, std::move(plan), std::move(skeleton), space, std::move(joints));
 }
 

@@ -66,7 +66,7 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   thread_local PoseWorkspace ws;  // reused across calls on this thread: no allocation per pose
   ws.Resize(clip.skeleton->size());
   response->set_clip(ref->part->name);
-  response->set_skeleton(ref->part->skeleton);
+  response->set_skeleton(ref->part->skeleton_name);
   response->set_space(space);
   for (int j : *joints) response->add_joints(j);
   response->mutable_times()->CopyFrom(request.times());
@@ -100,7 +100,7 @@ Status EvaluateMotion(const Catalog& catalog, const Limits& limits, const v1::Ev
   thread_local MotionWorkspace motion_ws;
   ws.Resize(skeleton.size());
   motion_ws.Resize(*plan);
-  response->set_skeleton(catalog.FindClip(request.motion().layers(0).clip())->part->skeleton);
+  response->set_skeleton(catalog.FindClip(request.motion().layers(0).clip())->part->skeleton_name);
   response->set_space(space);
   for (int j : *joints) response->add_joints(j);
   response->mutable_times()->CopyFrom(request.times());

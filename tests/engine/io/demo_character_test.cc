@@ -116,9 +116,9 @@ TEST_F(DemoCharacter, IsADeterministicGlbWithNamedParts) {
   EXPECT_TRUE(contents_->warnings.empty()) << contents_->warnings.front();
   EXPECT_EQ(contents_->skeletons[0].name, "demo_character");
   EXPECT_EQ(contents_->meshes[0].name, "demo_character.body");
-  EXPECT_EQ(contents_->meshes[0].skeleton, "demo_character");
+  EXPECT_EQ(contents_->meshes[0].skeleton_name, "demo_character");
   EXPECT_EQ(contents_->clips[0].name, "demo_character.walk");
-  EXPECT_EQ(contents_->clips[0].skeleton, "demo_character");
+  EXPECT_EQ(contents_->clips[0].skeleton_name, "demo_character");
 }
 
 TEST_F(DemoCharacter, SkeletonIsTheDemoWalks) {

@@ -187,7 +187,7 @@ TEST(GltfImport, ImportsNodesSkinsMeshesTargetsAndAnimations) {
 
   ASSERT_EQ(contents->meshes.size(), 2u);
   EXPECT_EQ(contents->meshes[0].name, "model.body");
-  EXPECT_EQ(contents->meshes[0].skeleton, "model");
+  EXPECT_EQ(contents->meshes[0].skeleton_name, "model");
   EXPECT_EQ(contents->meshes[1].name, "model.1");
   const Mesh& body = *contents->meshes[0].mesh;
   EXPECT_EQ(body.vertex_count(), 4u);
@@ -214,7 +214,7 @@ TEST(GltfImport, ImportsNodesSkinsMeshesTargetsAndAnimations) {
   ASSERT_EQ(contents->clips.size(), 2u);
   EXPECT_EQ(contents->clips[0].name, "model.wave");
   EXPECT_EQ(contents->clips[1].name, "model.1");
-  EXPECT_EQ(contents->clips[0].skeleton, "model");
+  EXPECT_EQ(contents->clips[0].skeleton_name, "model");
   EXPECT_DOUBLE_EQ(contents->clips[0].clip->duration, 1.0);
 
   // At rest the skin puts vertices where the file has them (plus the default
@@ -259,7 +259,7 @@ TEST(GltfImport, SeveralSkinsShareOneSkeleton) {
   const Skeleton& sk = *contents->skeletons[0].skeleton;
   const Mesh& hat = *contents->meshes[2].mesh;
   EXPECT_EQ(contents->meshes[2].name, "model.hat");
-  EXPECT_EQ(contents->meshes[2].skeleton, "model");
+  EXPECT_EQ(contents->meshes[2].skeleton_name, "model");
   EXPECT_EQ(hat.joints, (std::vector<int>{sk.Find("j3"), sk.Find("j4"), sk.Find("j5")}));
   EXPECT_EQ(contents->meshes[0].mesh->joints.size(), 6u);
   // Identity inverse binds: a vertex on j4 (world y = 4) moves by j4's world transform.

@@ -105,7 +105,7 @@ TEST(Obj, ImportsThroughParseAssetAsAnUnboundMesh) {
   ASSERT_TRUE(contents.ok()) << contents.status().message();
   ASSERT_EQ(contents->meshes.size(), 1u);
   EXPECT_EQ(contents->meshes[0].name, "body");
-  EXPECT_EQ(contents->meshes[0].skeleton, "");
+  EXPECT_EQ(contents->meshes[0].skeleton_name, "");
   EXPECT_EQ(contents->meshes[0].mesh->triangle_count(), 1u);
 }
 

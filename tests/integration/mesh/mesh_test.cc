@@ -73,7 +73,7 @@ class Meshes : public ::testing::Test {
 
 // The server's CesiumMan against the same file parsed and skinned in this process.
 struct CesiumMan {
-  Client& client;
+  client::Client& client;
   const Reference& ref;
   const Mesh& engine_mesh;
   std::string mesh, clip;
@@ -81,7 +81,7 @@ struct CesiumMan {
 
 // Details and geometry: the rest mesh exactly as parsed, for clients that draw it.
 void ExpectDetailsAndGeometry(const CesiumMan& cm, v1::MeshInfo* info_out) {
-  Client& client = cm.client;
+  client::Client& client = cm.client;
   const Mesh& engine_mesh = cm.engine_mesh;
   const std::string& mesh = cm.mesh;
   const v1::MeshInfo info = client.GetMesh(mesh);
@@ -112,7 +112,7 @@ void ExpectDetailsAndGeometry(const CesiumMan& cm, v1::MeshInfo* info_out) {
 
 // SkinMesh by clip and time, LBS and DQS, equals the engine's result.
 void ExpectSkinningAtTimes(const CesiumMan& cm, double duration) {
-  Client& client = cm.client;
+  client::Client& client = cm.client;
   const Reference& ref = cm.ref;
   const Mesh& engine_mesh = cm.engine_mesh;
   const std::string &mesh = cm.mesh, &clip = cm.clip;
@@ -137,7 +137,7 @@ void ExpectSkinningAtTimes(const CesiumMan& cm, double duration) {
 }
 
 // Bad input names the field.
-void ExpectBadSkinRequestsNamed(Client& client, const v1::SkinMeshRequest& request,
+void ExpectBadSkinRequestsNamed(client::Client& client, const v1::SkinMeshRequest& request,
                                 const v1::SkinMeshRequest& by_pose) {
   auto call = [&](v1::SkinMeshRequest r) { return [&client, r] { client.SkinMesh(r); }; };
   v1::SkinMeshRequest bad = request;
@@ -168,7 +168,7 @@ void ExpectBadSkinRequestsNamed(Client& client, const v1::SkinMeshRequest& reque
 
 // A stream: frames at the requested pacing, each equal to SkinMesh at its time.
 void ExpectSkinnedStream(const CesiumMan& cm) {
-  Client& client = cm.client;
+  client::Client& client = cm.client;
   const Reference& ref = cm.ref;
   const std::string &mesh = cm.mesh, &clip = cm.clip;
   v1::StreamSkinnedMeshRequest stream;

@@ -16,10 +16,10 @@ TEST(Catalog, FindsEachPartKindByItsFullName) {
   auto mesh = catalog->FindMesh("demo_character.body");
   ASSERT_TRUE(mesh.ok()) << mesh.status().message();
   EXPECT_EQ(mesh->asset->record.name, "demo_character");
-  EXPECT_EQ(mesh->part->skeleton, "demo_character");
+  EXPECT_EQ(mesh->part->skeleton_name, "demo_character");
   auto clip = catalog->FindClip("demo_walk");
   ASSERT_TRUE(clip.ok());
-  EXPECT_EQ(clip->part->skeleton, "demo_walk");
+  EXPECT_EQ(clip->part->skeleton_name, "demo_walk");
   EXPECT_EQ(clip->part->clip->skeleton->size(), 19u);
   EXPECT_TRUE(catalog->FindSkeleton("demo_character").ok());
 }

@@ -37,7 +37,7 @@ TEST_F(DerivedClipTest, AClipForASkeletonIsNamedAsTheAssetAndAnimatesThatSkeleto
   EXPECT_EQ(derived->asset->record.filename, "stride.glb");
   ASSERT_NE(derived->clip, nullptr);
   EXPECT_EQ(derived->clip->name, "stride");
-  EXPECT_EQ(derived->clip->skeleton, "demo_walk");
+  EXPECT_EQ(derived->clip->skeleton_name, "demo_walk");
   EXPECT_EQ(derived->clip->clip->frame_count, walk.frame_count);
   EXPECT_NEAR(derived->clip->clip->duration, walk.duration, 1e-6);  // float times in glTF
   // Its file's copy of the skeleton is not a skeleton of its own.
@@ -46,7 +46,7 @@ TEST_F(DerivedClipTest, AClipForASkeletonIsNamedAsTheAssetAndAnimatesThatSkeleto
   EXPECT_EQ(catalog->FindSkeleton("stride").status().code(), StatusCode::kNotFound);
   auto clip = catalog->FindClip("stride");
   ASSERT_TRUE(clip.ok()) << clip.status().message();
-  EXPECT_EQ(clip->part->skeleton, "demo_walk");
+  EXPECT_EQ(clip->part->skeleton_name, "demo_walk");
   EXPECT_EQ(clip->part->clip->frame_count, walk.frame_count);
 }
 
@@ -54,7 +54,7 @@ TEST_F(DerivedClipTest, WithoutASkeletonTheAssetKeepsItsCopyAndTheClipIsNamedTwi
   auto derived = Store("own", "");
   ASSERT_TRUE(derived.ok()) << derived.status().message();
   EXPECT_EQ(derived->clip->name, "own.own");
-  EXPECT_EQ(derived->clip->skeleton, "own");
+  EXPECT_EQ(derived->clip->skeleton_name, "own");
   EXPECT_TRUE(store->Snapshot()->FindSkeleton("own").ok());
 }
 

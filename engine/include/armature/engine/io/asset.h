@@ -31,7 +31,7 @@ struct NamedSkeleton {
 };
 struct NamedClip {
   std::string name;
-  std::string skeleton;  // the NamedSkeleton it animates
+  std::string skeleton_name;  // the NamedSkeleton it animates
   std::shared_ptr<const Clip> clip;
   // `clip`'s runtime form (CompileClip), set by whoever loads the asset for
   // sampling (the server, at import); null: sample `clip` itself.
@@ -39,7 +39,7 @@ struct NamedClip {
 };
 struct NamedMesh {
   std::string name;
-  std::string skeleton;  // empty when the mesh has no skin
+  std::string skeleton_name;  // the NamedSkeleton it is skinned to; empty when the mesh has no skin
   std::shared_ptr<const Mesh> mesh;
 };
 
