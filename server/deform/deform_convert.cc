@@ -1,5 +1,6 @@
 #include "server/deform/deform_convert.h"
 
+#include "server/deform/deform_validation.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {
