@@ -118,7 +118,7 @@ TEST(MaterialLimits, AnImageOverMaxImageMbIsRefusedNamingTheFlag) {
   if (SharedData("gltf/cesium_man.gltf").empty()) GTEST_SKIP() << "shared glTF data not found (ARMATURE_SHARED_DATA)";
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-image-mb", "0.05"});
-  Client client(OptionsFor(server));
+  client::Client client(OptionsFor(server));
   const grpc::Status st = StatusOf([&] { client.ImportFile(SharedData("gltf/cesium_man.gltf"), "cesium_man"); });
   EXPECT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << st.error_message();
   EXPECT_NE(st.error_message().find("max_image_bytes"), std::string::npos) << st.error_message();

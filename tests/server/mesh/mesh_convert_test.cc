@@ -25,8 +25,8 @@ TEST(MeshConvert, AClipOfTheMeshsSkeletonNeedsNoMap) {
   auto catalog = test_util::DemoCatalog();
   auto clip = ClipFor(*catalog, Body(*catalog), "demo_character.walk");
   ASSERT_TRUE(clip.ok()) << clip.status().message();
-  EXPECT_EQ(clip->clip.part->name, "demo_character.walk");
-  EXPECT_EQ(clip->skeleton.part, nullptr);
+  EXPECT_EQ(clip->clip_ref.part->name, "demo_character.walk");
+  EXPECT_EQ(clip->skeleton_ref.part, nullptr);
   EXPECT_TRUE(clip->joint_map.empty());
   const Status unknown = ClipFor(*catalog, Body(*catalog), "Wave").status();
   EXPECT_EQ(unknown.code(), StatusCode::kNotFound);
@@ -37,10 +37,10 @@ TEST(MeshConvert, AClipOfAnotherSkeletonIsMappedByJointName) {
   auto catalog = test_util::DemoCatalog();
   auto clip = ClipFor(*catalog, Body(*catalog), "demo_walk");
   ASSERT_TRUE(clip.ok()) << clip.status().message();
-  ASSERT_NE(clip->skeleton.part, nullptr);
-  EXPECT_EQ(clip->skeleton.part->name, "demo_character");
-  const Skeleton& mesh_skeleton = *clip->skeleton.part->skeleton;
-  const Skeleton& clip_skeleton = *clip->clip.part->clip->skeleton;
+  ASSERT_NE(clip->skeleton_ref.part, nullptr);
+  EXPECT_EQ(clip->skeleton_ref.part->name, "demo_character");
+  const Skeleton& mesh_skeleton = *clip->skeleton_ref.part->skeleton;
+  const Skeleton& clip_skeleton = *clip->clip_ref.part->clip->skeleton;
   ASSERT_EQ(clip->joint_map.size(), mesh_skeleton.size());
   for (size_t j = 0; j < mesh_skeleton.size(); ++j)
     EXPECT_EQ(clip->joint_map[j], clip_skeleton.Find(mesh_skeleton.names[j])) << mesh_skeleton.names[j];
