@@ -1,6 +1,8 @@
 // One playback session's logic, without gRPC: the first message (`start`)
 // sets the skeleton, fps, duration and first play; later commands wait in a
-// queue until the next frame applies them; frame k shows session time k/fps.
+// queue until the next frame, which applies them, or holds those whose `at`
+// is later until the first frame at or after it; frame k shows session time
+// k/fps.
 // The pacing (frame k due at start + k/fps) and the transport are
 // SessionReactor<PlaybackSession>'s (server/rpc/streams/session_reactor.h).
 #pragma once
@@ -27,6 +29,8 @@ class PlaybackSession {
   using Frame = v1::PlaybackFrame;  // a paced session: frames come on a clock, not per message
   static constexpr SessionKind kKind = SessionKind::kPlayback;
   static constexpr const char* kName = "PlaybackSession";
+  // Commands held for a later `at`: a client cannot make the server keep more.
+  static constexpr size_t kMaxWaiting = 64;
 
   PlaybackSession(CatalogSource catalog, const Limits& limits) : catalog_(std::move(catalog)), limits_(limits) {}
   ~PlaybackSession();
@@ -39,9 +43,12 @@ class PlaybackSession {
   // A later command, kept until the next frame.
   void Queue(Request command) { queued_.emplace_back(++commands_, std::move(command)); }
   size_t queued() const { return queued_.size(); }
-  // Applies the queued commands in order and empties the queue; the first
-  // refused ends the session, named by its message ("message 3: play.clip: …").
+  // Empties the queue, holding the commands whose `at` is after the next
+  // frame's time, then applies every command due by then: by `at`, then in
+  // the order sent. The first refused ends the session, named by its message
+  // ("message 3: play.clip: …", "message 4: at: …").
   Status ApplyQueued();
+  size_t waiting() const { return waiting_.size(); }  // held for a later `at`
   // Frame frames(), then the playback advanced by 1/fps; false (and no frame)
   // when the session is over: its duration played or, without one, the
   // client closed its side (`closed`). A failed fill is INTERNAL.
@@ -52,9 +59,15 @@ class PlaybackSession {
   const Limits& limits_;
   PlaybackSetup setup_;
   std::unique_ptr<Playback> playback_;
+  // Moves the queue into waiting_, each keyed by when it takes effect.
+  Status HoldQueued(double now);
+  // Applies the waiting commands due at session time `now`.
+  Status ApplyDue(double now);
+
   std::map<uint64_t, std::string> names_;
-  std::vector<std::pair<uint64_t, Request>> queued_;  // (message number, command)
-  uint64_t commands_ = 0;                             // read after the start
+  std::vector<std::pair<uint64_t, Request>> queued_;        // (message number, command)
+  std::map<std::pair<double, uint64_t>, Request> waiting_;  // (effective time, message number) → command
+  uint64_t commands_ = 0;                                   // read after the start
   uint64_t frames_ = 0;
   MotionWorkspace motion_ws_;
   PoseWorkspace pose_ws_;

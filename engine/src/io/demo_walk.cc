@@ -5,6 +5,7 @@
 #include <numbers>
 #include <vector>
 
+#include "armature/engine/kinematics/fk.h"
 #include "armature/engine/math/rotation.h"
 
 namespace armature {
@@ -149,6 +150,66 @@ Vec3Track RootTranslationKeys() {
   return track;
 }
 
+// The ankle and toe are keyed as angles, blind to the pelvis height: in late
+// stance and at toe-off (hip extended, pelvis low at double support) the
+// keys alone put the ball of the foot up to 3.5 cm and the toe tip 4.5 cm
+// below the floor (y = 0). Each sampled frame, an ankle whose ball is below
+// the floor dorsiflexes (toes up, about its X axis) until the ball is on it,
+// and that toe then lies flat (its tip on the floor too); a toe tip still
+// below the floor is lifted to it. Feet above the floor keep their keyed
+// angles. The same correction on both sides keeps the right the mirrored left.
+class FloorContact {
+ public:
+  explicit FloorContact(const Skeleton& sk) : sk_(sk), world_(sk.size()) {}
+
+  void Apply(std::vector<Trs>& pose) {
+    for (const char* side : {"Left", "Right"}) {
+      const int ankle = sk_.Find(std::string(side) + "Ankle"), toe = sk_.Find(std::string(side) + "Toe");
+      const Eigen::Vector3d ball = Eigen::Vector3d::Zero(), tip = *sk_.end_sites[static_cast<size_t>(toe)];
+      if (Height(pose, ankle, 0, ball, toe) < 0) {
+        PutOnFloor(pose, ankle, 0, ball, toe);
+        PutOnFloor(pose, toe, -kMostTurn, tip, toe);
+      } else if (Height(pose, toe, 0, tip, toe) < 0) {
+        PutOnFloor(pose, toe, 0, tip, toe);
+      }
+    }
+  }
+
+ private:
+  static constexpr double kMostTurn = 60 * kDegree;
+  // "On the floor" is this high (cm): frames are linearly interpolated, and
+  // at toe-off, where the toe turns fast, halfway between two frames on the
+  // floor the tip would dip 0.6 cm below it.
+  static constexpr double kClearance = 0.5;
+
+  // Height above kClearance of `point` (in joint `frame`'s space) with `joint` turned toes-up
+  // by `angle` from its pose; flexion of the ankle and toe is a negative X
+  // rotation (see JointCurve).
+  double Height(const std::vector<Trs>& pose, int joint, double angle, const Eigen::Vector3d& point, int frame) {
+    turned_ = pose;
+    Eigen::Quaterniond& rotation = turned_[static_cast<size_t>(joint)].rotation;
+    rotation = rotation * Eigen::AngleAxisd(-angle, Eigen::Vector3d::UnitX());
+    ComputeWorld(sk_, turned_, world_);
+    return (world_[static_cast<size_t>(frame)] * point).y() - kClearance;
+  }
+
+  // Turns `joint` toes-up by the angle in [lowest, kMostTurn] (bisection:
+  // the height grows with it) that puts `point` on the floor.
+  void PutOnFloor(std::vector<Trs>& pose, int joint, double lowest, const Eigen::Vector3d& point, int frame) {
+    double below = lowest, above = kMostTurn;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (below + above);
+      (Height(pose, joint, mid, point, frame) < 0 ? below : above) = mid;
+    }
+    Eigen::Quaterniond& rotation = pose[static_cast<size_t>(joint)].rotation;
+    rotation = rotation * Eigen::AngleAxisd(-above, Eigen::Vector3d::UnitX());
+  }
+
+  const Skeleton& sk_;
+  std::vector<Trs> turned_;
+  std::vector<Eigen::Affine3d> world_;
+};
+
 }  // namespace
 
 BvhData MakeDemoWalk() {
@@ -180,10 +241,12 @@ BvhData MakeDemoWalk() {
   SampleOptions cubic;
   cubic.interpolation = Interpolation::kCubic;
   std::vector<Trs> pose(sk.size());
+  FloorContact floor(sk);
   for (size_t f = 0; f < clip->frame_count; ++f) {
     const double t = static_cast<double>(f) * kDemoWalkFrameTime;
     // The keyframe clip is built here and always valid.
     (void)SampleClip(keyframes, t, cubic, pose);
+    floor.Apply(pose);
     for (size_t j = 0; j < sk.size(); ++j) {
       JointTrack& track = clip->joints[j];
       track.rotation.times.push_back(t);

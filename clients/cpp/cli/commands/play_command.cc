@@ -1,6 +1,7 @@
 // `armature play`: a PlaybackSession from the command line. Plays a clip,
-// optionally crossfades to another when the frame at --at arrives, and
-// prints one line per frame (the playing motions and their weights).
+// optionally crossfades to another from session time --at (sent at once with
+// `at`: the server applies it at that frame exactly), and prints one line per
+// frame (the playing motions and their weights).
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -43,8 +44,14 @@ int Play(CliContext& ctx, const PlayFlags& f) {
   for (const auto& j : f.joints) s->add_joints(j);
   s->mutable_play()->set_clip(f.clip);
   bool open = stream->Write(start);
-  bool then_sent = f.then.empty();
-  if (then_sent && open) stream->WritesDone();
+  if (open && !f.then.empty()) {
+    v1::PlaybackCommand play;
+    play.mutable_play()->set_clip(f.then);
+    play.mutable_play()->set_crossfade(f.crossfade);
+    play.set_at(f.at);
+    open = stream->Write(play);
+  }
+  if (open) stream->WritesDone();
   v1::Skeleton skeleton;
   google::protobuf::RepeatedField<int32_t> joints;
   v1::PlaybackFrame frame;
@@ -66,14 +73,6 @@ int Play(CliContext& ctx, const PlayFlags& f) {
       std::printf("\n");
     }
     std::fflush(stdout);
-    if (!then_sent && frame.time() >= f.at - 1e-9) {
-      v1::PlaybackCommand play;
-      play.mutable_play()->set_clip(f.then);
-      play.mutable_play()->set_crossfade(f.crossfade);
-      if (open) open = stream->Write(play);
-      if (open) stream->WritesDone();
-      then_sent = true;
-    }
   }
   const grpc::Status status = stream->Finish();
   if (!status.ok()) throw client::ClientError(status);
@@ -88,7 +87,7 @@ void AddPlayCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("SKELETON", f->skeleton, "The session's skeleton")->required();
   cmd->add_option("CLIP", f->clip, "The clip played from the first frame")->required();
   cmd->add_option("--then", f->then, "A clip to crossfade to");
-  cmd->add_option("--at", f->at, "Session time (s) at which --then is sent")->capture_default_str();
+  cmd->add_option("--at", f->at, "Session time (s) from which --then plays")->capture_default_str();
   cmd->add_option("--crossfade", f->crossfade, "Crossfade seconds for --then")->capture_default_str();
   cmd->add_option("--fps", f->fps, "Frames per second")->capture_default_str()->check(PositiveNumber());
   cmd->add_option("--duration", f->duration, "Session seconds")->capture_default_str()->check(PositiveNumber());
