@@ -1,6 +1,6 @@
 // The body root on a Mixamo-style rig: RobotExpressive under `Armature`, a
 // still node at scale 0.01, with its joints in centimetres (made by
-// web/test/mixamo_rig.mjs with node). A left-hand reach keeps the joint that
+// web/test/support/mixamo_rig.mjs with node). A left-hand reach keeps the joint that
 // carries the body (`Body`: every clip but Dance translates it, and both legs
 // hang from it) where it stands, so the hips and both feet do not move; the
 // answer names it. Before, the kept root was the topmost node, and the reach
@@ -35,7 +35,7 @@ class IkBodyRoot : public ::testing::Test {
     if (std::system("node --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "node is not installed";
     const std::string glb = (files_.path() / "mixamo.glb").string();
     const CommandResult made =
-        RunCommand("node " + ShellQuote(std::string(ARMATURE_TEST_DIR) + "/../web/test/mixamo_rig.mjs") + " " +
+        RunCommand("node " + ShellQuote(std::string(ARMATURE_TEST_DIR) + "/../web/test/support/mixamo_rig.mjs") + " " +
                    ShellQuote(robot) + " " + ShellQuote(glb));
     ASSERT_EQ(made.exit_code, 0) << made.err;
     server_ = std::make_unique<ServerProcess>(data_.path());
