@@ -164,6 +164,28 @@ std::vector<double> SeekTimes(double duration) {
   return times;
 }
 
+// The times both libraries are timed at: sequential playback at kStep,
+// wrapping at the end, or the fixed random seek sequence.
+class PlaybackTimes {
+ public:
+  explicit PlaybackTimes(double duration) : duration_(duration), seek_(SeekTimes(duration)) {}
+  double Next(bool random) {
+    if (random) {
+      t_ = seek_[i_];
+      i_ = (i_ + 1) % seek_.size();
+    } else if ((t_ += kStep) > duration_) {
+      t_ = 0;
+    }
+    return t_;
+  }
+
+ private:
+  double duration_;
+  std::vector<double> seek_;
+  double t_ = 0;
+  size_t i_ = 0;
+};
+
 template <bool kRandom>
 void DecompressArmature(benchmark::State& state) {
   const Compared* c = Cmu();
@@ -171,16 +193,9 @@ void DecompressArmature(benchmark::State& state) {
   const CompressedClip& z = *c->ours;
   std::vector<Trs> pose(c->clip->skeleton->size());
   ClipSamplingContext context(z);
-  const std::vector<double> seek = SeekTimes(z.duration);
-  double t = 0;
-  size_t i = 0;
+  PlaybackTimes times(z.duration);
   for (auto _ : state) {
-    if (kRandom) {
-      t = seek[i];
-      i = (i + 1) % seek.size();
-    } else if ((t += kStep) > z.duration) {
-      t = 0;
-    }
+    const double t = times.Next(kRandom);
     benchmark::DoNotOptimize(ClipSamplingJob{&z, t, WrapMode::kClamp, &context, pose}.Run().ok());
     benchmark::ClobberMemory();
   }
@@ -194,16 +209,9 @@ void DecompressAcl(benchmark::State& state) {
   std::vector<rtm::qvvf> pose(c->clip->skeleton->size());
   acl_baseline::Context context;
   context.initialize(*c->acl);
-  const std::vector<double> seek = SeekTimes(c->ours->duration);
-  double t = 0;
-  size_t i = 0;
+  PlaybackTimes times(c->ours->duration);
   for (auto _ : state) {
-    if (kRandom) {
-      t = seek[i];
-      i = (i + 1) % seek.size();
-    } else if ((t += kStep) > c->ours->duration) {
-      t = 0;
-    }
+    const double t = times.Next(kRandom);
     SampleAcl(*c, context, t, pose);
     benchmark::DoNotOptimize(pose.data());
     benchmark::ClobberMemory();
