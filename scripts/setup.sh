@@ -2,7 +2,7 @@
 # Installs the Debian packages Armature needs that are missing. Idempotent.
 #   scripts/setup.sh        build and run
 #   scripts/setup.sh test   also what the tests use (browser, Python, KDL)
-#   scripts/setup.sh bench  also the benchmarks' peers (assimp)
+#   scripts/setup.sh bench  also the benchmarks' peers
 # SETUP_LIST=1 only prints the packages of that mode (tests/docs/readme_python_install.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,6 +12,8 @@ packages=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libeigen3-dev libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libtinygltf-dev
   libcli11-dev libgtest-dev libbenchmark-dev liborocos-kdl-dev libssl-dev
+  # FBX import (engine/src/io/fbx): libassimp-dev builds it, libassimp5 runs it.
+  libassimp-dev libassimp5
   # The Python client (clients/python) as the README installs it: Debian's Python sees these,
   # and pip installs it offline into a venv with --system-site-packages.
   python3 python3-grpcio python3-protobuf python3-numpy python3-venv python3-pip python3-setuptools

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Libraries the benchmarks (make bench) compare against, never linked into the
-# server or the tests: assimp's BVH import (bench/engine/bvh_assimp_bench.cc).
+# Libraries the benchmarks (make bench) compare against: assimp's BVH import
+# (bench/engine/bvh_assimp_bench.cc). libassimp-dev is also the FBX importer's
+# (scripts/setup.sh installs it for every mode); the list stays for older setups.
 # Without them the comparison benchmarks are left out (bench/CMakeLists.txt).
 set -euo pipefail
-# Only for `make bench` (scripts/setup.sh bench): neither `make run` nor `make test` needs them.
+# Only for `make bench` (scripts/setup.sh bench).
 [[ "${1:-}" == "bench" ]] || exit 0
 peers=(libassimp-dev)
 missing=()

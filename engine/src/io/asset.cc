@@ -6,6 +6,7 @@
 #include <string>
 
 #include "armature/engine/io/bvh/bvh.h"
+#include "armature/engine/io/fbx/fbx.h"
 #include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/io/obj/obj.h"
 #include "armature/base/utf8.h"
@@ -18,6 +19,7 @@ std::string_view FormatName(AssetFormat f) {
     case AssetFormat::kGltf: return "gltf";
     case AssetFormat::kGlb: return "glb";
     case AssetFormat::kObj: return "obj";
+    case AssetFormat::kFbx: return "fbx";
   }
   return "?";
 }
@@ -28,6 +30,7 @@ std::string_view FormatExtension(AssetFormat f) {
     case AssetFormat::kGltf: return ".gltf";
     case AssetFormat::kGlb: return ".glb";
     case AssetFormat::kObj: return ".obj";
+    case AssetFormat::kFbx: return ".fbx";
   }
   return "";
 }
@@ -42,7 +45,7 @@ std::string Lower(std::string_view s) {
 
 std::optional<AssetFormat> FromName(std::string_view name) {
   const std::string n = Lower(name);
-  for (AssetFormat f : {AssetFormat::kBvh, AssetFormat::kGltf, AssetFormat::kGlb, AssetFormat::kObj})
+  for (AssetFormat f : {AssetFormat::kBvh, AssetFormat::kGltf, AssetFormat::kGlb, AssetFormat::kObj, AssetFormat::kFbx})
     if (n == FormatName(f)) return f;
   return std::nullopt;
 }
@@ -54,12 +57,13 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
   if (!explicit_format.empty()) {
     if (auto f = FromName(explicit_format)) return *f;
     return Status::InvalidArgument("format: unknown format '" + EscapeForMessage(explicit_format) +
-                                   "' (expected bvh, gltf, glb or obj)");
+                                   "' (expected bvh, gltf, glb, obj or fbx)");
   }
   if (auto dot = filename.rfind('.'); dot != std::string_view::npos)
     if (auto f = FromName(filename.substr(dot + 1))) return *f;
   // Content sniffing.
   if (bytes.size() >= 4 && bytes.substr(0, 4) == "glTF") return AssetFormat::kGlb;
+  if (LooksLikeFbx(bytes)) return AssetFormat::kFbx;
   size_t i = 0;
   while (i < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[i]))) ++i;
   const std::string_view rest = bytes.substr(i);
@@ -68,7 +72,7 @@ StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string
     return AssetFormat::kGltf;
   if (rest.substr(0, 2) == "v " || rest.substr(0, 1) == "#" || rest.substr(0, 2) == "o ") return AssetFormat::kObj;
   return Status::InvalidArgument("cannot tell the file's format from its name '" + EscapeForMessage(filename) +
-                                 "' or content; pass format (bvh, gltf, glb or obj)");
+                                 "' or content; pass format (bvh, gltf, glb, obj or fbx)");
 }
 
 std::string OverImportLimit(const std::string& what, uint64_t value, const char* field, uint64_t limit) {
@@ -77,6 +81,16 @@ std::string OverImportLimit(const std::string& what, uint64_t value, const char*
 
 std::string OverImportLimitCount(uint64_t value, const std::string& unit, const char* field, uint64_t limit) {
   return std::to_string(value) + " " + unit + " is over the import limit " + field + " = " + std::to_string(limit);
+}
+
+Status ChargeDecodedBytes(uint64_t* total, uint64_t bytes, const ImportLimits& limits, const std::string& where) {
+  if (__builtin_add_overflow(*total, bytes, total)) *total = UINT64_MAX;
+  if (*total > limits.max_decoded_bytes)
+    return Status::ResourceExhausted(where + ": " +
+                                     OverImportLimit("the estimated memory of the parts decoded so far,", *total,
+                                                     "max_decoded_bytes", limits.max_decoded_bytes) +
+                                     " bytes");
+  return Status::Ok();
 }
 
 namespace {
@@ -100,6 +114,7 @@ StatusOr<AssetContents> ParseFormat(AssetFormat format, std::string_view bytes, 
       c.meshes.push_back({std::string(name), "", std::make_shared<const Mesh>(std::move(mesh))});
       return c;
     }
+    case AssetFormat::kFbx: return ParseFbx(bytes, name, limits);
   }
   return Status::InvalidArgument("unknown asset format " + std::to_string(static_cast<int>(format)));
 }

@@ -24,14 +24,7 @@ namespace fs = std::filesystem;
 using test_util::LoadGltfFile;
 using test_util::RunCommand;
 using test_util::SharedData;
-
-// Why three.js cannot run here, or empty when it can.
-std::string ThreeJsUnavailable() {
-  if (std::system("node --version > /dev/null 2>&1") != 0) return "node is not installed";
-  if (!fs::exists(fs::path(ARMATURE_TEST_DIR) / "reference/node_modules/three"))
-    return "three.js is not installed: run scripts/setup.sh test (npm ci in tests/reference)";
-  return "";
-}
+using test_util::ThreeJsUnavailable;
 
 // Skins every mesh of `contents` (imported from `path`) with its animation
 // `animation` (-1: the rest pose) at times across the clip, and expects

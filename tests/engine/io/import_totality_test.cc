@@ -48,7 +48,8 @@ TEST(Utf8, EscapeForMessageEscapesBadBytesControlsAndBackslashAndCuts) {
 // Imports `bytes` as every format and by detection; each call must answer
 // quickly with a UTF-8 message.
 void ExpectAnswered(const std::string& bytes, const std::string& filename) {
-  for (AssetFormat f : {AssetFormat::kBvh, AssetFormat::kGltf, AssetFormat::kGlb, AssetFormat::kObj}) {
+  for (AssetFormat f :
+       {AssetFormat::kBvh, AssetFormat::kGltf, AssetFormat::kGlb, AssetFormat::kObj, AssetFormat::kFbx}) {
     const auto start = std::chrono::steady_clock::now();
     auto r = ParseAsset(f, bytes, "x");
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5)) << FormatName(f);
@@ -64,7 +65,7 @@ TEST(ImportTotality, RandomBytesAreAnsweredWithUtf8Messages) {
     std::string bytes(100, '\0');
     for (char& c : bytes) c = static_cast<char>(rng());
     if (i % 3 == 0) bytes.replace(0, 10, "HIERARCHY\n");
-    if (i % 3 == 1) bytes.replace(0, 4, "glTF");
+    if (i % 3 == 1) bytes.replace(0, 4, i % 2 ? "glTF" : "Kaydara FBX Binary  ");
     ExpectAnswered(bytes, i % 2 ? "x.bvh" : "x\xff.bin");
   }
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -19,6 +20,16 @@ inline std::optional<std::string> ReadFileBytes(const std::filesystem::path& pat
   s << in.rdbuf();
   return s.str();
 }
+
+#ifdef ARMATURE_TEST_DIR
+// Why three.js cannot run here (the reference scripts in tests/reference), or empty when it can.
+inline std::string ThreeJsUnavailable() {
+  if (std::system("node --version > /dev/null 2>&1") != 0) return "node is not installed";
+  if (!std::filesystem::exists(std::filesystem::path(ARMATURE_TEST_DIR) / "reference/node_modules/three"))
+    return "three.js is not installed: run scripts/setup.sh test (npm ci in tests/reference)";
+  return "";
+}
+#endif
 
 #ifdef ARMATURE_SHARED_DATA
 // A file of the real test data beside the clone (absent in a user's clone).

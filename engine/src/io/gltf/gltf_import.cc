@@ -47,23 +47,9 @@ StatusOr<Trs> DecomposeMatrix(const std::vector<double>& values, const std::stri
   const Eigen::Matrix4d m = Eigen::Map<const Eigen::Matrix4d>(values.data());  // column-major, as glTF
   if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6)
     return Status::InvalidArgument(where + " is not an affine transform (last row is not 0 0 0 1)");
-  Trs trs;
-  trs.translation = m.block<3, 1>(0, 3);
-  const Eigen::Matrix3d l = m.topLeftCorner<3, 3>();
-  Eigen::Vector3d scale = l.colwise().norm();
-  if (l.determinant() < 0) scale.x() = -scale.x();
-  Eigen::Matrix3d r = l;
-  bool exact = scale.cwiseAbs().minCoeff() > 0;
-  if (exact) {
-    r = l * scale.cwiseInverse().asDiagonal();
-    exact = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-5;
-  }
-  if (!exact) {
-    r = NearestRotation(l.transpose());  // the rotation of the polar decomposition L = R·S
-    warnings.push_back(where + " has shear or zero scale; decomposed into the nearest rotation and scale");
-  }
-  trs.rotation = Eigen::Quaterniond(r).normalized();
-  trs.scale = scale;
+  bool exact = true;
+  Trs trs = DecomposeAffine(m, &exact);
+  if (!exact) warnings.push_back(where + " has shear or zero scale; decomposed into the nearest rotation and scale");
   return trs;
 }
 

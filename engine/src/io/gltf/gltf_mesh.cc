@@ -137,13 +137,7 @@ uint64_t SaturatingSum(std::initializer_list<uint64_t> terms) {
 }  // namespace
 
 Status Importer::ChargeDecoded(uint64_t bytes, const std::string& where) {
-  decoded_bytes_ = SaturatingSum({decoded_bytes_, bytes});
-  if (decoded_bytes_ > limits_.max_decoded_bytes)
-    return Status::ResourceExhausted(where + ": " +
-                                     OverImportLimit("the estimated memory of the parts decoded so far,",
-                                                     decoded_bytes_, "max_decoded_bytes", limits_.max_decoded_bytes) +
-                                     " bytes");
-  return Status::Ok();
+  return ChargeDecodedBytes(&decoded_bytes_, bytes, limits_, where);
 }
 
 Status Importer::ChargePrimitive(const tinygltf::Primitive& prim, const std::string& where, uint64_t vertices,

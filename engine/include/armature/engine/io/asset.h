@@ -20,9 +20,9 @@ namespace armature {
 struct Mesh;          // engine/include/armature/engine/mesh/mesh.h
 struct CompiledClip;  // engine/include/armature/engine/anim/compiled_clip.h
 
-enum class AssetFormat { kBvh, kGltf, kGlb, kObj };
+enum class AssetFormat { kBvh, kGltf, kGlb, kObj, kFbx };
 
-std::string_view FormatName(AssetFormat f);       // "bvh", "gltf", "glb", "obj"
+std::string_view FormatName(AssetFormat f);       // "bvh", "gltf", "glb", "obj", "fbx"
 std::string_view FormatExtension(AssetFormat f);  // ".bvh" …
 
 struct NamedSkeleton {
@@ -51,8 +51,9 @@ struct AssetContents {
   std::vector<std::string> warnings;
 };
 
-// Format from an explicit name ("bvh", "gltf", "glb", "obj"), else the
-// filename's extension, else the content's first bytes.
+// Format from an explicit name ("bvh", "gltf", "glb", "obj", "fbx"), else the
+// filename's extension, else the content's first bytes (FBX: "Kaydara FBX
+// Binary" or an ASCII "; FBX" header).
 StatusOr<AssetFormat> DetectFormat(std::string_view explicit_format, std::string_view filename, std::string_view bytes);
 
 // Further files a main file refers to (a .gltf's external .bin buffers),
@@ -64,6 +65,7 @@ using ResourceMap = std::map<std::string, std::string, std::less<>>;
 // glTF: one skeleton `name` made of all nodes, a clip per animation
 // ("<name>.<animation name or index>") and a mesh per glTF mesh
 // ("<name>.<mesh name or index>"); see gltf.h. OBJ: one unbound mesh `name`.
+// FBX: as glTF, a clip per animation stack ("<name>.<stack>"); see fbx.h.
 // A resource the asset needs but `resources` lacks is INVALID_ARGUMENT naming its uri.
 // Total: any bytes give contents or a Status promptly, never an exception;
 // sizes are checked against `limits` and the input before allocating.

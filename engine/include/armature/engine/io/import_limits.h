@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <string>
 
+#include "armature/base/status.h"
+
 namespace armature {
 
 struct ImportLimits {
@@ -39,5 +41,10 @@ std::string OverImportLimit(const std::string& what, uint64_t value, const char*
 
 // "<value> <unit> is over the import limit <field> = <limit>" (e.g. "160 vertices ...").
 std::string OverImportLimitCount(uint64_t value, const std::string& unit, const char* field, uint64_t limit);
+
+// Adds `bytes` to `*total` (saturating); RESOURCE_EXHAUSTED "<where>: the
+// estimated memory of the parts decoded so far, ... max_decoded_bytes ..." once
+// the sum passes limits.max_decoded_bytes.
+Status ChargeDecodedBytes(uint64_t* total, uint64_t bytes, const ImportLimits& limits, const std::string& where);
 
 }  // namespace armature

@@ -21,4 +21,9 @@ struct Trs {
   }
 };
 
+// An affine matrix as T·R·S. Exact for matrices built from TRS (a negative
+// determinant becomes a negative x scale); a matrix with shear or a zero
+// scale keeps its nearest rotation and sets `*exact` false.
+Trs DecomposeAffine(const Eigen::Matrix4d& m, bool* exact);
+
 }  // namespace armature

@@ -1,0 +1,59 @@
+// assimp's FBX reader on bytes in memory. The file may name textures and
+// other files; the IO system refuses every path, so nothing outside the bytes
+// is ever opened.
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+
+#include "armature/base/utf8.h"
+#include "fbx_importer.h"
+
+namespace armature::fbx_internal {
+
+namespace {
+
+class RefusingIoSystem : public Assimp::IOSystem {
+ public:
+  bool Exists(const char*) const override { return false; }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char*, const char*) override { return nullptr; }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+};
+
+}  // namespace
+
+Eigen::Matrix4d ToEigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d r;
+  r << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
+  return r;
+}
+
+StatusOr<LoadedScene> Load(std::string_view bytes) {
+  if (bytes.empty()) return Status::InvalidArgument("FBX: the file is empty");
+  LoadedScene loaded;
+  loaded.importer = std::make_unique<Assimp::Importer>();
+  Assimp::Importer& importer = *loaded.importer;
+  importer.SetIOHandler(new RefusingIoSystem);  // the importer owns it
+  // Pivots, pre- and post-rotations folded into each node (and baked into its
+  // animation) instead of assimp's "$AssimpFbx$" helper nodes.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_TEXTURES, false);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_STRICT_MODE, false);
+  constexpr unsigned kSteps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), kSteps, "fbx");
+  if (scene == nullptr) {
+    const std::string error = importer.GetErrorString();
+    return Status::InvalidArgument(
+        "FBX: " + (error.empty() ? std::string("assimp could not read the file") : EscapeForMessage(error, 300)));
+  }
+  if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
+    return Status::InvalidArgument("FBX: assimp read an incomplete scene (no nodes or meshes it could use)");
+  if (scene->mRootNode == nullptr) return Status::InvalidArgument("FBX: the scene has no root node");
+  loaded.scene = scene;
+  return loaded;
+}
+
+}  // namespace armature::fbx_internal

@@ -1,0 +1,124 @@
+// FBX import (assimp) on the shared files and on broken bytes: what the
+// skeleton, clips and meshes hold, the units report, format detection, limits
+// and clear errors.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "armature/engine/io/asset.h"
+#include "armature/engine/io/fbx/fbx.h"
+#include "armature/engine/mesh/mesh.h"
+#include "../../testing/test_files.h"
+
+namespace armature {
+namespace {
+
+namespace fs = std::filesystem;
+using test_util::ReadFileBytes;
+using test_util::SharedData;
+
+std::string Shared(const std::string& file) {
+  const auto bytes = ReadFileBytes(SharedData("fbx/" + file));
+  return bytes.value_or("");
+}
+
+bool HasWarning(const AssetContents& c, const std::string& part) {
+  for (const auto& w : c.warnings)
+    if (w.find(part) != std::string::npos) return true;
+  return false;
+}
+
+TEST(FbxImport, AnimatedArmatureKeepsItsBonesClipAndSkin) {
+  const std::string bytes = Shared("animation_with_skeleton.fbx");
+  if (bytes.empty()) GTEST_SKIP() << "shared data not found";
+  auto c = ParseAsset(AssetFormat::kFbx, bytes, "arm");
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  ASSERT_EQ(c->skeletons.size(), 1u);
+  const Skeleton& s = *c->skeletons[0].skeleton;
+  // Cube, Light, Camera, Armature and its 14 bones with their two end bones:
+  // no "RootNode", no "$AssimpFbx$" helper.
+  EXPECT_EQ(s.size(), 20u);
+  for (const auto& n : s.names) EXPECT_EQ(n.find("$AssimpFbx$"), std::string::npos) << n;
+  EXPECT_EQ(s.Find("RootNode"), -1);
+  ASSERT_GE(s.Find("Bone.006"), 0);
+  EXPECT_EQ(s.names[static_cast<size_t>(s.parents[static_cast<size_t>(s.Find("Bone.006"))])], "Bone.005");
+  ASSERT_EQ(c->clips.size(), 1u);
+  EXPECT_EQ(c->clips[0].name, "arm.Armature|ArmatureAction");
+  EXPECT_EQ(c->clips[0].skeleton_name, "arm");
+  EXPECT_NEAR(c->clips[0].clip->duration, 20.0 / 24.0, 1e-9);  // 20 frames at 24 fps
+  ASSERT_EQ(c->meshes.size(), 1u);
+  const Mesh& m = *c->meshes[0].mesh;
+  EXPECT_EQ(c->meshes[0].name, "arm.Cube.001");
+  EXPECT_EQ(m.vertex_count(), 2464u);
+  EXPECT_EQ(m.triangle_count(), 2112u);
+  EXPECT_EQ(m.joints.size(), 14u);  // the 14 deforming bones (every vertex weighted)
+  EXPECT_TRUE(HasWarning(*c, "FBX units: 1 unit = 1 cm (UnitScaleFactor 1), centimetres; up axis +Y"));
+}
+
+TEST(FbxImport, BinaryAndAsciiBoxesAndTheirUnits) {
+  const std::string binary = Shared("box.fbx"), ascii = Shared("box_ascii.fbx");
+  if (binary.empty() || ascii.empty()) GTEST_SKIP() << "shared data not found";
+  EXPECT_TRUE(LooksLikeFbx(binary));
+  EXPECT_TRUE(LooksLikeFbx(ascii));
+  EXPECT_EQ(*DetectFormat("", "upload.bin", binary), AssetFormat::kFbx);
+  EXPECT_EQ(*DetectFormat("", "upload.bin", ascii), AssetFormat::kFbx);
+  EXPECT_EQ(*DetectFormat("", "x.FBX", ""), AssetFormat::kFbx);
+  EXPECT_EQ(*DetectFormat("fbx", "x.glb", ""), AssetFormat::kFbx);
+  for (const std::string* bytes : {&binary, &ascii}) {
+    auto c = ParseAsset(AssetFormat::kFbx, *bytes, "box");
+    ASSERT_TRUE(c.ok()) << c.status().message();
+    ASSERT_EQ(c->meshes.size(), 1u);
+    EXPECT_EQ(c->meshes[0].mesh->vertex_count(), 24u);  // 6 faces × 4 corners (normals differ)
+    EXPECT_EQ(c->meshes[0].mesh->triangle_count(), 12u);
+    // The mesh follows its node rigidly.
+    EXPECT_EQ(c->meshes[0].mesh->joints.size(), 1u);
+    EXPECT_TRUE(HasWarning(*c, "UnitScaleFactor 100), metres")) << c->warnings[0];
+  }
+  EXPECT_TRUE(HasWarning(*ParseAsset(AssetFormat::kFbx, ascii, "box"), "up axis +Z"));
+}
+
+TEST(FbxImport, DuplicateNodeNamesBecomeUnique) {
+  const std::string bytes = Shared("cubes_with_names.fbx");
+  if (bytes.empty()) GTEST_SKIP() << "shared data not found";
+  auto c = ParseAsset(AssetFormat::kFbx, bytes, "cubes");
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  const Skeleton& s = *c->skeletons[0].skeleton;
+  EXPECT_GE(s.Find("Куб1"), 0);
+  EXPECT_GE(s.Find("Куб1_1"), 0);
+  EXPECT_EQ(c->meshes.size(), 4u);
+}
+
+TEST(FbxImport, BrokenBytesAreInvalidArgument) {
+  for (const std::string bytes :
+       {std::string(), std::string("Kaydara FBX Binary  \0\x1a\0", 23),
+        std::string("; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n"), std::string("not an fbx at all")}) {
+    auto c = ParseAsset(AssetFormat::kFbx, bytes, "x");
+    ASSERT_FALSE(c.ok());
+    EXPECT_EQ(c.status().code(), StatusCode::kInvalidArgument) << c.status().message();
+    EXPECT_EQ(c.status().message().rfind("FBX", 0), 0u) << c.status().message();
+  }
+  // Every prefix of a real file fails or imports, never crashes.
+  const std::string box = Shared("box.fbx");
+  for (size_t n = 0; n < box.size(); n += 997) (void)ParseAsset(AssetFormat::kFbx, box.substr(0, n), "x");
+}
+
+TEST(FbxImport, LimitsAreTheOtherFormats) {
+  const std::string bytes = Shared("animation_with_skeleton.fbx");
+  if (bytes.empty()) GTEST_SKIP() << "shared data not found";
+  ImportLimits limits;
+  limits.max_mesh_vertices = 1000;
+  auto c = ParseAsset(AssetFormat::kFbx, bytes, "arm", {}, limits);
+  ASSERT_EQ(c.status().code(), StatusCode::kResourceExhausted);
+  EXPECT_NE(c.status().message().find("2464 vertices is over the import limit max_mesh_vertices = 1000"),
+            std::string::npos)
+      << c.status().message();
+  limits = {};
+  limits.max_clip_keys = 10;
+  c = ParseAsset(AssetFormat::kFbx, bytes, "arm", {}, limits);
+  ASSERT_EQ(c.status().code(), StatusCode::kResourceExhausted);
+  EXPECT_NE(c.status().message().find("max_clip_keys = 10"), std::string::npos) << c.status().message();
+}
+
+}  // namespace
+}  // namespace armature
