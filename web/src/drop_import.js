@@ -1,4 +1,4 @@
-// Files dropped on the page are imported: one file (.bvh, .glb, .obj, a
+// Files dropped on the page are imported: one file (.bvh, .glb, .obj, .fbx, a
 // self-contained .gltf) as the body of POST /v1/assets:import?filename=…, several
 // (a .gltf and its buffers and images) as one multipart form, as the gateway
 // takes them. The upload's progress shows in a <progress> and its label (XHR:

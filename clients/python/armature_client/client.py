@@ -179,7 +179,7 @@ class Client:
         return self._unary(self._assets.DeleteAsset, assets_pb2.DeleteAssetRequest(name=name), timeout)
 
     def import_asset(self, path, name=None, *, format=None, replace=False, resources=None, timeout=None):
-        """Uploads a BVH, glTF/GLB or OBJ file; returns armature.v1.ImportAssetResponse (.asset, .warnings).
+        """Uploads a BVH, glTF/GLB, OBJ or FBX file; returns armature.v1.ImportAssetResponse (.asset, .warnings).
 
         A .gltf's external buffers and images are sent too when they are files
         in its folder (or below); `resources` ({uri: path}) names others."""

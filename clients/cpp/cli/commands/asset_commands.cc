@@ -23,7 +23,7 @@ nlohmann::json ImportSummary(const v1::AssetInfo& a) {
 }
 
 void AddImportCommand(CLI::App& app, CliContext& ctx) {
-  auto* cmd = app.add_subcommand("import", "Import a BVH, glTF/GLB or OBJ file; prints what it created as JSON");
+  auto* cmd = app.add_subcommand("import", "Import a BVH, glTF/GLB, OBJ or FBX file; prints what it created as JSON");
   auto file = std::make_shared<std::string>();
   auto name = std::make_shared<std::string>();
   auto replace = std::make_shared<bool>(false);
@@ -32,9 +32,9 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_option("FILE", *file, "The file to import")->required()->check(CLI::ExistingFile);
   cmd->add_option("--name", *name, "Asset name (default: the file's stem)");
   cmd->add_option("--format", *format,
-                  "bvh, gltf, glb or obj, whatever the file name says (default: from its "
+                  "bvh, gltf, glb, obj or fbx, whatever the file name says (default: from its "
                   "extension, else its content)")
-      ->transform(OneOf({"bvh", "gltf", "glb", "obj"}));
+      ->transform(OneOf({"bvh", "gltf", "glb", "obj", "fbx"}));
   cmd->add_flag("--replace", *replace, "Replace an existing asset of the same name");
   cmd->add_flag("--allow-outside-resources", *outside,
                 "Also upload the files a .gltf's buffer uris name outside its folder (absolute paths, '..', file: "

@@ -116,7 +116,7 @@ class Client {
   // Imports a file from disk; the files a .gltf's buffer uris name are
   // uploaded too, only from its folder or subfolders unless
   // `allow_outside_resources` (INVALID_ARGUMENT naming the uri otherwise).
-  // `format` (bvh, gltf, glb, obj) overrides what the server would detect
+  // `format` (bvh, gltf, glb, obj, fbx) overrides what the server would detect
   // from the file name or content.
   v1::ImportAssetResponse ImportFile(const std::filesystem::path& path, const std::string& name = "",
                                      bool replace = false, bool allow_outside_resources = false,

@@ -55,7 +55,7 @@ grpc::Status MainPart(const std::vector<FormPart*>& files, FormPart** main) {
   if (files.empty())
     return Invalid(
         "multipart/form-data body: no file part; send the file as a part with a filename "
-        "(a .gltf with the files it refers to, or one .glb, .bvh or .obj)");
+        "(a .gltf with the files it refers to, or one .glb, .bvh, .obj or .fbx)");
   std::vector<FormPart*> gltfs;
   std::copy_if(files.begin(), files.end(), std::back_inserter(gltfs),
                [](FormPart* p) { return IsGltfName(p->filename); });
