@@ -2,7 +2,7 @@
 """Writes small seed inputs for a fuzz target's format into a directory:
 hand-made files covering each format's features, plus copies of small real
 files from ../shared/data when it is present (never committed).
-    make_seeds.py <bvh|gltf|obj|detect|transcode|path_template|import_upload|other> <out dir> [shared data dir]"""
+    make_seeds.py <bvh|gltf|obj|fbx|detect|transcode|path_template|import_upload|other> <out dir> [shared data dir]"""
 import base64
 import glob
 import json
@@ -39,6 +39,52 @@ Frame Time: 0.0333333
 0 1 2 3 4 5 6 7 8
 1 2 3 4 5 6 7 8 9
 -1.5 +2 3e1 40 50 60 -70 80 90
+"""
+
+# A Mixamo-named node under a pivoted, pre-rotated parent, holding a triangle.
+FBX = """; FBX 7.4.0 project file
+FBXHeaderExtension:  {
+	FBXHeaderVersion: 1003
+	FBXVersion: 7400
+}
+GlobalSettings:  {
+	Version: 1000
+	Properties70:  {
+		P: "UpAxis", "int", "Integer", "",1
+		P: "UpAxisSign", "int", "Integer", "",1
+		P: "UnitScaleFactor", "double", "Number", "",1
+	}
+}
+Objects:  {
+	Geometry: 1000, "Geometry::tri", "Mesh" {
+		Vertices: *9 {
+			a: 0,0,0,1,0,0,0,1,0
+		}
+		PolygonVertexIndex: *3 {
+			a: 0,1,-3
+		}
+		GeometryVersion: 124
+	}
+	Model: 2000, "Model::root", "Null" {
+		Version: 232
+		Properties70:  {
+			P: "Lcl Translation", "Lcl Translation", "", "A",0,1,0
+			P: "PreRotation", "Vector3D", "Vector", "",90,0,0
+			P: "RotationPivot", "Vector3D", "Vector", "",0,0.5,0
+		}
+	}
+	Model: 3000, "Model::mixamorig:Hips", "Mesh" {
+		Version: 232
+		Properties70:  {
+			P: "Lcl Rotation", "Lcl Rotation", "", "A",0,0,30
+		}
+	}
+}
+Connections:  {
+	C: "OO",2000,0
+	C: "OO",3000,2000
+	C: "OO",1000,3000
+}
 """
 
 OBJ = """# a quad and a triangle
@@ -265,12 +311,14 @@ def main():
         "bvh": {"small.bvh": BVH.encode(), "crlf.bvh": BVH.replace("\n", "\r\n").encode()},
         "gltf": {"skinned.gltf": gltf_text(doc, data), "skinned.glb": glb(doc, data)},
         "obj": {"quad.obj": OBJ.encode()},
+        "fbx": {"pivots.fbx": FBX.encode()},
     }
     seeds["detect"] = {
         "bvh": b"/walk.bvh\n" + BVH.encode(),
         "gltf": b"gltf/\n" + gltf_text(doc, data),
         "glb": b"/x.bin\n" + glb(doc, data),
         "obj": b"/\n" + OBJ.encode(),
+        "fbx": b"/x.fbx\n" + FBX.encode(),
     }
     seeds["transcode"] = {k: v.encode() for k, v in TRANSCODE.items()}
     for i, (method, template) in enumerate(api_routes()):  # every route, with an empty JSON body
@@ -304,7 +352,7 @@ def main():
     for name, blob in seeds.get(kind, {}).items():
         write(out, name, blob)
     # Small real files, when the shared data is beside the clone.
-    exts = {"bvh": (".bvh",), "gltf": (".gltf", ".glb"), "obj": (".obj",)}.get(kind, ())
+    exts = {"bvh": (".bvh",), "gltf": (".gltf", ".glb"), "obj": (".obj",), "fbx": (".fbx",)}.get(kind, ())
     if shared and os.path.isdir(shared):
         for root, _, files in os.walk(shared):
             for f in files:

@@ -1,7 +1,9 @@
 // FBX import (assimp) on the shared files and on broken bytes: what the
 // skeleton, clips and meshes hold, the units report, format detection, limits
 // and clear errors.
+#include <cmath>
 #include <filesystem>
+#include <vector>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -87,6 +89,69 @@ TEST(FbxImport, DuplicateNodeNamesBecomeUnique) {
   EXPECT_GE(s.Find("Куб1"), 0);
   EXPECT_GE(s.Find("Куб1_1"), 0);
   EXPECT_EQ(c->meshes.size(), 4u);
+}
+
+// A node translated (0, 1, 0), pre-rotated 90° about X around the pivot
+// (0, 0.5, 0), above "mixamorig:Hips" rotated 30° about Z, which holds a triangle.
+constexpr char kPivotsFbx[] = R"(; FBX 7.4.0 project file
+FBXHeaderExtension:  {
+	FBXHeaderVersion: 1003
+	FBXVersion: 7400
+}
+GlobalSettings:  {
+	Version: 1000
+	Properties70:  {
+		P: "UpAxis", "int", "Integer", "",1
+		P: "UpAxisSign", "int", "Integer", "",1
+		P: "UnitScaleFactor", "double", "Number", "",1
+	}
+}
+Objects:  {
+	Geometry: 1000, "Geometry::tri", "Mesh" {
+		Vertices: *9 {
+			a: 0,0,0,1,0,0,0,1,0
+		}
+		PolygonVertexIndex: *3 {
+			a: 0,1,-3
+		}
+		GeometryVersion: 124
+	}
+	Model: 2000, "Model::root", "Null" {
+		Version: 232
+		Properties70:  {
+			P: "Lcl Translation", "Lcl Translation", "", "A",0,1,0
+			P: "PreRotation", "Vector3D", "Vector", "",90,0,0
+			P: "RotationPivot", "Vector3D", "Vector", "",0,0.5,0
+		}
+	}
+	Model: 3000, "Model::mixamorig:Hips", "Mesh" {
+		Version: 232
+		Properties70:  {
+			P: "Lcl Rotation", "Lcl Rotation", "", "A",0,0,30
+		}
+	}
+}
+Connections:  {
+	C: "OO",2000,0
+	C: "OO",3000,2000
+	C: "OO",1000,3000
+}
+)";
+
+TEST(FbxImport, PivotsAndPreRotationsFoldIntoTheJoint) {
+  auto c = ParseAsset(AssetFormat::kFbx, kPivotsFbx, "p");
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  const Skeleton& s = *c->skeletons[0].skeleton;
+  ASSERT_EQ(s.size(), 2u);  // no helper nodes: root and the Mixamo-named joint
+  EXPECT_EQ(s.names[1], "mixamorig:Hips");
+  // By hand, FBX's T·Rp·Rpre·R·Rp⁻¹: (0,1,0) + (0,0.5,0) − Rx(90°)·(0,0.5,0) = (0, 1.5, −0.5).
+  EXPECT_TRUE(s.rest[0].translation.isApprox(Eigen::Vector3d(0, 1.5, -0.5), 1e-6)) << s.rest[0].translation.transpose();
+  const Eigen::Quaterniond pre(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()));
+  EXPECT_NEAR(s.rest[0].rotation.angularDistance(pre), 0, 1e-6);
+  const Eigen::Quaterniond z30(Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitZ()));
+  EXPECT_NEAR(s.rest[1].rotation.angularDistance(z30), 0, 1e-6);
+  ASSERT_EQ(c->meshes.size(), 1u);
+  EXPECT_EQ(c->meshes[0].mesh->joints, std::vector<int>{1});  // rigid on its node
 }
 
 TEST(FbxImport, BrokenBytesAreInvalidArgument) {
