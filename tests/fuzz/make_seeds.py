@@ -41,51 +41,10 @@ Frame Time: 0.0333333
 -1.5 +2 3e1 40 50 60 -70 80 90
 """
 
-# A Mixamo-named node under a pivoted, pre-rotated parent, holding a triangle.
-FBX = """; FBX 7.4.0 project file
-FBXHeaderExtension:  {
-	FBXHeaderVersion: 1003
-	FBXVersion: 7400
-}
-GlobalSettings:  {
-	Version: 1000
-	Properties70:  {
-		P: "UpAxis", "int", "Integer", "",1
-		P: "UpAxisSign", "int", "Integer", "",1
-		P: "UnitScaleFactor", "double", "Number", "",1
-	}
-}
-Objects:  {
-	Geometry: 1000, "Geometry::tri", "Mesh" {
-		Vertices: *9 {
-			a: 0,0,0,1,0,0,0,1,0
-		}
-		PolygonVertexIndex: *3 {
-			a: 0,1,-3
-		}
-		GeometryVersion: 124
-	}
-	Model: 2000, "Model::root", "Null" {
-		Version: 232
-		Properties70:  {
-			P: "Lcl Translation", "Lcl Translation", "", "A",0,1,0
-			P: "PreRotation", "Vector3D", "Vector", "",90,0,0
-			P: "RotationPivot", "Vector3D", "Vector", "",0,0.5,0
-		}
-	}
-	Model: 3000, "Model::mixamorig:Hips", "Mesh" {
-		Version: 232
-		Properties70:  {
-			P: "Lcl Rotation", "Lcl Rotation", "", "A",0,0,30
-		}
-	}
-}
-Connections:  {
-	C: "OO",2000,0
-	C: "OO",3000,2000
-	C: "OO",1000,3000
-}
-"""
+# A Mixamo-named node under a pivoted, pre-rotated parent, holding a triangle
+# (the engine's FBX tests read it too).
+with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "fbx", "pivots.fbx")) as f:
+    FBX = f.read()
 
 OBJ = """# a quad and a triangle
 o thing
