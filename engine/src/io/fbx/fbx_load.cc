@@ -49,9 +49,11 @@ StatusOr<LoadedScene> Load(std::string_view bytes) {
     return Status::InvalidArgument(
         "FBX: " + (error.empty() ? std::string("assimp could not read the file") : EscapeForMessage(error, 300)));
   }
-  if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
-    return Status::InvalidArgument("FBX: assimp read an incomplete scene (no nodes or meshes it could use)");
   if (scene->mRootNode == nullptr) return Status::InvalidArgument("FBX: the scene has no root node");
+  // assimp marks a scene without meshes incomplete; a rig and its animation
+  // (Mixamo's "without skin" download) is a whole file here.
+  if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) && scene->mRootNode->mNumChildren == 0 && scene->mNumAnimations == 0)
+    return Status::InvalidArgument("FBX: assimp read an incomplete scene (no nodes, meshes or animations)");
   loaded.scene = scene;
   return loaded;
 }
