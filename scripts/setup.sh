@@ -14,6 +14,8 @@ packages=(
   libcli11-dev libgtest-dev libbenchmark-dev liborocos-kdl-dev libssl-dev
   # FBX import (engine/src/io/fbx): libassimp-dev builds it, libassimp5 runs it.
   libassimp-dev libassimp5
+  # The --store s3:// client: libcurl's CURLOPT_AWS_SIGV4 (curl >= 7.75) signs every request
+  libcurl4-openssl-dev
   # The Python client (clients/python) as the README installs it: Debian's Python sees these,
   # and pip installs it offline into a venv with --system-site-packages.
   python3 python3-grpcio python3-protobuf python3-numpy python3-venv python3-pip python3-setuptools

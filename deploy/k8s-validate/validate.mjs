@@ -68,7 +68,7 @@ for (const file of kustomization.resources) {
   }
 }
 const kinds = new Set(objects.map((o) => o.kind));
-for (const kind of ["Deployment", "Service", "HorizontalPodAutoscaler", "PodDisruptionBudget", "ConfigMap", "PersistentVolumeClaim"])
+for (const kind of ["Deployment", "Service", "HorizontalPodAutoscaler", "PodDisruptionBudget", "ConfigMap"])
   check(kinds.has(kind), `a ${kind} is deployed`);
 
 const find = (kind, name) => objects.find((o) => o.kind === kind && (!name || o.metadata.name === name));
@@ -101,13 +101,34 @@ const grace = Number(config.ARMATURE_SHUTDOWN_GRACE);
 const preStop = Number(container.lifecycle?.preStop?.exec?.command?.[1] ?? 0);
 check(grace + preStop < pod.spec.terminationGracePeriodSeconds, "the shutdown grace fits in terminationGracePeriodSeconds");
 
-// Data dir: the shared ReadWriteMany claim, mounted where the server keeps its data.
-const pvc = find("PersistentVolumeClaim");
-const dataVolume = pod.spec.volumes.find((v) => v.persistentVolumeClaim?.claimName === pvc.metadata.name);
-check(Boolean(dataVolume), "the pods mount the PersistentVolumeClaim");
-check(pvc.spec.accessModes.includes("ReadWriteMany"), "the claim is ReadWriteMany, so replicas share it");
-check(container.volumeMounts.some((m) => m.name === dataVolume?.name && m.mountPath === config.ARMATURE_DATA_DIR),
-      "the claim is mounted at ARMATURE_DATA_DIR");
+// Store: an S3 bucket (ARMATURE_STORE), credentials from a Secret, the data dir a per-pod cache.
+check(/^s3(\+https)?:\/\/[^/:]+(:\d+)?\/[a-z0-9][a-z0-9.-]{1,61}[a-z0-9](\/|$)/.test(config.ARMATURE_STORE ?? ""),
+      "ARMATURE_STORE names an S3 endpoint and bucket");
+check(container.envFrom?.some((e) => e.secretRef?.name === "armature-s3" && !e.secretRef.optional),
+      "the S3 credentials come from the Secret armature-s3");
+const secretExample = parse(readFileSync(join(k8sDir, "s3-secret.example.yaml"), "utf8"));
+check(secretExample.kind === "Secret" && secretExample.metadata.name === "armature-s3" &&
+      ["AWS_ACCESS_KEY_ID", "AWS_SECRET_ACCESS_KEY"].every((k) => k in (secretExample.stringData ?? {})),
+      "s3-secret.example.yaml shows the Secret's keys");
+check(!kustomization.resources.includes("s3-secret.example.yaml"), "no placeholder Secret is applied");
+const cacheVolume = pod.spec.volumes.find((v) => v.name === "data");
+check(Boolean(cacheVolume?.emptyDir) &&
+      container.volumeMounts.some((m) => m.name === "data" && m.mountPath === config.ARMATURE_DATA_DIR),
+      "the bucket's cache is an emptyDir mounted at ARMATURE_DATA_DIR");
+
+// The RWX variant (rwx/): the shared ReadWriteMany claim instead of the bucket.
+const rwxDir = join(k8sDir, "rwx");
+const rwx = parse(readFileSync(join(rwxDir, "kustomization.yaml"), "utf8"));
+const pvc = parse(readFileSync(join(rwxDir, "pvc.yaml"), "utf8"));
+check(schemaErrors(pvc) === "", "rwx/pvc.yaml matches the API schema");
+check(pvc.spec.accessModes.includes("ReadWriteMany"), "the rwx claim is ReadWriteMany, so replicas share it");
+check(rwx.resources.includes("..") && rwx.resources.includes("pvc.yaml"), "rwx/ is the base plus the claim");
+const rwxPatches = (rwx.patches ?? []).map((p) => ({ target: p.target, ops: parse(p.patch) }));
+const volumeOp = rwxPatches.flatMap((p) => p.ops).find((op) => op.path === "/spec/template/spec/volumes/0");
+check(volumeOp?.value?.persistentVolumeClaim?.claimName === pvc.metadata.name && volumeOp?.value?.name === "data",
+      "rwx/ mounts the claim as the data volume");
+check(rwxPatches.some((p) => p.target.kind === "ConfigMap" && p.ops.some((op) => op.op === "remove" && op.path === "/data/ARMATURE_STORE")),
+      "rwx/ drops ARMATURE_STORE");
 check(pod.spec.securityContext?.runAsNonRoot === true && pod.spec.securityContext?.runAsUser === 10001,
       "pods run as the image's non-root user (10001)");
 
@@ -133,7 +154,9 @@ check(service?.build?.dockerfile === "deploy/Dockerfile", "compose builds deploy
 for (const port of ["50051", "8080"])
   check(service?.ports?.some((p) => String(p).endsWith(`:${port}`)), `compose publishes port ${port}`);
 check(service?.volumes?.some((v) => String(v).endsWith(":/var/lib/armature/data") && compose.volumes?.[String(v).split(":")[0]] !== undefined),
-      "compose keeps the data dir on a named volume");
+      "compose keeps the data dir (the bucket's cache) on a named volume");
+check(/^s3:\/\/minio:9000\//.test(service?.environment?.ARMATURE_STORE ?? "") && Boolean(compose.services?.minio),
+      "compose keeps the assets on its MinIO's bucket");
 
 console.log(`${failures.length} failed`);
 process.exit(failures.length ? 1 : 0);

@@ -35,6 +35,7 @@ v1::AssetInfo AssetInfoOf(const StoredAsset& asset) {
   info.set_filename(r.filename);
   info.set_size_bytes(r.size_bytes);
   info.set_imported_at(r.imported_at);
+  info.set_version(r.version);
   for (const auto& s : asset.contents.skeletons) *info.add_skeletons() = SkeletonInfoOf(asset, s);
   for (const auto& c : asset.contents.clips) *info.add_clips() = ClipInfoOf(asset, c, false);
   for (const auto& m : asset.contents.meshes) *info.add_meshes() = MeshInfoOf(asset, m);

@@ -14,6 +14,7 @@
 
 #include "server/assets/asset_limits.h"
 #include "server/assets/asset_memory.h"
+#include "server/assets/asset_record_json.h"
 #include "server/assets/compiled_clips.h"
 #include "server/assets/data_dir_lock.h"
 #include "server/assets/file_io.h"
@@ -55,58 +56,16 @@ std::string SafeFileName(std::string_view uri) {
   return out.empty() ? "resource" : out;
 }
 
-json RecordToJson(const AssetRecord& r) {
-  json j = {{"name", r.name}, {"format", FormatName(r.format)}, {"filename", r.filename},
-            {"file", r.file}, {"size_bytes", r.size_bytes},     {"imported_at", r.imported_at}};
-  if (!r.resources.empty()) j["resources"] = r.resources;
-  if (!r.animates.empty()) j["animates"] = r.animates;
-  return j;
-}
-
-StatusOr<AssetRecord> RecordFromJson(const json& j) {
-  AssetRecord r;
-  try {
-    r.name = j.at("name").get<std::string>();
-    ARMATURE_ASSIGN_OR_RETURN(auto format, DetectFormat(j.at("format").get<std::string>(), "", ""));
-    r.format = format;
-    r.filename = j.value("filename", "");
-    r.file = j.at("file").get<std::string>();
-    r.size_bytes = j.value("size_bytes", int64_t{0});
-    r.imported_at = j.value("imported_at", "");
-    if (j.contains("resources")) r.resources = j.at("resources").get<std::map<std::string, std::string>>();
-    r.animates = j.value("animates", "");
-  } catch (const json::exception& e) {
-    return Status::InvalidArgument(std::string("manifest entry: ") + e.what());
-  }
-  return r;
-}
-
-// A manifest path of a stored file: "files/<one safe name>", never outside the data dir.
-bool IsStoredFilePath(std::string_view path) {
-  constexpr std::string_view kPrefix = "files/";
-  if (!path.starts_with(kPrefix)) return false;
-  const std::string_view name = path.substr(kPrefix.size());
-  return !name.empty() && name.front() != '.' && name.find('/') == std::string_view::npos &&
-         name.find('\\') == std::string_view::npos && name.find('\0') == std::string_view::npos;
-}
-
-Status CheckRecordPaths(const AssetRecord& r) {
-  if (!IsStoredFilePath(r.file))
-    return Status::InvalidArgument("manifest entry '" + r.name + "': bad file path '" + r.file + "'");
-  for (const auto& [uri, file] : r.resources)
-    if (!IsStoredFilePath(file))
-      return Status::InvalidArgument("manifest entry '" + r.name + "': bad resource path '" + file + "'");
-  return ValidateAssetName(r.name).WithContext("manifest entry: ");
-}
-
 // The same stored files: stored names are unique per import, so equal
 // records mean equal contents and the parsed asset can be kept.
 bool SameStoredFiles(const AssetRecord& a, const AssetRecord& b) {
   return a.format == b.format && a.file == b.file && a.resources == b.resources && a.animates == b.animates;
 }
 
+}  // namespace
+
 // Reads a stored asset's files back and parses them.
-StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r, const Limits& limits) {
+StatusOr<AssetContents> AssetStore::LoadContents(const fs::path& dir, const AssetRecord& r, const Limits& limits) {
   ARMATURE_ASSIGN_OR_RETURN(auto bytes, ReadFile(dir / r.file));
   ResourceMap resources;
   for (const auto& [uri, file] : r.resources) {
@@ -119,8 +78,6 @@ StatusOr<AssetContents> LoadContents(const fs::path& dir, const AssetRecord& r, 
   CompileClips(*contents);
   return contents;
 }
-
-}  // namespace
 
 Status ValidateAssetName(std::string_view name) {
   if (name.empty()) return Status::InvalidArgument("name: must not be empty");
@@ -139,7 +96,7 @@ StatusOr<std::unique_ptr<AssetStore>> AssetStore::Open(const fs::path& data_dir,
   fs::create_directories(data_dir / "files", ec);
   if (ec) return Status::FailedPrecondition("cannot create data dir " + data_dir.string() + ": " + ec.message());
   std::unique_ptr<AssetStore> store(new AssetStore(fs::absolute(data_dir), std::move(options)));
-  ARMATURE_RETURN_IF_ERROR(store->Load());
+  ARMATURE_RETURN_IF_ERROR(store->options_.bucket ? store->LoadFromBucket() : store->Load());
   if (store->options_.watch_interval.count() > 0) store->watcher_ = std::thread([s = store.get()] { s->Watch(); });
   return store;
 }
@@ -278,6 +235,11 @@ bool AssetStore::ReleaseReserve() const {
 
 void AssetStore::Refresh() {
   std::lock_guard write_lock(write_mu_);
+  if (options_.bucket) {
+    auto lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kExclusive);  // the cache is written too
+    if (lock.ok()) (void)SyncBucketLocked();                                // failures are logged and in the health
+    return;
+  }
   if (StampOfManifest() == stamp_) return;
   auto lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kShared);
   const Status st = lock.ok() ? SyncLocked() : lock.status();
@@ -345,7 +307,7 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   std::lock_guard write_lock(write_mu_);
   auto dir_lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kExclusive);
   if (!dir_lock.ok()) return dir_lock.status();
-  ARMATURE_RETURN_IF_ERROR(SyncLocked());
+  ARMATURE_RETURN_IF_ERROR(SyncBeforeWrite());
   const auto current = Snapshot();
   auto assets = current->assets;
   std::shared_ptr<const StoredAsset> replaced;
@@ -365,7 +327,9 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   record.filename = request.filename;
   record.size_bytes = static_cast<int64_t>(request.bytes.size());
   record.imported_at = NowRfc3339();
-  const std::string unique = RandomSuffix();
+  const auto seen = latest_seen_.find(record.name);
+  record.version = NewVersion(seen == latest_seen_.end() ? "" : seen->second);
+  const std::string unique = options_.bucket ? record.version : RandomSuffix();
   record.file = "files/" + request.name + "." + unique + std::string(FormatExtension(format));
   // Each resource's file carries its index: two uris may end alike ("a/data.bin",
   // "b/data.bin"; "a b.bin", "a_b.bin") and must not share a file.
@@ -379,6 +343,13 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   assets[record.name] = stored;
   auto catalog = BuildCatalog(std::move(assets));  // catches part-name clashes with other assets
   if (!catalog.ok()) return catalog.status();
+  if (options_.bucket) {
+    ARMATURE_RETURN_IF_ERROR(PersistToBucket(record, request, **catalog).WithContext(label + ": "));
+    Publish(std::move(*catalog));
+    spdlog::info("imported asset '{}' version {} ({}, {} bytes)", record.name, record.version,
+                 FormatName(record.format), record.size_bytes);
+    return stored;
+  }
 
   // Persist the files, then the manifest that makes them part of the store.
   // On any failure (a full disk) everything this import wrote goes again.
@@ -413,7 +384,7 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Delete(std::string_view
   std::lock_guard write_lock(write_mu_);
   auto dir_lock = DataDirLock::Acquire(dir_, DataDirLock::Mode::kExclusive);
   if (!dir_lock.ok()) return dir_lock.status();
-  ARMATURE_RETURN_IF_ERROR(SyncLocked());
+  ARMATURE_RETURN_IF_ERROR(SyncBeforeWrite());
   const auto current = Snapshot();
   ARMATURE_ASSIGN_OR_RETURN(auto owner, current->FindOwner(name));
   ARMATURE_RETURN_IF_ERROR(CheckDeletionTakesOnly(*owner, name));
@@ -421,6 +392,12 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Delete(std::string_view
   assets.erase((owner)->record.name);
   ARMATURE_ASSIGN_OR_RETURN(auto catalog, BuildCatalog(std::move(assets)));
   const AssetRecord& gone = (owner)->record;
+  if (options_.bucket) {
+    ARMATURE_RETURN_IF_ERROR(DeleteOnBucket(gone, *catalog));
+    Publish(std::move(catalog));
+    spdlog::info("deleted asset '{}'", gone.name);
+    return owner;
+  }
   auto remove_files = [&] {
     std::error_code ec;
     fs::remove(dir_ / gone.file, ec);

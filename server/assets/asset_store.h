@@ -13,6 +13,13 @@
 // and reloads it when another one changed it: unchanged entries keep their
 // parsed assets, only new ones are parsed. Files are written before the
 // manifest names them, so no server ever sees a half-written asset.
+//
+// With a bucket (--store s3://…) the bucket is the truth and the data dir a
+// local cache of it, its manifest the cache's index: writes go to the
+// bucket first (bucket/bucket_layout.h: no lock between replicas), and every
+// watch_interval each server lists the bucket and loads the latest version
+// of each name. A version that cannot be read or parsed is logged, counted
+// and skipped, the version serving before staying in place.
 #pragma once
 
 #include <chrono>
@@ -31,6 +38,8 @@
 
 #include "armature/base/status.h"
 #include "armature/engine/io/asset.h"
+#include "server/assets/bucket/bucket_mirror.h"
+#include "server/assets/bucket/store_health.h"
 #include "server/assets/catalog.h"
 #include "server/rpc/limits.h"
 
@@ -53,6 +62,9 @@ struct StoreOptions {
   Limits limits;  // what an import may contain (CheckAssetLimits)
   // How often the manifest is checked for other servers' writes; 0: never.
   std::chrono::milliseconds watch_interval{500};
+  // Set: the assets live on this bucket, the data dir is its cache.
+  std::shared_ptr<BucketMirror> bucket{};
+  int keep_versions = 0;  // versions kept per name on the bucket; 0: all
 };
 
 class AssetStore {
@@ -76,6 +88,7 @@ class AssetStore {
   // True when the data dir had no manifest when opened (a first start).
   bool fresh() const { return fresh_; }
   const std::filesystem::path& data_dir() const { return dir_; }
+  StoreHealth Health() const;
 
  private:
   // What identifies one version of the manifest file: every write renames a
@@ -89,6 +102,25 @@ class AssetStore {
 
   AssetStore(std::filesystem::path dir, StoreOptions options) : dir_(std::move(dir)), options_(std::move(options)) {}
   Status Load();
+  // Bucket mode (asset_store_bucket.cc): the start, from the bucket or the cache.
+  Status LoadFromBucket();
+  // Brings the catalog up to date with the bucket's latest versions. Call
+  // with write_mu_ held. UNAVAILABLE (the health updated) when unreachable.
+  Status SyncBucketLocked();
+  // Reads (from the cache, else the bucket) and parses one version.
+  StatusOr<std::shared_ptr<const StoredAsset>> LoadVersion(const VersionRecord& version);
+  // The version's record, then LoadVersion; null for a tombstone.
+  StatusOr<std::shared_ptr<const StoredAsset>> LoadNamedVersion(const std::string& name, const std::string& version);
+  // What a write does first: the latest state, or why writes fail now.
+  Status SyncBeforeWrite();
+  // The bucket write of an import, then the cache's.
+  Status PersistToBucket(AssetRecord& record, const ImportRequest& request, const Catalog& catalog);
+  Status DeleteOnBucket(const AssetRecord& gone, const Catalog& catalog);
+  // The cache's index and files after a bucket change; failures only logged.
+  void WriteCache(const Catalog& catalog);
+  void NoteReachable(const Status& status);
+  static StatusOr<AssetContents> LoadContents(const std::filesystem::path& dir, const AssetRecord& r,
+                                              const Limits& limits);
   // Brings the published catalog up to date with the manifest on disk.
   // Call with write_mu_ and a DataDirLock held. `referenced`, when given,
   // receives every file the manifest names (loadable or not).
@@ -119,6 +151,15 @@ class AssetStore {
   std::vector<std::pair<std::string, std::string>> unloaded_entries_;
   mutable std::mutex snapshot_mu_;
   std::shared_ptr<const Catalog> catalog_;
+
+  // Bucket mode; guarded by write_mu_ but health_, which health_mu_ guards.
+  std::map<std::string, std::string> latest_seen_;  // name → its latest version, tombstones too
+  // "name/version" not to read again: their records and objects are immutable.
+  std::set<std::string> tombstones_;
+  std::set<std::string> failed_versions_;  // unreadable, corrupt or not parsing
+  mutable std::mutex health_mu_;
+  StoreHealth health_;
+  std::chrono::steady_clock::time_point last_sync_{};
 
   std::mutex watch_mu_;
   std::condition_variable watch_cv_;

@@ -30,6 +30,9 @@ struct AssetRecord {
   // skeleton of that name, joint for joint; the file's copy of the skeleton
   // is not listed as a skeleton of its own (AdoptDerivedClip).
   std::string animates;
+  // "<UTC time>-<writer id>", sorting in import order (bucket_layout.h's
+  // NewVersion); empty in manifests written before versions existed.
+  std::string version;
 };
 
 struct StoredAsset {

@@ -16,6 +16,7 @@
 #include "grpc/health/v1/health.pb.h"
 #include "server/host/gateway/rest/transcoding/http_rule.h"
 #include "server/assets/asset_memory.h"
+#include "server/assets/bucket/s3_client.h"
 #include "server/host/auth/auth_gate.h"
 #include "server/host/http/listen_error.h"
 #include "server/assets/demo_assets.h"
@@ -75,7 +76,19 @@ Status ArmatureServer::LoadAccessRules() {
 }
 
 Status ArmatureServer::OpenStore() {
-  ARMATURE_ASSIGN_OR_RETURN(store_, AssetStore::Open(config_.data_dir, {.limits = config_.limits}));
+  StoreOptions options{.limits = config_.limits};
+  if (!config_.store.empty()) {
+    ARMATURE_ASSIGN_OR_RETURN(StoreLocation location, ParseStoreUrl(config_.store));
+    ARMATURE_ASSIGN_OR_RETURN(AwsCredentials credentials, LoadAwsCredentials());
+    spdlog::info("asset store: bucket {}, credentials from {}, region {}, cache in {}", location.Describe(),
+                 credentials.source, credentials.region, config_.data_dir);
+    const std::string prefix = location.prefix;
+    options.bucket =
+        std::make_shared<BucketMirror>(std::make_unique<S3Client>(std::move(location), std::move(credentials)), prefix);
+    options.watch_interval = std::chrono::milliseconds(config_.store_poll_ms);
+    options.keep_versions = config_.store_keep_versions;
+  }
+  ARMATURE_ASSIGN_OR_RETURN(store_, AssetStore::Open(config_.data_dir, std::move(options)));
   if (store_->fresh() && config_.demo) {
     if (Status st = SeedDemoAssets(*store_); !st.ok())
       spdlog::error("could not seed the demo assets: {}", st.message());
@@ -103,7 +116,10 @@ Status ArmatureServer::StartGrpc(const std::shared_ptr<grpc::ServerCredentials>&
   builder.SetMaxSendMessageSize(static_cast<int>(config_.limits.max_message_bytes));
   // Every call, REST ones through the in-process channel included, passes the observer (metrics, request log).
   metrics_ = std::make_unique<Metrics>();
-  metrics_->AddCollector([store = store_.get()](PrometheusText& out) { CollectAssetMetrics(*store->Snapshot(), out); });
+  metrics_->AddCollector([store = store_.get()](PrometheusText& out) {
+    CollectAssetMetrics(*store->Snapshot(), out);
+    CollectStoreMetrics(store->Health(), out);
+  });
   std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
   interceptors.push_back(std::make_unique<RpcObserverFactory>(*metrics_));
   builder.experimental().SetInterceptorCreators(std::move(interceptors));
@@ -144,6 +160,7 @@ Status ArmatureServer::StartHttp() {
   http_ =
       std::make_unique<HttpServer>(limits.max_http_threads, config_.tls_cert_file, config_.tls_key_file, connections);
   ServeMetrics(http_->routes(), *metrics_, tokens_);
+  http_->SetStoreHealth([store = store_.get()] { return StoreHealthJson(store->Health()); });
   ARMATURE_RETURN_IF_ERROR(StartGateway());
   http_port_ = http_->Start(config_.host, config_.http_port);
   if (http_port_ < 0) return Status::Unavailable(ListenError("HTTP", config_.host, config_.http_port));

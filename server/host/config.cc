@@ -129,6 +129,21 @@ void AddStreamAndSessionFlags(CLI::App& app, Limits& limits) {
       ->check(CLI::NonNegativeNumber);
 }
 
+void AddStoreFlags(CLI::App& app, ServerConfig& c) {
+  app.add_option("--store", c.store,
+                 "Keep the assets on an S3 bucket, the data dir its local cache: s3://HOST:PORT/BUCKET/PREFIX "
+                 "(HTTP) or s3+https://HOST[:PORT]/BUCKET/PREFIX; credentials from AWS_ACCESS_KEY_ID, "
+                 "AWS_SECRET_ACCESS_KEY, AWS_SESSION_TOKEN, AWS_REGION or ~/.aws/credentials")
+      ->envname("ARMATURE_STORE");
+  app.add_option("--store-poll-ms", c.store_poll_ms, "How often the bucket is listed for other replicas' writes")
+      ->envname("ARMATURE_STORE_POLL_MS")
+      ->check(CLI::Range(50, 3600000));
+  app.add_option("--store-keep-versions", c.store_keep_versions,
+                 "Versions of each asset kept on the bucket (0: every one)")
+      ->envname("ARMATURE_STORE_KEEP_VERSIONS")
+      ->check(CLI::NonNegativeNumber);
+}
+
 }  // namespace
 
 int ParseConfig(int argc, char** argv, ServerConfig& c) {
@@ -144,7 +159,9 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
   app.add_option("--http-port", c.http_port, "HTTP port for health, gateway and viewer (0: any free port, -1: off)")
       ->envname("ARMATURE_HTTP_PORT")
       ->check(CLI::Range(-1, 65535));
-  app.add_option("--data-dir", c.data_dir, "Where imported assets are persisted")->envname("ARMATURE_DATA_DIR");
+  app.add_option("--data-dir", c.data_dir, "Where imported assets are persisted (with --store: its cache)")
+      ->envname("ARMATURE_DATA_DIR");
+  AddStoreFlags(app, c);
   app.add_option("--log-level", c.log_level, "trace, debug, info, warn or error")
       ->envname("ARMATURE_LOG_LEVEL")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));

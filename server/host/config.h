@@ -9,13 +9,16 @@
 namespace armature::server {
 
 struct ServerConfig {
-  std::string host = "127.0.0.1";  // this machine only; the image and Kubernetes set 0.0.0.0
-  int grpc_port = 50051;           // 0 picks a free port
-  int http_port = 8080;            // 0 picks a free port; -1 disables HTTP
-  std::string data_dir = "armature-data";
-  std::string log_level = "info";   // trace, debug, info, warn, error
-  std::string log_format = "text";  // text or json
-  bool demo = true;                 // seed demo assets into an empty data dir
+  std::string host = "127.0.0.1";          // this machine only; the image and Kubernetes set 0.0.0.0
+  int grpc_port = 50051;                   // 0 picks a free port
+  int http_port = 8080;                    // 0 picks a free port; -1 disables HTTP
+  std::string data_dir = "armature-data";  // with --store: the bucket's local cache
+  std::string store;                       // s3://HOST:PORT/BUCKET/PREFIX (or s3+https://); empty: the data dir only
+  int store_poll_ms = 1000;                // how often the bucket is listed for other replicas' writes
+  int store_keep_versions = 0;             // versions kept per asset on the bucket; 0: every one
+  std::string log_level = "info";          // trace, debug, info, warn, error
+  std::string log_format = "text";         // text or json
+  bool demo = true;                        // seed demo assets into an empty data dir
   double shutdown_grace_seconds = 10;
   std::string port_file;                  // when set, {"grpc":…,"http":…} is written there once serving
   std::vector<std::string> cors_origins;  // origins allowed to call the REST gateway from a browser ("*": any)

@@ -34,8 +34,10 @@ HttpServer::HttpServer(size_t max_threads, const std::string& tls_cert_file, con
     const int yes = 1;
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
   });
-  http_->Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
-    res.set_content("{\"status\":\"ok\"}\n", "application/json");
+  // Alive whatever the store says (an unreachable bucket is served around, not restarted for).
+  http_->Get("/healthz", [this](const httplib::Request&, httplib::Response& res) {
+    res.set_content(store_json_ ? "{\"status\":\"ok\",\"store\":" + store_json_() + "}\n" : "{\"status\":\"ok\"}\n",
+                    "application/json");
   });
   http_->Get("/readyz", [this](const httplib::Request&, httplib::Response& res) {
     res.status = ready_ ? 200 : 503;

@@ -33,10 +33,13 @@ class HttpServer {
   int Start(const std::string& host, int port);
   void Stop();
   void SetReady(bool ready) { ready_ = ready; }
+  // /healthz's "store" member: a JSON object, asked at each check. Call before Start.
+  void SetStoreHealth(std::function<std::string()> store_json) { store_json_ = std::move(store_json); }
 
  private:
   std::unique_ptr<httplib::Server> http_;
   std::thread thread_;
+  std::function<std::string()> store_json_;
   std::atomic<bool> ready_{false};
 };
 
