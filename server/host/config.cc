@@ -124,6 +124,18 @@ void AddStreamAndSessionFlags(CLI::App& app, Limits& limits) {
   app.add_option("--max-sessions", limits.max_sessions, "Most IK/deformation sessions open at once in all")
       ->envname("ARMATURE_MAX_SESSIONS")
       ->check(CLI::PositiveNumber);
+  app.add_option("--crowd-budget-ms", limits.crowd_budget_ms,
+                 "A crowd session's work budget per tick, in milliseconds: its default and the most a session may ask; "
+                 "less significant characters are updated less often to keep within it")
+      ->envname("ARMATURE_CROWD_BUDGET_MS")
+      ->check(CLI::Range(0.01, 1000.0));
+  app.add_option("--max-crowd-characters", limits.max_crowd_characters, "Most characters one crowd session may hold")
+      ->envname("ARMATURE_MAX_CROWD_CHARACTERS")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-crowd-characters-total", limits.max_crowd_characters_total,
+                 "Most characters every crowd session together may hold")
+      ->envname("ARMATURE_MAX_CROWD_CHARACTERS_TOTAL")
+      ->check(CLI::PositiveNumber);
   app.add_option("--max-ik-sessions", limits.max_ik_sessions, "Most IK sessions open at once, all clients together")
       ->envname("ARMATURE_MAX_IK_SESSIONS")
       ->check(CLI::NonNegativeNumber);

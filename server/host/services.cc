@@ -2,6 +2,7 @@
 
 #include "server/assets/asset_service.h"
 #include "server/authoring/authoring_service.h"
+#include "server/crowd/crowd_service.h"
 #include "server/deform/deform_service.h"
 #include "server/ik/ik_service.h"
 #include "server/mesh/mesh_service.h"
@@ -30,6 +31,10 @@ std::vector<ServiceEntry> MakeServices(AssetStore& store, const Limits& limits, 
   services.push_back(MakeService<v1::IkService, IkServiceImpl>(store, limits, sessions, streams));
   services.push_back(MakeService<v1::MeshService, MeshServiceImpl>(store, limits, streams));
   services.push_back(MakeService<v1::AuthoringService, AuthoringServiceImpl>(store, limits));
+  // Crowds share the server-wide character cap (--max-crowd-characters-total) and their counters.
+  auto crowds = std::make_shared<CrowdTotals>(limits.max_crowd_characters_total);
+  metrics.AddCollector([crowds](PrometheusText& out) { crowds->Collect(out); });
+  services.push_back(MakeService<v1::CrowdService, CrowdServiceImpl>(store, limits, sessions, streams, crowds));
   return services;
 }
 

@@ -37,6 +37,10 @@ struct Limits {
   int heavy_queue = 0;                      // --heavy-queue: heavy calls waiting beyond those (0: 4 per thread)
   int64_t max_assets_bytes = 1024ll << 20;  // --max-assets-mb: estimated memory of all loaded assets
   int64_t max_image_bytes = 32ll << 20;     // --max-image-mb: one material image's stored bytes
+  // Crowds (CrowdSession): a tick's work budget per session, and characters per session and in all.
+  double crowd_budget_ms = 4;               // --crowd-budget-ms: a session's default and largest budget
+  int max_crowd_characters = 10000;         // --max-crowd-characters: characters of one crowd session
+  int max_crowd_characters_total = 100000;  // --max-crowd-characters-total: characters of every crowd
   int max_concurrent_uploads = 4;           // --max-concurrent-uploads: ImportAsset calls (gRPC and REST) at once
 };
 

@@ -24,7 +24,7 @@ import sys
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 ENGINE_ORDER = ["math", "anim", "kinematics", "mesh", "deform", "io"]
-SLICES = ["pose", "mesh", "ik", "deform", "authoring"]
+SLICES = ["pose", "mesh", "ik", "deform", "authoring", "crowd"]
 
 
 def folder_of_file(path):

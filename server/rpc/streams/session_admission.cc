@@ -5,10 +5,22 @@ namespace armature::server {
 namespace {
 
 const char* RpcOf(SessionKind kind) {
-  return kind == SessionKind::kIk ? "IkSession" : kind == SessionKind::kDeform ? "DeformSession" : "PlaybackSession";
+  switch (kind) {
+    case SessionKind::kIk: return "IkSession";
+    case SessionKind::kDeform: return "DeformSession";
+    case SessionKind::kPlayback: return "PlaybackSession";
+    case SessionKind::kCrowd: return "CrowdSession";
+  }
+  return "?";
 }
 const char* LabelOf(SessionKind kind) {
-  return kind == SessionKind::kIk ? "ik" : kind == SessionKind::kDeform ? "deform" : "playback";
+  switch (kind) {
+    case SessionKind::kIk: return "ik";
+    case SessionKind::kDeform: return "deform";
+    case SessionKind::kPlayback: return "playback";
+    case SessionKind::kCrowd: return "crowd";
+  }
+  return "?";
 }
 int IndexOf(SessionKind kind) { return static_cast<int>(kind); }
 
@@ -62,8 +74,8 @@ int SessionAdmission::open(SessionKind kind) const {
 }
 
 void SessionAdmission::Collect(PrometheusText& out) const {
-  out.Family("armature_sessions_active", "gauge", "IK, deformation and playback sessions now open, by kind.");
-  for (SessionKind kind : {SessionKind::kIk, SessionKind::kDeform, SessionKind::kPlayback})
+  out.Family("armature_sessions_active", "gauge", "IK, deformation, playback and crowd sessions now open, by kind.");
+  for (SessionKind kind : {SessionKind::kIk, SessionKind::kDeform, SessionKind::kPlayback, SessionKind::kCrowd})
     out.Sample("armature_sessions_active", {{"kind", LabelOf(kind)}}, static_cast<double>(open(kind)));
 }
 

@@ -4,7 +4,7 @@
 
 namespace armature::server {
 
-enum class SessionKind { kIk, kDeform, kPlayback };
-inline constexpr int kSessionKindCount = 3;
+enum class SessionKind { kIk, kDeform, kPlayback, kCrowd };
+inline constexpr int kSessionKindCount = 4;
 
 }  // namespace armature::server

@@ -19,7 +19,7 @@ TEST(Health, ReportsEachArmatureServiceByFullName) {
   auto stub = Health::NewStub(grpc::CreateChannel(server.target(), grpc::InsecureChannelCredentials()));
   for (const std::string service :
        {"", "armature.v1.AssetService", "armature.v1.PoseService", "armature.v1.IkService", "armature.v1.MeshService",
-        "armature.v1.DeformService", "armature.v1.AuthoringService"}) {
+        "armature.v1.DeformService", "armature.v1.AuthoringService", "armature.v1.CrowdService"}) {
     grpc::ClientContext context;
     context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
     HealthCheckRequest request;
