@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "armature/base/status.h"
+#include "armature/engine/anim/compression/error_bound.h"
 #include "armature/engine/io/asset.h"
 #include "server/assets/catalog.h"
 #include "server/rpc/limits.h"
@@ -47,12 +48,14 @@ struct ImportRequest {
   std::string bytes;
   ResourceMap resources;  // further files by uri (a .gltf's .bin buffers)
   std::string animates;   // a clip the server made for this skeleton (AssetRecord::animates)
+  std::string precision;  // ImportAssetRequest.precision (ParseClipPrecision); empty: the store's
 };
 
 struct StoreOptions {
   Limits limits;  // what an import may contain (CheckAssetLimits)
   // How often the manifest is checked for other servers' writes; 0: never.
   std::chrono::milliseconds watch_interval{500};
+  ClipPrecision clip_precision;  // an import's clips' precision unless it asks (--clip-error)
 };
 
 class AssetStore {

@@ -30,6 +30,8 @@ struct AssetRecord {
   // skeleton of that name, joint for joint; the file's copy of the skeleton
   // is not listed as a skeleton of its own (AdoptDerivedClip).
   std::string animates;
+  // The clips' precision, as ClipPrecisionText ("exact", or centimetres).
+  std::string precision;
 };
 
 struct StoredAsset {

@@ -75,7 +75,8 @@ Status ArmatureServer::LoadAccessRules() {
 }
 
 Status ArmatureServer::OpenStore() {
-  ARMATURE_ASSIGN_OR_RETURN(store_, AssetStore::Open(config_.data_dir, {.limits = config_.limits}));
+  ARMATURE_ASSIGN_OR_RETURN(
+      store_, AssetStore::Open(config_.data_dir, {.limits = config_.limits, .clip_precision = config_.clip_precision}));
   if (store_->fresh() && config_.demo) {
     if (Status st = SeedDemoAssets(*store_); !st.ok())
       spdlog::error("could not seed the demo assets: {}", st.message());
