@@ -78,7 +78,7 @@ void Measure(Compared& c) {
     return Status::Ok();
   };
   const PoseSampler ours_sampler = [&](double t, std::span<Trs> out) {
-    return ClipSamplingJob{&z, t, WrapMode::kClamp, nullptr, out}.Run();
+    return ClipSamplingJob{&z, t, WrapMode::kClamp, nullptr, out, {}}.Run();
   };
   StatusOr<ClipError> ours = MeasureClipError(*c.clip, z.frames, z.bound.shell_distance, ours_sampler);
   StatusOr<ClipError> acl = MeasureClipError(*c.clip, z.frames, z.bound.shell_distance, acl_sampler);
@@ -196,7 +196,7 @@ void DecompressArmature(benchmark::State& state) {
   PlaybackTimes times(z.duration);
   for (auto _ : state) {
     const double t = times.Next(kRandom);
-    benchmark::DoNotOptimize(ClipSamplingJob{&z, t, WrapMode::kClamp, &context, pose}.Run().ok());
+    benchmark::DoNotOptimize(ClipSamplingJob{&z, t, WrapMode::kClamp, &context, pose, {}}.Run().ok());
     benchmark::ClobberMemory();
   }
   SetCounters(state, *c, true);

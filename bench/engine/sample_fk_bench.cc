@@ -1,10 +1,10 @@
 // Sampling plus local-to-world per pose on the CMU clip (../shared/data;
 // skipped when absent, 31 joints, 2,752 keys per track), the figure issue 15
-// compares with ozz: the runtime form (CompileClip, SampleCompiledClip, then
-// ComputeWorld) and, in the same run, the pipeline before it (SampleClip,
+// compares with ozz: the runtime form (CompressClip at the default bound,
+// ClipSamplingJob with a context, then ComputeWorld) and, in the same run, the pipeline before it (SampleClip,
 // then ComputeWorldBefore, the old FK kept here) as the reference. Each reports
 // ns per joint (`per_joint`); BM_SampleFk_Memory{,_RobotExpressive} report
-// bytes per key of both forms.
+// the file form's bytes per key and the runtime form's per joint-sample.
 #include <fstream>
 #include <memory>
 #include <iterator>
@@ -15,7 +15,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "armature/engine/anim/compiled_clip.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/io/asset.h"
 #include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/kinematics/fk.h"
@@ -25,7 +25,7 @@ namespace {
 
 struct Cmu {
   std::shared_ptr<const Clip> clip;
-  std::shared_ptr<const CompiledClip> compiled;
+  std::shared_ptr<const CompressedClip> compiled;
 };
 
 const Cmu& LoadCmu() {
@@ -36,7 +36,7 @@ const Cmu& LoadCmu() {
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     auto bvh = ParseBvh(text);
     if (!bvh.ok()) return c;
-    auto compiled = CompileClip(bvh->clip);
+    auto compiled = CompressClip(bvh->clip);
     if (!compiled.ok()) return c;
     c.clip = bvh->clip;
     c.compiled = *compiled;
@@ -76,11 +76,13 @@ void SampleFk(benchmark::State& state, Form form, Times times, Interpolation int
   const SampleOptions options{.interpolation = interpolation, .wrap = WrapMode::kLoop};
   double t = 1;
   size_t i = 0;
+  ClipSamplingContext context(*cmu.compiled);
+  ClipSamplingJob job{cmu.compiled.get(), 0, WrapMode::kLoop, &context, local, interpolation};
   for (auto _ : state) {
     if (times != Times::kNone || i++ == 0) {
       const double at = times == Times::kRandom ? random[i++ & 4095] : t;
-      const Status s = form == Form::kFile ? SampleClip(*cmu.clip, at, options, local)
-                                           : SampleCompiledClip(*cmu.compiled, at, options, local);
+      job.time = at;
+      const Status s = form == Form::kFile ? SampleClip(*cmu.clip, at, options, local) : job.Run();
       if (!s.ok()) state.SkipWithError(s.message().c_str());
     }
     if (form == Form::kFile)
@@ -129,32 +131,31 @@ void BM_SampleFk_HierarchyOnly_Before(benchmark::State& s) {
 BENCHMARK(BM_SampleFk_HierarchyOnly);
 BENCHMARK(BM_SampleFk_HierarchyOnly_Before);
 
-// Bytes per key of the animated tracks: the file form's std::vector keys
-// (a double time and the value per key) and the runtime form's KeyBytes(),
-// over every clip of the file; `both` is what the server holds per clip
-// (file form + runtime form) since it compiles each clip at import.
+// Bytes of the animated tracks: the file form's std::vector keys (a double
+// time and the value per key) per key, and the runtime form's ByteSize() at
+// the default bound per joint-sample (joints × frames), over every clip of
+// the file. The server holds the runtime form (and, until the file form
+// leaves memory, both).
 void ReportMemory(benchmark::State& state, const std::vector<std::shared_ptr<const Clip>>& clips) {
-  size_t keys = 0, file_bytes = 0, runtime_bytes = 0, cubic_bytes = 0;
+  size_t keys = 0, file_bytes = 0, runtime_bytes = 0, joint_samples = 0;
   for (const std::shared_ptr<const Clip>& clip : clips) {
     for (const JointTrack& jt : clip->joints) {
       keys += jt.rotation.times.size() + jt.translation.times.size() + jt.scale.times.size();
       file_bytes += jt.rotation.times.size() * (sizeof(double) + sizeof(Eigen::Quaterniond)) +
                     (jt.translation.times.size() + jt.scale.times.size()) * (sizeof(double) + sizeof(Eigen::Vector3d));
     }
-    auto fresh = CompileClip(clip);  // the other benchmarks may have sampled CUBIC already
-    if (!fresh.ok()) return state.SkipWithError(fresh.status().message().c_str());
-    runtime_bytes += (*fresh)->KeyBytes();
-    (*fresh)->RotationControls();  // as after a CUBIC sample
-    cubic_bytes += (*fresh)->KeyBytes();
+    auto compressed = CompressClip(clip);
+    if (!compressed.ok()) return state.SkipWithError(compressed.status().message().c_str());
+    runtime_bytes += (*compressed)->ByteSize();
+    joint_samples += clip->skeleton->size() * (*compressed)->frames.count;
   }
   for (auto _ : state) benchmark::DoNotOptimize(keys);
   const auto per_key = [&](size_t bytes) { return static_cast<double>(bytes) / static_cast<double>(keys); };
   state.counters["clips"] = static_cast<double>(clips.size());
   state.counters["keys"] = static_cast<double>(keys);
   state.counters["file_bytes_per_key"] = per_key(file_bytes);
-  state.counters["runtime_bytes_per_key"] = per_key(runtime_bytes);
-  state.counters["runtime_bytes_per_key_cubic"] = per_key(cubic_bytes);
-  state.counters["both_bytes_per_key"] = per_key(file_bytes + runtime_bytes);
+  state.counters["runtime_bytes_per_joint_sample"] =
+      static_cast<double>(runtime_bytes) / static_cast<double>(joint_samples);
 }
 
 void BM_SampleFk_Memory(benchmark::State& state) {

@@ -1,8 +1,8 @@
 // Armature against ozz-animation 0.16 in the same run (issue 15). Both sample
 // the same motion, the CMU clip (../shared/data/bvh/cmu_01_01.bvh) parsed by
 // our BVH reader and built as an ozz RawAnimation + RawSkeleton, and turn it
-// into world (model) transforms: our SampleCompiledClip (on the clip's runtime
-// form, compiled once in setup as the server does at import) + ComputeWorld
+// into world (model) transforms: our ClipSamplingJob (on the clip's runtime
+// form, compressed once in setup as the server does at import) + ComputeWorld
 // against ozz's SamplingJob + LocalToModelJob. Both skin the skinning benchmark's cylinder
 // (cylinder_rig.h, 16,384 vertices, 4 influences, normals): our LBS against
 // ozz's SkinningJob. Pairs are BM_VsOzz_<what>_Armature / _Ozz (and
@@ -30,7 +30,7 @@
 #include <benchmark/benchmark.h>
 
 #include "armature/engine/anim/clip.h"
-#include "armature/engine/anim/compiled_clip.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/mesh/skinning.h"
@@ -102,28 +102,32 @@ void SetVertices(benchmark::State& state, size_t vertices) {
       static_cast<double>(vertices), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-// The CMU clip's runtime form, compiled once (the server compiles at import).
-const CompiledClip& CompiledCmu(const std::shared_ptr<const Clip>& clip) {
-  static const std::shared_ptr<const CompiledClip> compiled = [&] {
-    StatusOr<std::shared_ptr<const CompiledClip>> c = CompileClip(clip);
-    if (!c.ok()) Fail("CompileClip failed on the CMU clip: " + c.status().message());
+// The CMU clip's runtime form, compressed once at the default bound (the
+// server compresses at import).
+const CompressedClip& CompressedCmu(const std::shared_ptr<const Clip>& clip) {
+  static const std::shared_ptr<const CompressedClip> compressed = [&] {
+    StatusOr<std::shared_ptr<const CompressedClip>> c = CompressClip(clip);
+    if (!c.ok()) Fail("CompressClip failed on the CMU clip: " + c.status().message());
     return *c;
   }();
-  return *compiled;
+  return *compressed;
 }
 
-// Our per-call state for a clip: local and world poses.
+// Our per-call state for a clip: the sampling job's context, local and world poses.
 struct ArmaturePose {
   explicit ArmaturePose(const std::shared_ptr<const Clip>& c)
-      : clip(*c), compiled(CompiledCmu(c)), local(c->skeleton->size()), world(c->skeleton->size()) {}
-  bool Sample(double t) {  // as the server's SampleNamedClip: rotations then unit in double
-    if (!SampleCompiledClip(compiled, t, {}, local).ok()) return false;
-    for (Trs& joint : local) joint.rotation.coeffs() *= 0.5 * (3.0 - joint.rotation.squaredNorm());
-    return true;
+      : clip(*c),
+        compressed(CompressedCmu(c)),
+        context(compressed),
+        local(c->skeleton->size()),
+        world(c->skeleton->size()) {}
+  bool Sample(double t) {  // as the server samples: the job, sequential playback through its context
+    return ClipSamplingJob{&compressed, t, WrapMode::kClamp, &context, local, {}}.Run().ok();
   }
   void Fk() { ComputeWorld(*clip.skeleton, local, world); }
   const Clip& clip;
-  const CompiledClip& compiled;
+  const CompressedClip& compressed;
+  ClipSamplingContext context;
   std::vector<Trs> local;
   std::vector<Eigen::Affine3d> world;
 };
@@ -268,7 +272,7 @@ double CheckAgreement(const std::shared_ptr<const Clip>& shared, const OzzCmu& o
                       double time) {
   const Clip& clip = *shared;
   ArmaturePose ours(shared);
-  if (!ours.Sample(time)) Fail("SampleCompiledClip failed");
+  if (!ours.Sample(time)) Fail("ClipSamplingJob failed");
   ours.Fk();
   OzzPose theirs(*o.skeleton, animation);
   if (!theirs.Sample(static_cast<float>(time / clip.duration)) || !theirs.Fk())

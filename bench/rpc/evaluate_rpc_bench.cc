@@ -8,7 +8,6 @@
 
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "rpc_bench_server.h"
-#include "server/assets/compiled_clips.h"
 
 namespace {
 
@@ -43,25 +42,10 @@ void BM_Evaluate_Cmu_OnePose(benchmark::State& state) {
 }
 BENCHMARK(BM_Evaluate_Cmu_OnePose)->UseRealTime();
 
-// The same call with the server sampling the clip's file form (SampleClip),
-// as before clips were compiled at import: the runtime form's gain end to end.
-void EvaluateCmuFileForm(benchmark::State& state, int times) {
-  if (!Server().has_cmu) return state.SkipWithError("../shared/data/bvh/cmu_01_01.bvh not present");
-  armature::server::SampleFileFormOnly(true);
-  Evaluate(state, "cmu", times);
-  armature::server::SampleFileFormOnly(false);
-}
-
-void BM_Evaluate_Cmu_OnePose_FileForm(benchmark::State& state) { EvaluateCmuFileForm(state, 1); }
-BENCHMARK(BM_Evaluate_Cmu_OnePose_FileForm)->UseRealTime();
-
 void BM_Evaluate_Cmu_100Poses(benchmark::State& state) {
   if (!Server().has_cmu) return state.SkipWithError("../shared/data/bvh/cmu_01_01.bvh not present");
   Evaluate(state, "cmu", 100);
 }
 BENCHMARK(BM_Evaluate_Cmu_100Poses)->UseRealTime();
-
-void BM_Evaluate_Cmu_100Poses_FileForm(benchmark::State& state) { EvaluateCmuFileForm(state, 100); }
-BENCHMARK(BM_Evaluate_Cmu_100Poses_FileForm)->UseRealTime();
 
 }  // namespace

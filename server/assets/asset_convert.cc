@@ -1,5 +1,6 @@
 #include "server/assets/asset_convert.h"
 
+#include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/mesh/mesh.h"
 #include "server/rpc/convert/pose_convert.h"
 
@@ -18,12 +19,26 @@ v1::ClipInfo ClipInfoOf(const StoredAsset& asset, const NamedClip& c, bool with_
   info.set_name(c.name);
   info.set_skeleton(c.skeleton_name);
   info.set_asset(asset.record.name);
-  info.set_duration(c.clip->duration);
-  info.set_frames(static_cast<int32_t>(c.clip->frame_count));
-  info.set_frame_time(c.clip->frame_time);
-  info.set_interpolation(ToProto(c.clip->default_interpolation));
-  if (with_joints && c.clip->skeleton)
-    for (const std::string& name : c.clip->skeleton->names) info.add_joints(name);
+  const CompressedClip* runtime = c.runtime.get();
+  if (!runtime) return info;
+  info.set_duration(runtime->duration);
+  info.set_frames(static_cast<int32_t>(runtime->source_frame_count));
+  info.set_frame_time(runtime->source_frame_time);
+  info.set_interpolation(ToProto(runtime->source_interpolation));
+  if (with_joints && runtime->skeleton)
+    for (const std::string& name : runtime->skeleton->names) info.add_joints(name);
+  {
+    info.set_runtime_bytes(static_cast<int64_t>(runtime->ByteSize()));
+    info.set_bytes_per_joint_sample(runtime->BytesPerJointSample());
+    info.set_exact(runtime->exact());
+    if (!runtime->exact()) {
+      // Errors are in the skeleton's units; the shell distance is 3 cm in them.
+      const double units_per_cm = runtime->bound.shell_distance / ClipPrecision::kShellCentimetres;
+      info.set_error_bound_cm(runtime->precision.centimetres);
+      info.set_worst_error_cm(runtime->error.worst / units_per_cm);
+      info.set_p99_error_cm(runtime->error.p99 / units_per_cm);
+    }
+  }
   return info;
 }
 

@@ -2,7 +2,7 @@
 
 #include <set>
 
-#include "armature/engine/anim/compiled_clip.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/mesh/mesh.h"
 
 namespace armature::server {
@@ -76,9 +76,17 @@ size_t EstimateAssetBytes(const AssetContents& contents) {
   for (const NamedSkeleton& s : contents.skeletons) skeletons.insert(s.skeleton.get());
   size_t bytes = 0;
   for (const NamedClip& c : contents.clips) {
-    skeletons.insert(c.clip->skeleton.get());
-    bytes += ClipBytes(*c.clip);
-    if (c.compiled) bytes += sizeof(CompiledClip) + c.compiled->KeyBytes();  // the runtime form beside it
+    // The runtime form, and the file form while an asset holds it (an exact runtime form's keys are the file form).
+    if (c.clip) {
+      skeletons.insert(c.clip->skeleton.get());
+      bytes += ClipBytes(*c.clip);
+    }
+    if (c.runtime) {
+      skeletons.insert(c.runtime->skeleton.get());
+      bytes += sizeof(CompressedClip) + c.runtime->animated_parts.size();
+      if (!c.runtime->exact() || c.runtime->exact_keys != c.clip)
+        bytes += c.runtime->exact() ? ClipBytes(*c.runtime->exact_keys) : c.runtime->ByteSize();
+    }
   }
   for (const Skeleton* s : skeletons)
     if (s != nullptr) bytes += SkeletonBytes(*s);

@@ -10,6 +10,7 @@ json RecordToJson(const AssetRecord& r) {
             {"file", r.file}, {"size_bytes", r.size_bytes},     {"imported_at", r.imported_at}};
   if (!r.resources.empty()) j["resources"] = r.resources;
   if (!r.animates.empty()) j["animates"] = r.animates;
+  if (!r.precision.empty()) j["precision"] = r.precision;
   if (!r.version.empty()) j["version"] = r.version;
   return j;
 }
@@ -26,6 +27,7 @@ StatusOr<AssetRecord> RecordFromJson(const json& j) {
     r.imported_at = j.value("imported_at", "");
     if (j.contains("resources")) r.resources = j.at("resources").get<std::map<std::string, std::string>>();
     r.animates = j.value("animates", "");
+    r.precision = j.value("precision", "");
     r.version = j.value("version", "");
   } catch (const json::exception& e) {
     return Status::InvalidArgument(std::string("manifest entry: ") + e.what());

@@ -15,7 +15,7 @@
 #include "server/assets/asset_limits.h"
 #include "server/assets/asset_memory.h"
 #include "server/assets/asset_record_json.h"
-#include "server/assets/compiled_clips.h"
+#include "server/assets/runtime_clips.h"
 #include "server/assets/data_dir_lock.h"
 #include "server/assets/file_io.h"
 #include "server/assets/part_deletion.h"
@@ -59,13 +59,16 @@ std::string SafeFileName(std::string_view uri) {
 // The same stored files: stored names are unique per import, so equal
 // records mean equal contents and the parsed asset can be kept.
 bool SameStoredFiles(const AssetRecord& a, const AssetRecord& b) {
-  return a.format == b.format && a.file == b.file && a.resources == b.resources && a.animates == b.animates;
+  return a.format == b.format && a.file == b.file && a.resources == b.resources && a.animates == b.animates &&
+         a.precision == b.precision;
 }
 
 }  // namespace
 
 // Reads a stored asset's files back and parses them.
-StatusOr<AssetContents> AssetStore::LoadContents(const fs::path& dir, const AssetRecord& r, const Limits& limits) {
+StatusOr<AssetContents> AssetStore::LoadContents(const fs::path& dir, const AssetRecord& r,
+                                                 const StoreOptions& options) {
+  const Limits& limits = options.limits;
   ARMATURE_ASSIGN_OR_RETURN(auto bytes, ReadFile(dir / r.file));
   ResourceMap resources;
   for (const auto& [uri, file] : r.resources) {
@@ -75,7 +78,10 @@ StatusOr<AssetContents> AssetStore::LoadContents(const fs::path& dir, const Asse
   auto contents = WithLimitFlags(ParseAsset(r.format, bytes, r.name, resources, LoadLimitsOf(limits)));
   if (!contents.ok()) return contents;
   ARMATURE_RETURN_IF_ERROR(AdoptDerivedClip(r, *contents));
-  CompileClips(*contents);
+  ARMATURE_ASSIGN_OR_RETURN(
+      const ClipPrecision precision,
+      ParseClipPrecision(r.precision, "manifest entry '" + r.name + "': precision", options.clip_precision));
+  ARMATURE_RETURN_IF_ERROR(CompressClips(*contents, precision));
   return contents;
 }
 
@@ -173,7 +179,7 @@ Status AssetStore::SyncLocked(std::set<fs::path>* referenced) {
         assets[record->name] = it->second;  // unchanged: keep the parsed asset
         continue;
       }
-      auto contents = LoadContents(dir_, *record, options_.limits);
+      auto contents = LoadContents(dir_, *record, options_);
       if (!contents.ok()) {
         spdlog::error("asset '{}' ({}) could not be loaded and is skipped: {}", record->name, record->file,
                       contents.status().message());
@@ -301,7 +307,11 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   record.name = request.name;
   record.animates = request.animates;
   ARMATURE_RETURN_IF_ERROR(AdoptDerivedClip(record, *contents));
-  CompileClips(*contents);  // before the write lock: other writers need not wait for it
+  ARMATURE_ASSIGN_OR_RETURN(const ClipPrecision precision,
+                            ParseClipPrecision(request.precision, "precision", options_.clip_precision));
+  record.precision = ClipPrecisionText(precision);
+  // Before the write lock: other writers need not wait for it.
+  ARMATURE_RETURN_IF_ERROR(CompressClips(*contents, precision).WithContext(label + ": "));
 
   // Read-modify-write of the manifest, exclusive across every server on this data dir.
   std::lock_guard write_lock(write_mu_);

@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "armature/base/status.h"
+#include "armature/engine/anim/compression/error_bound.h"
 #include "armature/engine/io/asset.h"
 #include "server/assets/bucket/bucket_mirror.h"
 #include "server/assets/bucket/store_health.h"
@@ -56,6 +57,7 @@ struct ImportRequest {
   std::string bytes;
   ResourceMap resources;  // further files by uri (a .gltf's .bin buffers)
   std::string animates;   // a clip the server made for this skeleton (AssetRecord::animates)
+  std::string precision;  // ImportAssetRequest.precision (ParseClipPrecision); empty: the store's
 };
 
 struct StoreOptions {
@@ -65,6 +67,7 @@ struct StoreOptions {
   // Set: the assets live on this bucket, the data dir is its cache.
   std::shared_ptr<BucketMirror> bucket{};
   int keep_versions = 0;  // versions kept per name on the bucket; 0: all
+  ClipPrecision clip_precision;  // an import's clips' precision unless it asks (--clip-error)
 };
 
 class AssetStore {
@@ -120,7 +123,7 @@ class AssetStore {
   void WriteCache(const Catalog& catalog);
   void NoteReachable(const Status& status);
   static StatusOr<AssetContents> LoadContents(const std::filesystem::path& dir, const AssetRecord& r,
-                                              const Limits& limits);
+                                              const StoreOptions& options);
   // Brings the published catalog up to date with the manifest on disk.
   // Call with write_mu_ and a DataDirLock held. `referenced`, when given,
   // receives every file the manifest names (loadable or not).

@@ -99,7 +99,7 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::LoadVersion(const Versi
   };
   ARMATURE_RETURN_IF_ERROR(fetch(r.file, version.source));
   for (const auto& [uri, file] : r.resources) ARMATURE_RETURN_IF_ERROR(fetch(file, version.resources.at(uri)));
-  ARMATURE_ASSIGN_OR_RETURN(auto contents, LoadContents(dir_, r, options_.limits));
+  ARMATURE_ASSIGN_OR_RETURN(auto contents, LoadContents(dir_, r, options_));
   return std::make_shared<const StoredAsset>(StoredAsset{r, std::move(contents)});
 }
 

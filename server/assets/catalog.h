@@ -33,6 +33,8 @@ struct AssetRecord {
   // "<UTC time>-<writer id>", sorting in import order (bucket_layout.h's
   // NewVersion); empty in manifests written before versions existed.
   std::string version;
+  // The clips' precision, as ClipPrecisionText ("exact", or centimetres).
+  std::string precision;
 };
 
 struct StoredAsset {

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "armature/engine/anim/compression/clip_keys.h"
 #include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/gltf/gltf_writer.h"
 #include "armature/engine/mesh/mesh.h"
@@ -44,7 +45,7 @@ StatusOr<AssetFormat> ExportFormat(const std::string& format) {
 // character's skeleton) the meshes of the first skeleton, by name, with the
 // same joint names in the same order.
 std::vector<const Mesh*> CharacterMeshes(const Catalog& catalog, const NamedClip& clip) {
-  const Skeleton& own = *clip.clip->skeleton;
+  const Skeleton& own = *clip.runtime->skeleton;
   std::vector<const Mesh*> same_object;
   std::map<std::string, std::vector<const Mesh*>> same_joints;  // by skeleton name
   for (const auto& [name, ref] : catalog.meshes) {
@@ -64,19 +65,21 @@ std::vector<const Mesh*> CharacterMeshes(const Catalog& catalog, const NamedClip
 Status ExportGltfClip(const Catalog& catalog, const Limits& limits, const PartRef<NamedClip>& ref, bool binary,
                       bool with_meshes, ReplyEncoding encoding, v1::ExportClipResponse* response) {
   const NamedClip& clip = *ref.part;
+  // The runtime form's keys: the stored ones of an exact clip, else its samples at its frames.
+  ARMATURE_ASSIGN_OR_RETURN(const std::shared_ptr<const Clip> keys, ClipKeysOf(*clip.runtime));
   const std::vector<const Mesh*> meshes = with_meshes ? CharacterMeshes(catalog, clip) : std::vector<const Mesh*>{};
-  const uint64_t estimate = GltfExportByteEstimate(*clip.clip, meshes, binary);
-  ARMATURE_RETURN_IF_ERROR(ValidateExportSize(static_cast<double>(estimate),
-                                              "glTF of " + std::to_string(clip.clip->skeleton->size()) +
-                                                  " joints and " + std::to_string(meshes.size()) + " meshes",
-                                              encoding, limits));
+  const uint64_t estimate = GltfExportByteEstimate(*keys, meshes, binary);
+  ARMATURE_RETURN_IF_ERROR(ValidateExportSize(
+      static_cast<double>(estimate),
+      "glTF of " + std::to_string(keys->skeleton->size()) + " joints and " + std::to_string(meshes.size()) + " meshes",
+      encoding, limits));
   GltfExportOptions options;
   options.binary = binary;
   // The animation's own name: "robot.Walking" of asset "robot" is "Walking".
   const std::string prefix = ref.asset->record.name + ".";
   options.animation_name = clip.name.rfind(prefix, 0) == 0 ? clip.name.substr(prefix.size()) : clip.name;
   options.max_bytes = MaxFileBytes(encoding, limits);
-  ARMATURE_ASSIGN_OR_RETURN(auto bytes, ExportGltf(*clip.clip, meshes, options));
+  ARMATURE_ASSIGN_OR_RETURN(auto bytes, ExportGltf(*keys, meshes, options));
   response->set_filename(clip.name + std::string(FormatExtension(binary ? AssetFormat::kGlb : AssetFormat::kGltf)));
   response->set_data(std::move(bytes));
   return Status::Ok();
@@ -92,7 +95,8 @@ Status ExportClip(const Catalog& catalog, const Limits& limits, const v1::Export
     return ExportGltfClip(catalog, limits, ref, format == AssetFormat::kGlb, request.with_meshes(), encoding, response);
   if (request.with_meshes())
     return Status::InvalidArgument("with_meshes: BVH holds no meshes; ask for format glb or gltf");
-  const Clip& clip = *ref.part->clip;
+  ARMATURE_ASSIGN_OR_RETURN(const std::shared_ptr<const Clip> keys, ClipKeysOf(*ref.part->runtime));
+  const Clip& clip = *keys;
   ARMATURE_RETURN_IF_ERROR(ValidateExportSize(static_cast<double>(BvhExportByteEstimate(clip)),
                                               std::to_string(BvhExportFrameCount(clip)) + " frames of BVH text",
                                               encoding, limits));

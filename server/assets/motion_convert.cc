@@ -35,7 +35,7 @@ StatusOr<Motion> MotionFromProto(const Catalog& catalog, const v1::Motion& motio
     auto ref = catalog.FindClip(l.clip());
     if (!ref.ok()) return ref.status().WithContext(field + ".layers[" + std::to_string(i) + "]: ");
     MotionLayer layer;
-    layer.clip = ref->part->clip;
+    layer.clip = ref->part->runtime;
     layer.clip_name = l.clip();
     layer.weight = l.has_weight() ? l.weight() : 1.0;
     layer.speed = l.has_speed() ? l.speed() : 1.0;

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "armature/engine/anim/compression/clip_keys.h"
 #include "armature/engine/anim/cubic_tangents.h"
 #include "server/assets/asset_convert.h"
 #include "server/authoring/clip_bake.h"
@@ -93,7 +94,7 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
     ARMATURE_ASSIGN_OR_RETURN(auto found, catalog->FindSkeleton(skeleton_name));
     skeleton = found.part->skeleton;
   } else if (stored) {
-    skeleton = stored->part->clip->skeleton;
+    skeleton = stored->part->runtime->skeleton;
     skeleton_name = stored->part->skeleton_name;
   } else {
     return Status::InvalidArgument("skeleton: required (the skeleton the clip animates)");
@@ -105,7 +106,10 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
   clip.skeleton = skeleton;
   clip.joints.resize(skeleton->size());
   if (baked) clip.joints = std::move(baked->clip.joints);
-  if (stored) ARMATURE_RETURN_IF_ERROR(CarryOver(*stored->part->clip, *skeleton, skeleton_name, clip));
+  if (stored) {
+    ARMATURE_ASSIGN_OR_RETURN(const std::shared_ptr<const Clip> keys, ClipKeysOf(*stored->part->runtime));
+    ARMATURE_RETURN_IF_ERROR(CarryOver(*keys, *skeleton, skeleton_name, clip));
+  }
   for (KeyedJoint& k : keyed) {
     JointTrack& t = clip.joints[static_cast<size_t>(k.joint)];
     t = k.remove ? JointTrack{} : std::move(k.track);
@@ -129,6 +133,7 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
   options.skeleton = own_copy ? "" : skeleton_name;
   options.replace = request.replace() || request.merge();
   if (stored) options.replace_only = stored->asset;
+  options.precision = "exact";  // the keys as given, tangents too: a later merge carries them over as they are
   ARMATURE_ASSIGN_OR_RETURN(auto derived, StoreDerivedClip(store, clip, options, limits));
   *response->mutable_clip() = ClipInfoOf(*derived.asset, *derived.clip, true);
   *response->mutable_asset() = AssetInfoOf(*derived.asset);

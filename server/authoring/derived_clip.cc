@@ -30,6 +30,7 @@ StatusOr<DerivedClip> StoreDerivedClip(AssetStore& store, const Clip& clip, cons
   request.replace_only = options.replace_only;
   request.bytes = std::move(*bytes);
   request.animates = options.skeleton;
+  request.precision = options.precision;
   auto stored = store.Import(std::move(request));
   if (!stored.ok()) return stored.status();
   DerivedClip result{*stored, nullptr};

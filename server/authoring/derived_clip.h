@@ -28,6 +28,7 @@ struct DerivedClipOptions {
   bool replace = false;  // replace an asset of that name instead of ALREADY_EXISTS
   // Set: replace exactly this stored asset (ABORTED if another took its place meanwhile).
   std::shared_ptr<const StoredAsset> replace_only;
+  std::string precision;  // ImportRequest::precision: empty, the server's default
 };
 
 struct DerivedClip {

@@ -29,7 +29,7 @@ Status RetargetClip(AssetStore& store, const Limits& limits, const v1::RetargetC
   if (!clip.ok()) return clip.status();
   auto skeleton = catalog->FindSkeleton(request.skeleton());
   if (!skeleton.ok()) return skeleton.status();
-  const Clip& source = *clip->part->clip;
+  const CompressedClip& source = *clip->part->runtime;
   const Skeleton& target = *skeleton->part->skeleton;
 
   std::vector<JointNamePair> explicit_pairs;

@@ -76,7 +76,7 @@ Status ArmatureServer::LoadAccessRules() {
 }
 
 Status ArmatureServer::OpenStore() {
-  StoreOptions options{.limits = config_.limits};
+  StoreOptions options{.limits = config_.limits, .clip_precision = config_.clip_precision};
   if (!config_.store.empty()) {
     ARMATURE_ASSIGN_OR_RETURN(StoreLocation location, ParseStoreUrl(config_.store));
     ARMATURE_ASSIGN_OR_RETURN(AwsCredentials credentials, LoadAwsCredentials());

@@ -234,12 +234,22 @@ int ParseConfig(int argc, char** argv, ServerConfig& c) {
       ->check(CLI::NonNegativeNumber);
   AddWorkBudgetFlags(app, c.limits);
   const auto [assets_mb, image_mb] = AddMemoryFlags(app, c.limits);
+  std::string clip_error = ClipPrecisionText(c.clip_precision);
+  app.add_option("--clip-error", clip_error,
+                 "How closely clips are kept unless an import asks: a bound in centimetres on points 3 cm from "
+                 "each joint, in (0, 10], or 'exact' (the stored keys bit for bit)")
+      ->envname("ARMATURE_CLIP_ERROR")
+      ->check([](const std::string& text) {
+        const auto parsed = ParseClipPrecision(text, "--clip-error");
+        return parsed.ok() ? std::string() : parsed.status().message();
+      });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
   c.demo = !no_demo;
+  c.clip_precision = *ParseClipPrecision(clip_error, "--clip-error");
   c.limits.max_upload_bytes = static_cast<int64_t>(upload_mb * (1 << 20));
   c.limits.max_message_bytes = static_cast<int64_t>(message_mb * (1 << 20));
   c.limits.max_request_bytes = static_cast<int64_t>(request_kb * 1024);

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "armature/engine/anim/compression/error_bound.h"
 #include "server/rpc/limits.h"
 
 namespace armature::server {
@@ -27,6 +28,7 @@ struct ServerConfig {
   std::string tls_cert_file;              // PEM certificate chain: TLS on the gRPC and HTTP ports
   std::string tls_key_file;               // PEM private key of tls_cert_file
   std::vector<std::string> trusted_proxies;  // --trust-forwarded-for: networks whose X-Forwarded-For is believed
+  ClipPrecision clip_precision;              // --clip-error: imports' clips' precision unless they ask
   Limits limits;
 };
 

@@ -10,7 +10,7 @@
 #include "armature/engine/anim/clip.h"
 #include "armature/engine/anim/joint_map.h"
 #include "armature/engine/kinematics/fk.h"
-#include "server/assets/compiled_clips.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "server/rpc/request_validation.h"
 
 namespace armature::server {
@@ -162,26 +162,29 @@ Status StartFromClip(const Catalog& catalog, const v1::ClipTime& in, const Named
   // A clip of another skeleton plays by joint name (anim/joint_map.h).
   const Skeleton& sk = *skeleton.skeleton;
   std::vector<int> map;
-  if (Status mapped = MapJointsByName(sk, *clip->part->clip->skeleton, "'" + skeleton.name + "'", map); !mapped.ok())
+  if (Status mapped = MapJointsByName(sk, *clip->part->runtime->skeleton, "'" + skeleton.name + "'", map); !mapped.ok())
     return Status::InvalidArgument("from_clip.clip: '" + clip->part->name + "' animates skeleton '" +
                                    clip->part->skeleton_name + "', which " + mapped.message());
   ARMATURE_RETURN_IF_ERROR(ValidateFinite(in.time(), "from_clip.time"));
   if (in.time() < 0) return Status::InvalidArgument("from_clip.time: must not be negative");
-  SampleOptions options;
-  options.interpolation = FromProto(in.interpolation());
-  options.wrap = FromProto(in.wrap());
   start.resize(sk.size());
-  // On the clip's own skeleton: its runtime form, as EvaluateClip samples it (the same locals, to the float).
-  if (clip->part->clip->skeleton.get() == &sk) return SampleNamedClip(*clip->part, in.time(), options, start);
-  return SampleClipOnto(*clip->part->clip, map, sk, in.time(), options, start);
+  const CompressedClip& runtime = *clip->part->runtime;
+  // On the clip's own skeleton as EvaluateClip samples it (the same locals, to the float).
+  if (runtime.skeleton.get() == &sk)
+    return ClipSamplingJob{&runtime, in.time(), FromProto(in.wrap()), nullptr, start, FromProto(in.interpolation())}
+        .Run();
+  ClipSamplingContext context(runtime);
+  return ClipSamplingOntoJob{
+      &runtime, map, &sk, in.time(), FromProto(in.wrap()), &context, start, FromProto(in.interpolation())}
+      .Run();
 }
 
 // Which joints may carry the body (ik_body_root.h), from every clip of the skeleton.
 std::vector<uint8_t> BodyRootCandidatesOf(const Catalog& catalog, const NamedSkeleton& skeleton) {
-  std::vector<const Clip*> clips;
+  std::vector<const CompressedClip*> clips;
   for (const auto& [name, ref] : catalog.clips)
-    if (ref.part->skeleton_name == skeleton.name && ref.part->clip->skeleton->size() == skeleton.skeleton->size())
-      clips.push_back(ref.part->clip.get());
+    if (ref.part->skeleton_name == skeleton.name && ref.part->runtime->skeleton->size() == skeleton.skeleton->size())
+      clips.push_back(ref.part->runtime.get());
   return BodyRootCandidates(*skeleton.skeleton, clips);
 }
 

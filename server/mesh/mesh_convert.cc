@@ -3,7 +3,6 @@
 #include <google/protobuf/io/coded_stream.h>
 
 #include "armature/engine/anim/joint_map.h"
-#include "server/assets/compiled_clips.h"
 #include "server/assets/motion_convert.h"
 #include "server/rpc/request_validation.h"
 
@@ -27,7 +26,7 @@ StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const 
   auto skeleton_ref = catalog.FindSkeleton(mesh.skeleton_name);
   if (!skeleton_ref.ok()) return skeleton_ref.status().WithContext("mesh '" + mesh.name + "': ");
   out.skeleton_ref = std::move(*skeleton_ref);
-  const Status mapped = MapJointsByName(*out.skeleton_ref.part->skeleton, *out.clip_ref.part->clip->skeleton,
+  const Status mapped = MapJointsByName(*out.skeleton_ref.part->skeleton, *out.clip_ref.part->runtime->skeleton,
                                         "the mesh's skeleton '" + mesh.skeleton_name + "'", out.joint_map);
   if (!mapped.ok())
     return Status::InvalidArgument("clip: '" + name + "' animates skeleton '" + out.clip_ref.part->skeleton_name +
@@ -38,14 +37,12 @@ StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const 
 Status SkinByClip(const Mesh& mesh, const MeshClip& mesh_clip, double time, const SampleOptions& sample,
                   const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                   SkinningWorkspace& workspace) {
-  const Clip& clip = *mesh_clip.clip_ref.part->clip;
-  if (mesh_clip.skeleton_ref.part == nullptr) {
-    if (const CompiledClip* compiled = RuntimeForm(*mesh_clip.clip_ref.part))
-      return SkinClip(mesh, *compiled, time, sample, options, positions, normals, workspace);
-    return SkinClip(mesh, clip, time, sample, options, positions, normals, workspace);
+  ClipSkinningTime at{time, sample.wrap, sample.interpolation};
+  if (mesh_clip.skeleton_ref.part != nullptr) {
+    at.onto = mesh_clip.skeleton_ref.part->skeleton.get();
+    at.map = mesh_clip.joint_map;
   }
-  return SkinClipOnto(mesh, *mesh_clip.skeleton_ref.part->skeleton, mesh_clip.joint_map, clip, time, sample, options,
-                      positions, normals, workspace);
+  return SkinClip(mesh, *mesh_clip.clip_ref.part->runtime, at, options, positions, normals, workspace);
 }
 
 StatusOr<MotionPlan> MotionFor(const Catalog& catalog, const NamedMesh& mesh, const v1::Motion& motion,

@@ -33,7 +33,7 @@ struct MeshClip {
 // the mesh skeleton's joints is INVALID_ARGUMENT naming them.
 StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const std::string& name);
 
-// Skins `mesh` by `clip` at `time` (SkinClip, or SkinClipOnto the mesh's skeleton).
+// Skins `mesh` by `clip` at `time` (SkinClip, onto the mesh's skeleton by the joint map when set).
 Status SkinByClip(const Mesh& mesh, const MeshClip& mesh_clip, double time, const SampleOptions& sample,
                   const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                   SkinningWorkspace& workspace);

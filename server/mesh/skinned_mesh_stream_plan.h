@@ -20,7 +20,7 @@ class SkinnedMeshStreamPlan {
   SkinnedMeshStreamPlan(PartRef<NamedMesh> mesh, MeshClip mesh_clip, SkinningMethod method,
                         v1::Interpolation interpolation);
 
-  double duration() const { return mesh_clip_.clip_ref.part->clip->duration; }
+  double duration() const { return mesh_clip_.clip_ref.part->runtime->duration; }
   Status Fill(uint64_t index, double time, WrapMode wrap, Frame& frame);
   void Done(uint64_t frames) const;
 

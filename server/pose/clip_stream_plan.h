@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/v1/poses.pb.h"
 #include "server/assets/catalog.h"
 #include "server/rpc/convert/pose_convert.h"
@@ -36,6 +37,7 @@ class ClipStreamPlan {
   v1::Space space_;
   std::vector<int> joints_;
   PoseWorkspace ws_;
+  ClipSamplingContext context_;  // sequential frames read each segment's header once
 };
 
 }  // namespace armature::server

@@ -25,7 +25,7 @@ Status PlayedMotion(const Catalog& catalog, const Limits& limits, const v1::Play
   if (!ref.ok()) return ref.status().WithContext(field + ".clip: ");
   motion = Motion();
   MotionLayer layer;
-  layer.clip = ref->part->clip;
+  layer.clip = ref->part->runtime;
   layer.clip_name = ref->part->name;
   motion.layers.push_back(std::move(layer));  // weight 1, looping
   name = ref->part->name;

@@ -2,7 +2,7 @@
 
 #include "armature/engine/anim/clip.h"
 #include "armature/engine/kinematics/fk.h"
-#include "server/assets/compiled_clips.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "server/assets/motion_convert.h"
 #include "server/rpc/convert/pose_convert.h"
 #include "server/rpc/request_validation.h"
@@ -27,7 +27,7 @@ Status ValidatePosesReplySize(int times, size_t joints, const Limits& limits, Re
 // The joints of `clip`'s skeleton, 0 when there is no such clip.
 int64_t SkeletonJointsOf(const Catalog& catalog, const std::string& clip) {
   auto ref = catalog.FindClip(clip);
-  return ref.ok() ? static_cast<int64_t>(ref->part->clip->skeleton->size()) : 0;
+  return ref.ok() ? static_cast<int64_t>(ref->part->runtime->skeleton->size()) : 0;
 }
 
 }  // namespace
@@ -51,20 +51,21 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.interpolation(), v1::Interpolation_descriptor(), "interpolation"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.wrap(), v1::WrapMode_descriptor(), "wrap"));
   ARMATURE_RETURN_IF_ERROR(ValidateEnum(request.space(), v1::Space_descriptor(), "space"));
-  const Clip& clip = *ref->part->clip;
+  const CompressedClip& clip = *ref->part->runtime;
   auto joints = ResolveJoints(*clip.skeleton, request.joints(), "joints");
   if (!joints.ok()) return joints.status();
   ARMATURE_RETURN_IF_ERROR(ValidatePosesReplySize(request.times_size(), joints->size(), limits, encoding,
                                                   "EvaluateClip",
                                                   "stream the poses (StreamClip: GET /v1/clips/{clip}:stream)"));
 
-  SampleOptions options;
-  options.interpolation = FromProto(request.interpolation());
-  options.wrap = FromProto(request.wrap());
   const v1::Space space = request.space() == v1::WORLD ? v1::WORLD : v1::LOCAL;
 
   thread_local PoseWorkspace ws;  // reused across calls on this thread: no allocation per pose
+  thread_local ClipSamplingContext context;
   ws.Resize(clip.skeleton->size());
+  const CompressedClip& runtime = *ref->part->runtime;
+  if (!context.Fits(runtime)) context.Resize(runtime);
+  ClipSamplingJob job{&runtime, 0, FromProto(request.wrap()), &context, ws.local, FromProto(request.interpolation())};
   response->set_clip(ref->part->name);
   response->set_skeleton(ref->part->skeleton_name);
   response->set_space(space);
@@ -72,7 +73,8 @@ Status EvaluateClip(const Catalog& catalog, const Limits& limits, const v1::Eval
   response->mutable_times()->CopyFrom(request.times());
   response->mutable_poses()->Reserve(request.times_size());
   for (double t : request.times()) {
-    ARMATURE_RETURN_IF_ERROR(SampleNamedClip(*ref->part, t, options, ws.local));
+    job.time = t;
+    ARMATURE_RETURN_IF_ERROR(job.Run());
     PackPose(*clip.skeleton, space, *joints, ws, response->add_poses());
     ARMATURE_RETURN_IF_ERROR(progress.Step(work.joints));
   }

@@ -3,7 +3,11 @@ own AnimationMixer (tests/reference/motion_reference.mjs, node) on
 RobotExpressive: two override layers with PHASE and with NONE sync, three
 layers of total weight below 1, additive layers (reference at 0 and inside
 the clip), an upper-body mask. Every joint must agree within 1e-4 of the
-model's size (the extent of its joints at rest).
+model's size (the extent of its joints at rest), the clips imported with
+`--clip-error exact`. The one-clip case is run again on a copy imported at the
+server's default bound, 0.01 cm on points 3 cm from each joint (0.0001 in
+RobotExpressive's metres): its clips report a worst error within the bound and
+its joints agree within the tolerance + the bound.
 
 usage: motion_vs_threejs.py SERVER_BIN CLI_BIN SHARED_DATA_DIR
 """
@@ -21,9 +25,16 @@ from server_fixture import Server  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 RELATIVE_TOLERANCE = 1e-4
 ASSET = "robot"
+DEFAULT_ASSET = "robot_default"
+DEFAULT_BOUND = 0.0001  # the default --clip-error, 0.01 cm, in glTF's metres
+ONE_CLIP = "one clip"
 
 # Motions with the glTF animation names; the server's clips are "robot.<name>".
 CASES = {
+    ONE_CLIP: {
+        "motion": {"layers": [{"clip": "Walking"}]},
+        "times": [0.1, 0.55, 0.97],
+    },
     "two overrides, PHASE": {
         "motion": {"layers": [{"clip": "Walking", "weight": 0.6}, {"clip": "Running", "weight": 0.4}],
                    "sync": "PHASE"},
@@ -58,10 +69,10 @@ CASES = {
 }
 
 
-def server_motion(motion):
+def server_motion(motion, asset=ASSET):
     m = json.loads(json.dumps(motion))
     for layer in m["layers"]:
-        layer["clip"] = f"{ASSET}.{layer['clip']}"
+        layer["clip"] = f"{asset}.{layer['clip']}"
     return m
 
 
@@ -97,10 +108,19 @@ def main():
                                           check=True, capture_output=True, text=True, cwd=HERE).stdout)
     failures, compared = 0, 0
     with Server(server_bin, ["--no-demo"]) as server:
-        r = subprocess.run([cli, "--server", server.target, "import", glb, "--name", ASSET],
-                           capture_output=True, text=True)
-        if r.returncode != 0:
-            raise RuntimeError(f"import {glb} failed: {r.stderr}")
+        for asset, precision in ((ASSET, ["--clip-error", "exact"]), (DEFAULT_ASSET, [])):
+            r = subprocess.run([cli, "--server", server.target, "import", glb, "--name", asset, *precision],
+                               capture_output=True, text=True)
+            if r.returncode != 0:
+                raise RuntimeError(f"import {glb} failed: {r.stderr}")
+            for clip in json.loads(r.stdout)["clips"]:
+                if asset == ASSET and not clip["exact"]:
+                    print(f"FAIL {clip['name']}: imported exact but is not")
+                    failures += 1
+                if asset == DEFAULT_ASSET and (clip["exact"] or clip["worstErrorCm"] > clip["errorBoundCm"]):
+                    print(f"FAIL {clip['name']}: worst {clip['worstErrorCm']} cm over its bound "
+                          f"{clip['errorBoundCm']} cm (exact: {clip['exact']})")
+                    failures += 1
         # The model's size: its joints' extent at rest (Idle's weight 0 leaves the rest pose).
         rest_file = os.path.join(work, "rest.json")
         with open(rest_file, "w") as f:
@@ -108,10 +128,13 @@ def main():
         size = extent(list(cli_pose(cli, server.target, rest_file, 0.0).values()))
         tolerance = RELATIVE_TOLERANCE * size
         print(f"model size {size:.4f}, tolerance {tolerance:.2e}")
-        for (name, case), frames in zip(CASES.items(), reference):
+        runs = [(name, case, frames, ASSET, tolerance) for (name, case), frames in zip(CASES.items(), reference)]
+        runs.append((ONE_CLIP + ", default bound", CASES[ONE_CLIP], reference[0], DEFAULT_ASSET,
+                     tolerance + DEFAULT_BOUND))
+        for name, case, frames, asset, tolerance in runs:
             motion_file = os.path.join(work, f"case{compared}.json")
             with open(motion_file, "w") as f:
-                json.dump(server_motion(case["motion"]), f)
+                json.dump(server_motion(case["motion"], asset), f)
             worst = 0.0
             for t, want in zip(case["times"], frames):
                 got = cli_pose(cli, server.target, motion_file, t)

@@ -76,16 +76,18 @@ void Client::Prepare(grpc::ClientContext& context, bool streaming) const {
 }
 
 v1::ImportAssetResponse Client::ImportFile(const std::filesystem::path& path, const std::string& name, bool replace,
-                                           bool allow_outside_resources, const std::string& format) {
+                                           bool allow_outside_resources, const std::string& format,
+                                           const std::string& precision) {
   UploadFile main{path.filename().string(), ReadFileOrThrow(path)};
   std::vector<UploadFile> resources;
   const bool gltf = format.empty() ? path.extension() == ".gltf" : format == "gltf";
   if (gltf) resources = detail::GltfResources(path, main.bytes, allow_outside_resources);
-  return Import(main, name, format, replace, resources);
+  return Import(main, name, format, replace, resources, precision);
 }
 
 v1::ImportAssetResponse Client::Import(const UploadFile& main, const std::string& name, const std::string& format,
-                                       bool replace, const std::vector<UploadFile>& resources) {
+                                       bool replace, const std::vector<UploadFile>& resources,
+                                       const std::string& precision) {
   grpc::ClientContext context;
   Prepare(context);
   v1::ImportAssetResponse response;
@@ -101,6 +103,7 @@ v1::ImportAssetResponse Client::Import(const UploadFile& main, const std::string
           request.set_name(name);
           request.set_format(format);
           request.set_replace(replace);
+          request.set_precision(precision);
         } else {
           request.set_resource(file.filename);
         }

@@ -178,11 +178,14 @@ class Client:
         self.forget_skeletons()
         return self._unary(self._assets.DeleteAsset, assets_pb2.DeleteAssetRequest(name=name), timeout)
 
-    def import_asset(self, path, name=None, *, format=None, replace=False, resources=None, timeout=None):
+    def import_asset(self, path, name=None, *, format=None, replace=False, resources=None, precision=None,
+                     timeout=None):
         """Uploads a BVH, glTF/GLB, OBJ or FBX file; returns armature.v1.ImportAssetResponse (.asset, .warnings).
 
         A .gltf's external buffers and images are sent too when they are files
-        in its folder (or below); `resources` ({uri: path}) names others."""
+        in its folder (or below); `resources` ({uri: path}) names others.
+        `precision`: "exact", a bound in centimetres (0.01), or None for the
+        server's --clip-error."""
         with open(path, "rb") as f:
             main = f.read()
         extra = dict(resources or {})
@@ -197,7 +200,8 @@ class Client:
             for chunk in _chunks(main):
                 if first:
                     yield assets_pb2.ImportAssetRequest(filename=os.path.basename(path), name=name or "",
-                                                        format=format or "", replace=replace, data=chunk)
+                                                        format=format or "", replace=replace, data=chunk,
+                                                        precision="" if precision is None else str(precision))
                     first = False
                 else:
                     yield assets_pb2.ImportAssetRequest(data=chunk)

@@ -53,10 +53,11 @@ Status MaskWeights(const Skeleton& sk, const std::vector<MaskJoint>& mask, const
   return Status::Ok();
 }
 
-Trs SampleClipJoint(const Clip& clip, int joint, double time) {
-  Trs t = clip.skeleton->rest[joint];
-  SampleJoint(clip.joints[joint], WrapTime(time, clip.duration, WrapMode::kClamp), std::nullopt, t);
-  return t;
+// The clip's pose at `time` (clamped), through the sampling job.
+std::vector<Trs> SampleClipPose(const CompressedClip& clip, double time) {
+  std::vector<Trs> pose(clip.skeleton->size());
+  (void)ClipSamplingJob{&clip, time, WrapMode::kClamp, nullptr, pose, {}}.Run();  // the clip was checked when bound
+  return pose;
 }
 
 // The joint with a translation track in `layer`'s clip that has the most descendants.
@@ -66,8 +67,7 @@ int ChooseRoot(const Skeleton& sk, const BoundLayer& layer) {
     if (sk.parents[j] >= 0) descendants[sk.parents[j]] += descendants[j] + 1;
   int best = -1;
   for (size_t j = 0; j < sk.size(); ++j)
-    if (!layer.clip->joints[layer.clip_joint[j]].translation.empty() &&
-        (best < 0 || descendants[j] > descendants[best]))
+    if ((layer.clip->animated_parts[layer.clip_joint[j]] & 2) != 0 && (best < 0 || descendants[j] > descendants[best]))
       best = static_cast<int>(j);
   return best < 0 ? 0 : best;
 }
@@ -101,7 +101,7 @@ Status BindRoot(const Motion& motion, MotionPlan& plan) {
   plan.horizontal = plan.parent_inverse * h * plan.parent_linear;
   for (BoundLayer& l : plan.layers) {
     const int cj = l.clip_joint[plan.root];
-    const Trs first = SampleClipJoint(*l.clip, cj, 0), last = SampleClipJoint(*l.clip, cj, l.clip->duration);
+    const Trs first = SampleClipPose(*l.clip, 0)[cj], last = SampleClipPose(*l.clip, l.clip->duration)[cj];
     l.root_first = first.translation;
     l.loop_origin = plan.parent_linear * first.translation;
     l.loop_shift = h * plan.parent_linear * (last.translation - first.translation);
@@ -123,10 +123,10 @@ void IndexJointLayers(MotionPlan& plan) {
     plan.joint_begin[j] = static_cast<uint32_t>(plan.joint_layers.size());
     for (size_t i = 0; i < plan.layers.size(); ++i) {
       const BoundLayer& l = plan.layers[i];
-      const JointTrack& track = l.clip->joints[l.clip_joint[j]];
-      if (!(l.joint_weight[j] > 0) || (track.translation.empty() && track.rotation.empty() && track.scale.empty()))
-        continue;
-      plan.joint_layers.push_back({static_cast<uint32_t>(i), l.mode == LayerMode::kAdditive, &track});
+      const uint8_t parts = l.clip->animated_parts[l.clip_joint[j]];
+      if (!(l.joint_weight[j] > 0) || parts == 0) continue;
+      plan.joint_layers.push_back(
+          {static_cast<uint32_t>(i), l.mode == LayerMode::kAdditive, parts, static_cast<uint32_t>(l.clip_joint[j])});
     }
   }
   plan.joint_begin[n] = static_cast<uint32_t>(plan.joint_layers.size());
@@ -151,7 +151,7 @@ StatusOr<MotionPlan> BindMotion(const Motion& motion) {
     const std::string where = LayerName(l, i);
     if (!l.clip || !l.clip->skeleton) return Status::InvalidArgument(where + ": no clip");
     ARMATURE_RETURN_IF_ERROR(CheckLayerNumbers(l, where));
-    if (l.clip->joints.size() != l.clip->skeleton->size())
+    if (l.clip->animated_parts.size() != l.clip->skeleton->size())
       return Status::InvalidArgument(where + ": the clip's tracks do not match its skeleton");
     if (i == 0) plan.skeleton = l.clip->skeleton;
     const Skeleton& sk = *plan.skeleton;
@@ -170,8 +170,8 @@ StatusOr<MotionPlan> BindMotion(const Motion& motion) {
     for (double& w : b.joint_weight) w *= l.weight;
     if (l.mode == LayerMode::kAdditive) {
       b.reference.resize(sk.size());
-      for (size_t j = 0; j < sk.size(); ++j)
-        b.reference[j] = SampleClipJoint(*l.clip, b.clip_joint[j], l.reference_time);
+      const std::vector<Trs> reference = SampleClipPose(*l.clip, l.reference_time);
+      for (size_t j = 0; j < sk.size(); ++j) b.reference[j] = reference[b.clip_joint[j]];
     }
     if (l.mode == LayerMode::kOverride && plan.phase_layer < 0) plan.phase_layer = static_cast<int>(i);
     plan.clips.push_back(l.clip);

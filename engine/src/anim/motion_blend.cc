@@ -83,8 +83,20 @@ void ApplyRootMotion(const MotionPlan& plan, const BoundLayer& l, const LayerTim
   }
 }
 
-// One joint of the blended pose, from the layers acting on it (plan.joint_layers).
-void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t j, RootMotion root_mode, Trs& out) {
+// Layer `e`'s sample of its joint: the rest transform, with what the clip animates there replaced.
+Trs LayerSample(const MotionWorkspace& ws, const JointLayer& e, const Trs& rest) {
+  const Trs& sampled = ws.layer_poses[e.layer][e.joint];
+  Trs v = rest;
+  if (e.parts & 1) v.rotation = sampled.rotation;
+  if (e.parts & 2) v.translation = sampled.translation;
+  if (e.parts & 4) v.scale = sampled.scale;
+  return v;
+}
+
+// One joint of the blended pose, from the layers acting on it (plan.joint_layers), their clips'
+// poses sampled in `ws`.
+void BlendJoint(const MotionPlan& plan, const MotionWorkspace& ws, size_t j, RootMotion root_mode, Trs& out) {
+  std::span<const LayerTime> times(ws.layer_times);
   const Trs& rest = plan.skeleton->rest[j];
   const JointLayer* begin = plan.joint_layers.data() + plan.joint_begin[j];
   const JointLayer* end = plan.joint_layers.data() + plan.joint_begin[j + 1];
@@ -93,7 +105,7 @@ void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t
   const bool is_root = static_cast<int>(j) == plan.root;
   // One override layer at full weight: the mixer takes its sample as it is.
   if (end - begin == 1 && !begin->additive && plan.layers[begin->layer].joint_weight[j] >= 1 && !is_root) {
-    SampleJoint(*begin->track, times[begin->layer].time, std::nullopt, out);
+    out = LayerSample(ws, *begin, rest);
     return;
   }
   Accumulator<Eigen::Vector3d> t{Eigen::Vector3d::Zero()}, s{Eigen::Vector3d::Zero()};
@@ -105,14 +117,12 @@ void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t
       continue;
     }
     const double w = plan.layers[e->layer].joint_weight[j];
-    const JointTrack& jt = *e->track;
-    Trs v = rest;
-    SampleJoint(jt, times[e->layer].time, std::nullopt, v);
+    Trs v = LayerSample(ws, *e, rest);
     if (is_root) ApplyRootMotion(plan, plan.layers[e->layer], times[e->layer], root_mode, v);
     // Only the properties the clip animates take part (three.js binds tracks, not joints).
-    if (!jt.translation.empty()) t.Add(v.translation, w);
-    if (!jt.rotation.empty()) r.Add(v.rotation, w);
-    if (!jt.scale.empty()) s.Add(v.scale, w);
+    if (e->parts & 2) t.Add(v.translation, w);
+    if (e->parts & 1) r.Add(v.rotation, w);
+    if (e->parts & 4) s.Add(v.scale, w);
   }
   out.translation = t.Finish(rest.translation);
   out.rotation = r.Finish(rest.rotation);
@@ -124,18 +134,16 @@ void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t
   Eigen::Quaterniond add_r = Eigen::Quaterniond::Identity();
   for (const JointLayer* e = begin; e != end; ++e) {
     if (!e->additive) continue;
-    const JointTrack& jt = *e->track;
     const Trs& ref = plan.layers[e->layer].reference[j];
     const double w = plan.layers[e->layer].joint_weight[j];
-    Trs v = rest;
-    SampleJoint(jt, times[e->layer].time, std::nullopt, v);
-    if (!jt.translation.empty()) {
+    const Trs v = LayerSample(ws, *e, rest);
+    if (e->parts & 2) {
       Eigen::Vector3d d = v.translation - ref.translation;
       if (is_root && root_mode == RootMotion::kInPlace) d -= plan.horizontal * d;
       add_t += w * d;
     }
-    if (!jt.rotation.empty()) add_r = SlerpFlat(add_r, add_r * (ref.rotation.conjugate() * v.rotation), w);
-    if (!jt.scale.empty()) add_s += w * (v.scale - ref.scale);
+    if (e->parts & 1) add_r = SlerpFlat(add_r, add_r * (ref.rotation.conjugate() * v.rotation), w);
+    if (e->parts & 4) add_s += w * (v.scale - ref.scale);
   }
   out.translation += add_t;
   out.rotation = out.rotation * add_r;
@@ -143,6 +151,16 @@ void BlendJoint(const MotionPlan& plan, std::span<const LayerTime> times, size_t
 }
 
 }  // namespace
+
+void MotionWorkspace::Resize(const MotionPlan& plan) {
+  layer_times.resize(plan.layers.size());
+  layer_poses.resize(plan.layers.size());
+  contexts.resize(plan.layers.size());
+  for (size_t i = 0; i < plan.layers.size(); ++i) {
+    layer_poses[i].resize(plan.layers[i].clip->skeleton->size());
+    if (!contexts[i].Fits(*plan.layers[i].clip)) contexts[i].Resize(*plan.layers[i].clip);
+  }
+}
 
 LayerTime LayerTimeAt(const MotionPlan& plan, size_t layer, double time) {
   const BoundLayer& l = plan.layers[layer];
@@ -159,8 +177,12 @@ LayerTime LayerTimeAt(const MotionPlan& plan, size_t layer, double time) {
 
 Status BlendMotionJob::Validate() const {
   if (!plan || !plan->skeleton) return Status::InvalidArgument("blend job: no motion plan");
-  if (!workspace || workspace->layer_times.size() != plan->layers.size())
+  if (!workspace || workspace->layer_times.size() != plan->layers.size() ||
+      workspace->contexts.size() != plan->layers.size())
     return Status::InvalidArgument("blend job: the workspace is not sized for this motion (call Resize)");
+  for (size_t i = 0; i < plan->layers.size(); ++i)
+    if (!workspace->contexts[i].Fits(*plan->layers[i].clip))
+      return Status::InvalidArgument("blend job: the workspace is not sized for this motion (call Resize)");
   if (plan->joint_begin.size() != plan->skeleton->size() + 1)
     return Status::InvalidArgument("blend job: the motion plan is not bound (use BindMotion)");
   if (output.size() != plan->skeleton->size())
@@ -175,13 +197,19 @@ Status BlendMotionJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
   const MotionPlan& p = *plan;
   std::span<LayerTime> times(workspace->layer_times);
-  for (size_t i = 0; i < p.layers.size(); ++i) times[i] = LayerTimeAt(p, i, time);
+  for (size_t i = 0; i < p.layers.size(); ++i) {
+    times[i] = LayerTimeAt(p, i, time);
+    // The whole clip pose once per layer (the job's one way to sample); times are already wrapped.
+    ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{
+        p.layers[i].clip, times[i].time, WrapMode::kClamp, &workspace->contexts[i], workspace->layer_poses[i], {}}
+                                  .Run()));
+  }
   const bool extract = p.root_motion == RootMotion::kExtract;
   const RootMotion mode = extract ? RootMotion::kInPlace : p.root_motion;
-  for (size_t j = 0; j < output.size(); ++j) BlendJoint(p, times, j, mode, output[j]);
+  for (size_t j = 0; j < output.size(); ++j) BlendJoint(p, *workspace, j, mode, output[j]);
   if (extract && root_delta) {
     Trs accumulated;
-    BlendJoint(p, times, static_cast<size_t>(p.root), RootMotion::kAccumulate, accumulated);
+    BlendJoint(p, *workspace, static_cast<size_t>(p.root), RootMotion::kAccumulate, accumulated);
     const Trs& in_place = output[p.root];
     root_delta->translation = accumulated.translation - in_place.translation;
     root_delta->rotation = (accumulated.rotation * in_place.rotation.conjugate()).normalized();

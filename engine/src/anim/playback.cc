@@ -167,7 +167,7 @@ Status Playback::Evaluate(MotionWorkspace& workspace, std::span<Trs> output, Roo
     if (root_delta) *root_delta = RootDelta();
     return Status::Ok();
   }
-  if (workspace.layer_times.size() != blend_.layers.size()) workspace.Resize(blend_);
+  workspace.Resize(blend_);  // no allocation when it fits (the same layers and clips)
   const BlendMotionJob job{&blend_, 0.0, &workspace, output, root_delta};
   return job.Run();
 }

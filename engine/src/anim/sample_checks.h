@@ -1,4 +1,4 @@
-// Internal: the argument checks SampleClip and SampleCompiledClip share.
+// Internal: SampleClip's argument checks.
 #pragma once
 
 #include <cstddef>

@@ -27,11 +27,19 @@ int LowestCommonAncestor(const Skeleton& skeleton, int a, int b) {
 
 }  // namespace
 
-std::vector<uint8_t> BodyRootCandidates(const Skeleton& skeleton, std::span<const Clip* const> clips) {
+std::vector<uint8_t> BodyRootCandidates(const Skeleton& skeleton, std::span<const CompressedClip* const> clips) {
   std::vector<uint8_t> out(skeleton.size(), 0);
-  for (const Clip* clip : clips)
-    for (size_t j = 0; j < clip->joints.size() && j < out.size(); ++j)
-      if (!out[j] && Moves(clip->joints[j].translation)) out[j] = 1;
+  for (const CompressedClip* clip : clips) {
+    if (clip->exact()) {
+      const Clip& keys = *clip->exact_keys;
+      for (size_t j = 0; j < keys.joints.size() && j < out.size(); ++j)
+        if (!out[j] && Moves(keys.joints[j].translation)) out[j] = 1;
+      continue;
+    }
+    // Lossy: a translation that moves more than the bound has samples; one within it is kept constant.
+    for (const AnimatedTrack& track : clip->animated)
+      if (track.kind == TrackKind::kTranslation && track.joint < out.size()) out[track.joint] = 1;
+  }
   const BodyParts parts = FindBodyParts(skeleton);
   const int left = parts.legs[0].upper, right = parts.legs[1].upper;
   if (left >= 0 && right >= 0 && skeleton.parents[left] >= 0 && skeleton.parents[right] >= 0) {

@@ -2,8 +2,6 @@
 
 #include <string>
 
-#include "armature/engine/anim/compiled_clip.h"
-#include "armature/engine/anim/joint_map.h"
 #include "armature/engine/kinematics/fk.h"
 #include "vertex_pipeline.h"
 
@@ -53,63 +51,48 @@ Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs>
 
 namespace {
 
-// Skins `mesh` by a pose of `skeleton` sampled from `clip` (in
-// workspace.local), with the clip's morph weights track for the mesh, if
-// any, unless options give weights.
-Status SkinSampled(const Mesh& mesh, const Skeleton& skeleton, const Clip& clip, double time,
-                   const SampleOptions& sample, const SkinningOptions& options, std::span<float> positions,
-                   std::span<float> normals, SkinningWorkspace& workspace) {
+// Sets workspace.morph_weights to `clip`'s weights track for `mesh` at `time`,
+// if it has one and `options` give none; returns the options to skin with.
+SkinningOptions WithClipWeights(const Mesh& mesh, const CompressedClip& clip, double time, WrapMode wrap,
+                                const std::optional<Interpolation>& interpolation, const SkinningOptions& options,
+                                SkinningWorkspace& workspace) {
   SkinningOptions effective = options;
-  if (options.morph_weights.empty() && !mesh.targets.empty()) {
-    for (const WeightsTrack& track : clip.weights) {
-      if (track.mesh != mesh.name || track.targets != mesh.targets.size()) continue;
-      Grow(workspace.sampled_weights, track.targets);
-      Grow(workspace.morph_weights, track.targets);
-      // Wrap by the clip's duration, as the joints are, then sample the track clamped.
-      SampleOptions clamped = sample;
-      clamped.wrap = WrapMode::kClamp;
-      SampleWeights(track, WrapTime(time, clip.duration, sample.wrap), clamped,
-                    std::span<double>(workspace.sampled_weights.data(), track.targets));
-      for (size_t i = 0; i < track.targets; ++i)
-        workspace.morph_weights[i] = static_cast<float>(workspace.sampled_weights[i]);
-      effective.morph_weights = std::span<const float>(workspace.morph_weights.data(), track.targets);
-      break;
-    }
+  if (!options.morph_weights.empty() || mesh.targets.empty()) return effective;
+  for (const WeightsTrack& track : clip.MorphWeights()) {
+    if (track.mesh != mesh.name || track.targets != mesh.targets.size()) continue;
+    Grow(workspace.sampled_weights, track.targets);
+    Grow(workspace.morph_weights, track.targets);
+    // Wrap by the clip's duration, as the joints are, then sample the track clamped.
+    SampleWeights(track, WrapTime(time, clip.duration, wrap), {interpolation, WrapMode::kClamp},
+                  std::span<double>(workspace.sampled_weights.data(), track.targets));
+    for (size_t i = 0; i < track.targets; ++i)
+      workspace.morph_weights[i] = static_cast<float>(workspace.sampled_weights[i]);
+    effective.morph_weights = std::span<const float>(workspace.morph_weights.data(), track.targets);
+    break;
   }
-  const std::span<const Trs> local(workspace.local.data(), skeleton.size());
-  return SkinPose(mesh, skeleton, local, effective, positions, normals, workspace);
+  return effective;
 }
 
 }  // namespace
 
-Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOptions& sample,
+Status SkinClip(const Mesh& mesh, const CompressedClip& clip, const ClipSkinningTime& at,
                 const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                 SkinningWorkspace& workspace) {
   if (!clip.skeleton) return Status::InvalidArgument("clip has no skeleton");
-  const Skeleton& skeleton = *clip.skeleton;
+  const Skeleton& skeleton = at.onto ? *at.onto : *clip.skeleton;
   Grow(workspace.local, skeleton.size());
-  ARMATURE_RETURN_IF_ERROR(SampleClip(clip, time, sample, std::span<Trs>(workspace.local.data(), skeleton.size())));
-  return SkinSampled(mesh, skeleton, clip, time, sample, options, positions, normals, workspace);
-}
-
-Status SkinClip(const Mesh& mesh, const CompiledClip& compiled, double time, const SampleOptions& sample,
-                const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
-                SkinningWorkspace& workspace) {
-  if (!compiled.source || !compiled.source->skeleton) return Status::InvalidArgument("clip has no skeleton");
-  const Skeleton& skeleton = *compiled.source->skeleton;
-  Grow(workspace.local, skeleton.size());
-  ARMATURE_RETURN_IF_ERROR(
-      SampleCompiledClip(compiled, time, sample, std::span<Trs>(workspace.local.data(), skeleton.size())));
-  return SkinSampled(mesh, skeleton, *compiled.source, time, sample, options, positions, normals, workspace);
-}
-
-Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip, double time,
-                    const SampleOptions& sample, const SkinningOptions& options, std::span<float> positions,
-                    std::span<float> normals, SkinningWorkspace& workspace) {
-  Grow(workspace.local, skeleton.size());
-  ARMATURE_RETURN_IF_ERROR(
-      SampleClipOnto(clip, map, skeleton, time, sample, std::span<Trs>(workspace.local.data(), skeleton.size())));
-  return SkinSampled(mesh, skeleton, clip, time, sample, options, positions, normals, workspace);
+  const std::span<Trs> local(workspace.local.data(), skeleton.size());
+  if (!workspace.clip_context.Fits(clip)) workspace.clip_context.Resize(clip);
+  if (at.onto) {
+    ARMATURE_RETURN_IF_ERROR(
+        (ClipSamplingOntoJob{&clip, at.map, at.onto, at.time, at.wrap, &workspace.clip_context, local, at.interpolation}
+             .Run()));
+  } else {
+    ARMATURE_RETURN_IF_ERROR(
+        (ClipSamplingJob{&clip, at.time, at.wrap, &workspace.clip_context, local, at.interpolation}.Run()));
+  }
+  const SkinningOptions effective = WithClipWeights(mesh, clip, at.time, at.wrap, at.interpolation, options, workspace);
+  return SkinPose(mesh, skeleton, local, effective, positions, normals, workspace);
 }
 
 }  // namespace armature

@@ -1,6 +1,7 @@
 #include "server/assets/upload/import_upload.h"
 
 #include "armature/base/utf8.h"
+#include "armature/engine/anim/compression/error_bound.h"
 
 namespace armature::server {
 namespace {
@@ -11,6 +12,7 @@ const char* HeaderFieldOf(const v1::ImportAssetRequest& m) {
   if (!m.name().empty()) return "name";
   if (!m.format().empty()) return "format";
   if (m.replace()) return "replace";
+  if (!m.precision().empty()) return "precision";
   return nullptr;
 }
 
@@ -31,6 +33,9 @@ Status ImportUpload::Add(const v1::ImportAssetRequest& message) {
     import_.name = message.name();
     import_.format = message.format();
     import_.replace = message.replace();
+    // Refused before the file's bytes arrive; the store reads it again against its default.
+    ARMATURE_RETURN_IF_ERROR(ParseClipPrecision(message.precision(), "precision").status());
+    import_.precision = message.precision();
   } else if (const char* field = HeaderFieldOf(message)) {
     return Status::InvalidArgument("message " + std::to_string(index) + ": " + field +
                                    " belongs in the first message only");

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "armature/engine/anim/joint_map.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/anim/motion.h"
+#include "../testing/exact_clip.h"
 
 namespace armature {
 namespace {
@@ -54,7 +56,7 @@ TEST(JointMap, MissingJointsAreNamedFirstFiveThenCounted) {
 
 // Untracked parts keep the target's rest (its bone lengths); tracked parts
 // come from the clip's joint of the same name.
-TEST(JointMap, SampleClipOntoTakesTracksByNameAndTheTargetsRest) {
+TEST(JointMap, TheOntoJobTakesTracksByNameAndTheTargetsRest) {
   const auto target = Named({"root", "mid", "tip"}, 1);
   const auto source = Named({"tip", "root", "mid"}, 5);
   Clip clip;
@@ -66,15 +68,21 @@ TEST(JointMap, SampleClipOntoTakesTracksByNameAndTheTargetsRest) {
   std::vector<int> map;
   ASSERT_TRUE(MapJointsByName(*target, *source, "t", map).ok());
   std::vector<Trs> out(3);
-  ASSERT_TRUE(SampleClipOnto(clip, map, *target, 1.0, SampleOptions{}, out).ok());
+  const auto exact = test_util::ExactClip(clip);
+  ClipSamplingContext context(*exact);
+  ASSERT_TRUE(
+      (ClipSamplingOntoJob{exact.get(), map, target.get(), 1.0, WrapMode::kClamp, &context, out, {}}.Run().ok()));
   EXPECT_TRUE(out[0].translation.isApprox(Eigen::Vector3d(2, 0, 0)));  // half of the root's track
   EXPECT_TRUE(out[0].rotation.isApprox(Eigen::Quaterniond::Identity()));
   EXPECT_EQ(out[1].translation, Eigen::Vector3d(0, 1, 0));  // the target's bone, not the source's 5
   EXPECT_NEAR(out[2].rotation.angularDistance(Rz(45)), 0, 1e-12);
   EXPECT_EQ(out[2].translation, Eigen::Vector3d(0, 1, 0));
   // Wrong sizes are an error, not a read out of bounds.
-  EXPECT_FALSE(SampleClipOnto(clip, std::vector<int>{0, 1}, *target, 1.0, SampleOptions{}, out).ok());
-  EXPECT_FALSE(SampleClipOnto(clip, std::vector<int>{0, 1, 7}, *target, 1.0, SampleOptions{}, out).ok());
+  const std::vector<int> short_map{0, 1}, bad_map{0, 1, 7};
+  EXPECT_FALSE(
+      (ClipSamplingOntoJob{exact.get(), short_map, target.get(), 1.0, WrapMode::kClamp, &context, out, {}}.Run().ok()));
+  EXPECT_FALSE(
+      (ClipSamplingOntoJob{exact.get(), bad_map, target.get(), 1.0, WrapMode::kClamp, &context, out, {}}.Run().ok()));
 }
 
 // Motion layers follow the same rule: a clip with more joints binds, one
@@ -90,14 +98,14 @@ TEST(JointMap, MotionLayersBindByTheSameRule) {
   };
   Motion m;
   MotionLayer first, second;
-  first.clip = clip_of(motion_skeleton);
-  second.clip = clip_of(Named({"b", "extra", "a"}, 1));
+  first.clip = test_util::ExactClip(clip_of(motion_skeleton));
+  second.clip = test_util::ExactClip(clip_of(Named({"b", "extra", "a"}, 1)));
   second.clip_name = "wider";
   m.layers = {first, second};
   auto plan = BindMotion(m);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
   EXPECT_EQ(plan->layers[1].clip_joint, (std::vector<int>{2, 0}));
-  m.layers[1].clip = clip_of(Named({"b"}, 1));
+  m.layers[1].clip = test_util::ExactClip(clip_of(Named({"b"}, 1)));
   m.layers[1].clip_name = "narrow";
   plan = BindMotion(m);
   ASSERT_FALSE(plan.ok());

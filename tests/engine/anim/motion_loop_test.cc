@@ -16,6 +16,7 @@
 #include "armature/engine/io/demo_walk.h"
 #include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/kinematics/fk.h"
+#include "../testing/exact_clip.h"
 
 namespace armature {
 namespace {
@@ -39,7 +40,7 @@ std::shared_ptr<const Clip> RobotWalking() {
 MotionPlan Plan(std::shared_ptr<const Clip> clip, RootMotion mode) {
   Motion m;
   m.layers.resize(1);
-  m.layers[0].clip = std::move(clip);
+  m.layers[0].clip = test_util::ExactClip(std::move(clip));
   m.layers[0].clip_name = "walk";
   m.root_motion = mode;
   auto plan = BindMotion(m);

@@ -8,6 +8,7 @@
 
 #include "armature/engine/anim/motion.h"
 #include "armature/engine/math/rotation.h"
+#include "../testing/exact_clip.h"
 
 namespace armature {
 namespace {
@@ -58,7 +59,7 @@ std::shared_ptr<Clip> Ramp(std::shared_ptr<const Skeleton> skeleton, std::vector
 
 MotionLayer Layer(std::shared_ptr<const Clip> clip, double weight, LayerMode mode = LayerMode::kOverride) {
   MotionLayer l;
-  l.clip = std::move(clip);
+  l.clip = test_util::ExactClip(std::move(clip));
   l.clip_name = "c";
   l.weight = weight;
   l.mode = mode;
@@ -228,7 +229,7 @@ TEST(BindMotion, ErrorsNameTheLayerAndTheProblem) {
   m.layers[1].mask = {{"arm", 2}};
   expect_error(m, StatusCode::kInvalidArgument, {"layers[1]", "mask weight", "'arm'"});
   m.layers[1].mask = {};
-  m.layers[1].clip = Ramp(Chain({"hips", "spine", "arm", "tail"}), {0}, 0, 1);
+  m.layers[1].clip = test_util::ExactClip(Ramp(Chain({"hips", "spine", "arm", "tail"}), {0}, 0, 1));
   expect_error(m, StatusCode::kInvalidArgument, {"layers[1] (clip 'Wave')", "lacks 1 of the 4 joints", "'leg'"});
   m.layers[1].clip = nullptr;
   expect_error(m, StatusCode::kInvalidArgument, {"layers[1]", "no clip"});

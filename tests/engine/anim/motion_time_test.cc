@@ -8,6 +8,7 @@
 
 #include "armature/engine/anim/motion.h"
 #include "armature/engine/io/demo_walk.h"
+#include "../testing/exact_clip.h"
 
 namespace armature {
 namespace {
@@ -35,7 +36,7 @@ std::shared_ptr<Clip> TimeRamp(double duration) {
 
 MotionLayer Layer(std::shared_ptr<const Clip> clip) {
   MotionLayer l;
-  l.clip = std::move(clip);
+  l.clip = test_util::ExactClip(std::move(clip));
   l.clip_name = "c";
   return l;
 }

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "armature/engine/anim/playback.h"
+#include "../testing/exact_clip.h"
 
 namespace armature {
 namespace {
@@ -39,7 +40,7 @@ std::shared_ptr<Clip> Line(std::shared_ptr<const Skeleton> skeleton, Eigen::Vect
 Motion OneClip(std::shared_ptr<const Clip> clip, const char* name) {
   Motion m;
   MotionLayer l;
-  l.clip = std::move(clip);
+  l.clip = test_util::ExactClip(std::move(clip));
   l.clip_name = name;
   m.layers.push_back(l);
   return m;

@@ -15,6 +15,7 @@
 #include "armature/engine/io/demo_character.h"
 #include "armature/engine/io/gltf/gltf_writer.h"
 #include "armature/engine/mesh/skinning.h"
+#include "../testing/exact_clip.h"
 #include "../testing/mesh_test_util.h"
 
 namespace armature {
@@ -75,7 +76,7 @@ void ExpectMatchesThreeJs(const fs::path& path, const AssetContents& contents, i
     for (const auto& frame : ref_mesh["frames"]) {
       const double t = frame["time"];
       if (clip) {
-        ASSERT_TRUE(SkinClip(mesh, *clip, t, sample, options, positions, normals, workspace).ok());
+        ASSERT_TRUE(test_util::SkinExactClip(mesh, *clip, t, sample, options, positions, normals, workspace).ok());
       } else {
         const Skeleton& skeleton = *contents.skeletons[0].skeleton;
         ASSERT_TRUE(SkinPose(mesh, skeleton, skeleton.rest, options, positions, normals, workspace).ok());

@@ -20,6 +20,7 @@
 #include "armature/engine/io/gltf/gltf.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/kinematics/retarget/retarget.h"
+#include "../testing/exact_clip.h"
 
 namespace armature {
 namespace {
@@ -162,7 +163,7 @@ TEST(Retarget, BonesFollowTheSourceAcrossPosesFramesNamesFacingAndUnits) {
   auto map = MapJointsByBodyParts(*source.skeleton, *target, {});
   ASSERT_TRUE(map.ok()) << map.status().message();
   EXPECT_EQ(map->pairs.size(), target->size());
-  auto result = RetargetClip(source, *target, *map);
+  auto result = RetargetClip(*test_util::ExactClip(source), *target, *map);
   ASSERT_TRUE(result.ok()) << result.status().message();
   EXPECT_NEAR(result->scale, 0.01, 1e-12);
   const Quaterniond yaw = ThighYaw(*source.skeleton, *target, *map);
@@ -188,16 +189,18 @@ TEST(Retarget, RefusesOutputOverItsBoundsAndBadFrameTimes) {
   ASSERT_TRUE(map.ok());
   RetargetOptions options;
   options.max_keys = 100;
-  auto keys = RetargetClip(*walk.clip, skeleton, *map, options);
+  auto keys = RetargetClip(*test_util::ExactClip(walk.clip), skeleton, *map, options);
   EXPECT_EQ(keys.status().code(), StatusCode::kResourceExhausted);
   EXPECT_NE(keys.status().message().find("over 100 keys"), std::string::npos) << keys.status().message();
   options = {};
   options.frame_time = 1e-9;
-  EXPECT_EQ(RetargetClip(*walk.clip, skeleton, *map, options).status().code(), StatusCode::kResourceExhausted);
+  EXPECT_EQ(RetargetClip(*test_util::ExactClip(walk.clip), skeleton, *map, options).status().code(),
+            StatusCode::kResourceExhausted);
   options.frame_time = -1;
-  EXPECT_EQ(RetargetClip(*walk.clip, skeleton, *map, options).status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(RetargetClip(*test_util::ExactClip(walk.clip), skeleton, *map, options).status().code(),
+            StatusCode::kInvalidArgument);
   // Onto itself: every joint back where it was.
-  auto same = RetargetClip(*walk.clip, skeleton, *map);
+  auto same = RetargetClip(*test_util::ExactClip(walk.clip), skeleton, *map);
   ASSERT_TRUE(same.ok()) << same.status().message();
   for (double t : {0.0, 0.3, 1.1}) {
     const auto a = Positions(*walk.clip, t), b = Positions(same->clip, t);
@@ -281,7 +284,7 @@ void CheckCmuOnto(const Skeleton& target, bool feet) {
   ASSERT_TRUE(map.ok()) << map.status().message();
   RetargetOptions options;
   options.feet = feet;
-  auto result = RetargetClip(source, target, *map, options);
+  auto result = RetargetClip(*test_util::ExactClip(source), target, *map, options);
   ASSERT_TRUE(result.ok()) << result.status().message();
   if (!feet) {
     const double worst = MaxBoneAngleDegrees(source, result->clip, LimbAndSpineBones(*map),

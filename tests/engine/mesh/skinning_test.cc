@@ -8,9 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include "armature/engine/anim/compiled_clip.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/math/rotation.h"
+#include "../testing/exact_clip.h"
 #include "../testing/mesh_test_util.h"
 
 namespace armature {
@@ -322,14 +323,17 @@ TEST(Skinning, ClipWeightsFollowTheClipTimeline) {
   const std::pair<double, Eigen::Vector3f> cases[] = {
       {0.5, {0.5f, 0.5f, 0}}, {1.5, {1.5f, 1, 0}}, {2.5, {0.5f, 0.5f, 0}}, {3.5, {1.5f, 1, 0}}};
   for (const auto& [t, expected] : cases) {
-    ASSERT_TRUE(SkinClip(m, clip, t, loop, {}, p, {}, ws).ok());
+    ASSERT_TRUE(test_util::SkinExactClip(m, clip, t, loop, {}, p, {}, ws).ok());
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[c], expected[c], 1e-6) << "t=" << t;
   }
 }
 
-// SkinClip through the clip's runtime form: the same vertices as the file
-// form (float keys: within 1e-5 here), the weights track included.
-TEST(Skinning, CompiledClipSkinsAsTheFileForm) {
+// SkinClip by a clip compressed at the default bound against its exact form,
+// at the frames the bound holds at: each joint's world position is within the
+// bound and its rotation within bound / shell distance (ACL's virtual points),
+// so a vertex at most 4.3 from its joints is within bound·(1 + 4.3 / shell).
+// The weights track (kept as stored) applies as well.
+TEST(Skinning, ACompressedClipSkinsWithinItsBoundOfTheExactForm) {
   const int rings = 40, segments = 16;
   Mesh mesh = MakeCylinder(0.3, 4.0, rings, segments);
   mesh.name = "tube";
@@ -351,32 +355,30 @@ TEST(Skinning, CompiledClipSkinsAsTheFileForm) {
   clip->weights.push_back({"tube", 1, {0, 1}, {0, 1}, Interpolation::kLinear});
   clip->duration = 1;
   ASSERT_TRUE(clip->Validate().ok());
-  auto compiled = CompileClip(clip);
-  ASSERT_TRUE(compiled.ok()) << compiled.status().message();
+  auto lossy = CompressClip(clip);
+  ASSERT_TRUE(lossy.ok()) << lossy.status().message();
+  ASSERT_FALSE((*lossy)->exact());
+  const auto exact = test_util::ExactClip(clip);
+  const ErrorBound& bound = (*lossy)->bound;
+  const double tolerance = bound.precision * (1 + 4.3 / bound.shell_distance);
   std::vector<float> p1(3 * mesh.vertex_count()), n1(p1.size()), p2(p1.size()), n2(p1.size());
   SkinningWorkspace ws;
-  for (Interpolation interpolation : {Interpolation::kStep, Interpolation::kLinear, Interpolation::kCubic}) {
-    SampleOptions sample;
-    sample.interpolation = interpolation;
-    sample.wrap = WrapMode::kLoop;
-    for (double t : {0.0, 0.1, 0.3, 0.62, 1.0, 1.4}) {
-      ASSERT_TRUE(SkinClip(mesh, *clip, t, sample, {}, p1, n1, ws).ok());
-      ASSERT_TRUE(SkinClip(mesh, **compiled, t, sample, {}, p2, n2, ws).ok());
-      float worst = 0;
-      for (size_t i = 0; i < p1.size(); ++i)
-        worst = std::max({worst, std::abs(p1[i] - p2[i]), std::abs(n1[i] - n2[i])});
-      EXPECT_LT(worst, 1e-5f) << "t=" << t << " interpolation " << static_cast<int>(interpolation);
-    }
+  for (size_t f = 0; f < (*lossy)->frames.count; ++f) {
+    const double t = (*lossy)->frames.Time(f);
+    ASSERT_TRUE(SkinClip(mesh, *exact, {t}, {}, p1, n1, ws).ok());
+    ASSERT_TRUE(SkinClip(mesh, **lossy, {t}, {}, p2, n2, ws).ok());
+    double worst = 0;
+    for (size_t i = 0; i < p1.size(); ++i) worst = std::max(worst, static_cast<double>(std::abs(p1[i] - p2[i])));
+    EXPECT_LE(worst, tolerance + 1e-6) << "t=" << t;  // 1e-6: the float vertices' rounding
   }
   // The weights track applies: at t = 0.5 it gives the bulge 0.5, moving vertex 0 by 0.5 before
   // skinning, which blends rotations of that offset (length at most 0.5).
-  SampleOptions linear;
   std::vector<float> rest(p1.size()), rest_n(p1.size());
   SkinningOptions none;
   const float zero[1] = {0};
   none.morph_weights = zero;
-  ASSERT_TRUE(SkinClip(mesh, **compiled, 0.5, linear, none, rest, rest_n, ws).ok());
-  ASSERT_TRUE(SkinClip(mesh, **compiled, 0.5, linear, {}, p2, n2, ws).ok());
+  ASSERT_TRUE(SkinClip(mesh, **lossy, {0.5}, none, rest, rest_n, ws).ok());
+  ASSERT_TRUE(SkinClip(mesh, **lossy, {0.5}, {}, p2, n2, ws).ok());
   const float moved = Eigen::Vector3f(p2[0] - rest[0], p2[1] - rest[1], p2[2] - rest[2]).norm();
   EXPECT_GT(moved, 0.25f);
   EXPECT_LE(moved, 0.5f + 1e-5f);

@@ -59,11 +59,11 @@ TEST(MemoryBounds, ImportsStopAtMaxAssetsMbAndResumeAfterADelete) {
   TempDir data;
   ServerProcess server(data.path(), {"--no-demo", "--max-assets-mb", "4"});
   client::Client client(OptionsFor(server));
-  const std::string walk = ArmBvhWithFrames(10000);  // a clip of about 1 MB in memory
+  const std::string walk = ArmBvhWithFrames(10000);  // a clip of about 1 MB in memory, kept exact
   int imported = 0;
   grpc::Status refused;
   for (int i = 0; i < 20 && refused.ok(); ++i) {
-    refused = StatusOf([&] { client.Import({"walk.bvh", walk}, "walk" + std::to_string(i)); });
+    refused = StatusOf([&] { client.Import({"walk.bvh", walk}, "walk" + std::to_string(i), "", false, {}, "exact"); });
     if (refused.ok()) ++imported;
   }
   EXPECT_GE(imported, 1);
@@ -76,7 +76,7 @@ TEST(MemoryBounds, ImportsStopAtMaxAssetsMbAndResumeAfterADelete) {
   EXPECT_EQ(client.ListAssets().assets_size(), imported);
   // A delete makes room again.
   client.DeleteAsset("walk0");
-  EXPECT_EQ(CodeOf([&] { client.Import({"walk.bvh", walk}, "again"); }), grpc::StatusCode::OK);
+  EXPECT_EQ(CodeOf([&] { client.Import({"walk.bvh", walk}, "again", "", false, {}, "exact"); }), grpc::StatusCode::OK);
 }
 
 TEST(MemoryBounds, ABakeCountsTheClipInMemoryNotOnlyTheFile) {

@@ -13,6 +13,7 @@
 #include "armature/engine/io/asset.h"
 #include "armature/engine/mesh/mesh.h"
 #include "armature/engine/mesh/skinning.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
 #include "engine/testing/mesh_test_util.h"
 
 #include <gtest/gtest.h>
@@ -33,13 +34,17 @@ void ExpectStatus(const std::function<void()>& call, grpc::StatusCode code, cons
   EXPECT_NE(status.error_message().find(field), std::string::npos) << status.error_message();
 }
 
-// A glTF file and its buffers, parsed in this process as the server parses it.
+// A glTF file and its buffers, parsed in this process as the server parses it,
+// its first clip compressed as the server does at the default bound.
 struct Reference {
   AssetContents contents;
+  std::shared_ptr<const CompressedClip> runtime;
   static Reference Parse(const fs::path& gltf, const std::string& name) {
     auto parsed = test_util::LoadGltfFile(gltf, name);
     EXPECT_TRUE(parsed.ok()) << parsed.status().message();
-    return {std::move(*parsed)};
+    auto runtime = CompressClip(parsed->clips.at(0).clip);
+    EXPECT_TRUE(runtime.ok()) << runtime.status().message();
+    return {std::move(*parsed), *runtime};
   }
   // Positions and normals the engine gives for mesh 0 by clip 0 at `time`.
   std::pair<std::vector<float>, std::vector<float>> Skin(double time, SkinningMethod method) const {
@@ -48,8 +53,7 @@ struct Reference {
     SkinningOptions options;
     options.method = method;
     SkinningWorkspace ws;
-    SampleOptions sample;
-    const Status st = SkinClip(mesh, *contents.clips.at(0).clip, time, sample, options, positions, normals, ws);
+    const Status st = SkinClip(mesh, *runtime, {time}, options, positions, normals, ws);
     EXPECT_TRUE(st.ok()) << st.message();
     return {positions, normals};
   }

@@ -31,12 +31,12 @@ TEST(AssetConvert, AnAssetListsEachOfItsPartsWithTheirOwnNumbers) {
 TEST(AssetConvert, AClipInfoCarriesItsTimingAndOnRequestItsJoints) {
   auto catalog = test_util::DemoCatalog();
   const auto ref = *catalog->FindClip("demo_walk");
-  const Clip& clip = *ref.part->clip;
+  const CompressedClip& clip = *ref.part->runtime;
   const v1::ClipInfo info = ClipInfoOf(*ref.asset, *ref.part, true);
   EXPECT_EQ(info.skeleton(), "demo_walk");
   EXPECT_EQ(info.asset(), "demo_walk");
-  EXPECT_EQ(info.frames(), static_cast<int>(clip.frame_count));
-  EXPECT_DOUBLE_EQ(info.frame_time(), clip.frame_time);
+  EXPECT_EQ(info.frames(), static_cast<int>(clip.source_frame_count));
+  EXPECT_DOUBLE_EQ(info.frame_time(), clip.source_frame_time);
   EXPECT_DOUBLE_EQ(info.duration(), clip.duration);
   // The demo walk: 3 cycles of 1 s at 30 fps, first and last frame included.
   EXPECT_EQ(info.frames(), kDemoWalkCycles * 30 + 1);

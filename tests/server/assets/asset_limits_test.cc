@@ -13,7 +13,7 @@ namespace {
 const AssetContents& DemoCharacter(const Catalog& catalog) { return catalog.assets.at("demo_character")->contents; }
 
 TEST(AssetLimits, AClipOverMaxClipFramesIsRefusedNamingItsFramesAndTheFlag) {
-  auto catalog = test_util::DemoCatalog();
+  auto catalog = test_util::DemoCatalog(ClipPrecision{.exact = true});  // limits read the parsed keys
   const AssetContents& contents = DemoCharacter(*catalog);
   const auto frames = static_cast<int64_t>(contents.clips.at(0).clip->frame_count);
   ASSERT_GT(frames, 10);
@@ -41,7 +41,7 @@ TEST(AssetLimits, ATrackWithMoreKeysThanFramesCountsItsKeys) {
 }
 
 TEST(AssetLimits, AMeshOverMaxMeshVerticesIsRefusedNamingTheFlag) {
-  auto catalog = test_util::DemoCatalog();
+  auto catalog = test_util::DemoCatalog(ClipPrecision{.exact = true});  // limits read the parsed keys
   const AssetContents& contents = DemoCharacter(*catalog);
   const auto vertices = static_cast<int64_t>(contents.meshes.at(0).mesh->vertex_count());
   Limits limits;

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "../testing/temp_store.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/io/bvh/bvh.h"
 #include "armature/engine/io/demo_walk.h"
 
@@ -59,13 +60,13 @@ TEST(AssetStore, AnImportIsPersistedAndLoadedByANewStoreOnTheSameDir) {
     EXPECT_TRUE(fs::exists(dir.path() / file));
     EXPECT_EQ((*stored)->record.format, AssetFormat::kBvh);
     EXPECT_EQ((*stored)->record.size_bytes, static_cast<int64_t>(fs::file_size(dir.path() / file)));
-    frames = store->Snapshot()->FindClip("walk")->part->clip->frame_count;
+    frames = store->Snapshot()->FindClip("walk")->part->runtime->source_frame_count;
   }
   auto reopened = OpenStore(dir.path());
   EXPECT_FALSE(reopened->fresh());
   auto clip = reopened->Snapshot()->FindClip("walk");
   ASSERT_TRUE(clip.ok()) << clip.status().message();
-  EXPECT_EQ(clip->part->clip->frame_count, frames);
+  EXPECT_EQ(clip->part->runtime->source_frame_count, frames);
   EXPECT_EQ(frames, MakeDemoWalk().clip->frame_count);
   EXPECT_EQ(clip->asset->record.file, file);
   EXPECT_TRUE(reopened->Snapshot()->FindSkeleton("walk").ok());
@@ -84,11 +85,11 @@ TEST(AssetStore, ATakenNameIsAlreadyExistsUnlessReplaceWhichSwapsTheFile) {
   replace.replace = true;
   auto second = store->Import(std::move(replace));
   ASSERT_TRUE(second.ok()) << second.status().message();
-  EXPECT_EQ(store->Snapshot()->FindClip("walk")->part->clip->frame_count, 10u);
+  EXPECT_EQ(store->Snapshot()->FindClip("walk")->part->runtime->source_frame_count, 10u);
   // The replaced file is gone; only the new one is stored.
   EXPECT_FALSE(fs::exists(dir.path() / (*first)->record.file));
   EXPECT_EQ(FilesIn(dir.path()), std::set<std::string>{fs::path((*second)->record.file).filename().string()});
-  EXPECT_EQ(OpenStore(dir.path())->Snapshot()->FindClip("walk")->part->clip->frame_count, 10u);
+  EXPECT_EQ(OpenStore(dir.path())->Snapshot()->FindClip("walk")->part->runtime->source_frame_count, 10u);
 }
 
 TEST(AssetStore, ReplaceOnlyOverAnotherVersionIsAborted) {
@@ -105,7 +106,7 @@ TEST(AssetStore, ReplaceOnlyOverAnotherVersionIsAborted) {
   const Status st = store->Import(std::move(edit)).status();
   EXPECT_EQ(st.code(), StatusCode::kAborted);
   EXPECT_EQ(st.message(), "asset 'walk' changed while this edit was made from it");
-  EXPECT_EQ(store->Snapshot()->FindClip("walk")->part->clip->frame_count, 12u);
+  EXPECT_EQ(store->Snapshot()->FindClip("walk")->part->runtime->source_frame_count, 12u);
 }
 
 TEST(AssetStore, DeleteRemovesTheEntryAndItsFileForGood) {

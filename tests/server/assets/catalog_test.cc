@@ -20,7 +20,7 @@ TEST(Catalog, FindsEachPartKindByItsFullName) {
   auto clip = catalog->FindClip("demo_walk");
   ASSERT_TRUE(clip.ok());
   EXPECT_EQ(clip->part->skeleton_name, "demo_walk");
-  EXPECT_EQ(clip->part->clip->skeleton->size(), 19u);
+  EXPECT_EQ(clip->part->runtime->skeleton->size(), 19u);
   EXPECT_TRUE(catalog->FindSkeleton("demo_character").ok());
 }
 

@@ -23,7 +23,8 @@ v1::ExportClipRequest Request(const std::string& format) {
 
 TEST(ClipExport, AFileThatFitsInBinaryButNotAsBase64JsonIsRefusedBeforeTheWork) {
   const auto catalog = DemoCatalog();
-  const Clip& clip = *catalog->FindClip("demo_walk")->part->clip;
+  const auto clip_keys = test_util::StoredKeys(*catalog->FindClip("demo_walk")->part);
+  const Clip& clip = *clip_keys;
   for (const std::string format : {"bvh", "glb"}) {
     v1::ExportClipResponse answer;
     ASSERT_TRUE(ExportClip(*catalog, Limits{}, Request(format), &answer).ok()) << format;

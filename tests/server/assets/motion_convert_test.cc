@@ -36,7 +36,7 @@ TEST(MotionConvert, EveryFieldIsCarriedOverAndUnsetOnesDefault) {
   EXPECT_EQ(out->root_joint, "Hips");
   ASSERT_EQ(out->layers.size(), 2u);
   const MotionLayer& b = out->layers[0];
-  EXPECT_EQ(b.clip, catalog->FindClip("demo_walk")->part->clip);
+  EXPECT_EQ(b.clip, catalog->FindClip("demo_walk")->part->runtime);
   EXPECT_EQ(b.clip_name, "demo_walk");
   EXPECT_EQ(b.weight, 1.0);
   EXPECT_EQ(b.speed, 1.0);
@@ -44,7 +44,7 @@ TEST(MotionConvert, EveryFieldIsCarriedOverAndUnsetOnesDefault) {
   EXPECT_EQ(b.wrap, WrapMode::kLoop);  // layers loop unless told
   EXPECT_TRUE(b.mask.empty());
   const MotionLayer& t = out->layers[1];
-  EXPECT_EQ(t.clip, catalog->FindClip("demo_character.walk")->part->clip);
+  EXPECT_EQ(t.clip, catalog->FindClip("demo_character.walk")->part->runtime);
   EXPECT_EQ(t.weight, 0.25);
   EXPECT_EQ(t.speed, 2.0);
   EXPECT_EQ(t.time_offset, 0.5);
@@ -101,10 +101,10 @@ TEST(MotionConvert, BindingBindsOnTheFirstLayersSkeletonAndPrefixesItsErrors) {
   motion.add_layers()->set_clip("demo_walk");
   auto plan = BindMotionProto(*catalog, motion, Limits{}, "motion");
   ASSERT_TRUE(plan.ok()) << plan.status().message();
-  EXPECT_EQ(plan->skeleton, catalog->FindClip("demo_character.walk")->part->clip->skeleton);
+  EXPECT_EQ(plan->skeleton, catalog->FindClip("demo_character.walk")->part->runtime->skeleton);
   ASSERT_EQ(plan->layers.size(), 2u);
   // The second layer's clip maps joint for joint by name onto the first's skeleton.
-  const Skeleton& walk = *catalog->FindClip("demo_walk")->part->clip->skeleton;
+  const Skeleton& walk = *catalog->FindClip("demo_walk")->part->runtime->skeleton;
   for (size_t j = 0; j < plan->skeleton->size(); ++j)
     EXPECT_EQ(plan->layers[1].clip_joint[j], walk.Find(plan->skeleton->names[j]));
 

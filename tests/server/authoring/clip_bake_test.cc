@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "../testing/demo_catalog.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "server/authoring/create_clip_validation.h"
 
 namespace armature::server {
@@ -23,7 +24,8 @@ TEST(ClipBake, KeysAreTheClipSampledAtEachFrameAndAtTheEnd) {
   auto baked = BakeMotion(*catalog, Limits{}, BakeOf("demo_walk", 10, 0.25));
   ASSERT_TRUE(baked.ok()) << baked.status().message();
   EXPECT_EQ(baked->skeleton, "demo_walk");
-  const Clip& source = *catalog->FindClip("demo_walk")->part->clip;
+  // The source as the server samples it: its runtime form, through the sampling job.
+  const CompressedClip& source = *catalog->FindClip("demo_walk")->part->runtime;
   EXPECT_EQ(baked->clip.skeleton, source.skeleton);
   // 0, 0.1, 0.2 at 10 fps, then the duration itself: as 32-bit floats.
   const std::vector<double> times = {0, StoredKeyTime(0.1), StoredKeyTime(0.2), 0.25};
@@ -32,7 +34,7 @@ TEST(ClipBake, KeysAreTheClipSampledAtEachFrameAndAtTheEnd) {
   ASSERT_EQ(baked->clip.joints.size(), source.skeleton->size());
   std::vector<Trs> pose(source.skeleton->size());
   for (size_t k = 0; k < times.size(); ++k) {
-    ASSERT_TRUE(SampleClip(source, times[k], SampleOptions{}, pose).ok());
+    ASSERT_TRUE((ClipSamplingJob{&source, times[k], WrapMode::kClamp, nullptr, pose, {}}.Run().ok()));
     for (size_t j = 0; j < pose.size(); ++j) {
       const JointTrack& t = baked->clip.joints[j];
       ASSERT_EQ(t.rotation.times, times);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../testing/demo_catalog.h"
 #include "../testing/temp_store.h"
 #include "server/authoring/create_clip_validation.h"
 
@@ -27,7 +28,8 @@ void AddTurn(v1::CreateClipRequest& request, const std::string& joint) {
 
 // The local rotation of `joint` in the stored clip `clip` at `time`.
 Eigen::Quaterniond RotationAt(const Catalog& catalog, const std::string& clip, const std::string& joint, double time) {
-  const Clip& c = *catalog.FindClip(clip)->part->clip;
+  const auto c_keys = test_util::StoredKeys(*catalog.FindClip(clip)->part);
+  const Clip& c = *c_keys;
   std::vector<Trs> pose(c.skeleton->size());
   EXPECT_TRUE(SampleClip(c, time, SampleOptions{}, pose).ok());
   return pose[static_cast<size_t>(c.skeleton->Find(joint))].rotation;
@@ -124,7 +126,8 @@ TEST(CreateClipHandler, CubicKeysWithoutTangentsSampleAsTheEngineSamplesCubic) {
   t.interpolation = Interpolation::kCubic;
   reference.duration = 1.5;
   reference.frame_count = 4;
-  const Clip& stored = *catalog->FindClip("bob")->part->clip;
+  const auto stored_keys = test_util::StoredKeys(*catalog->FindClip("bob")->part);
+  const Clip& stored = *stored_keys;
   std::vector<Trs> a(reference.skeleton->size()), b(reference.skeleton->size());
   for (double time : {0.2, 0.7, 1.3}) {
     ASSERT_TRUE(SampleClip(stored, time, SampleOptions{}, a).ok());
@@ -151,7 +154,8 @@ TEST(CreateClipHandler, ABakeIsStoredAndItsTracksMayBeDeleted) {
   EXPECT_EQ(response.clip().skeleton(), "demo_walk");
   EXPECT_EQ(response.clip().frames(), 6);  // 0, 0.1, …, 0.5
   const auto catalog = store->Snapshot();
-  const Clip& stored = *catalog->FindClip("baked")->part->clip;
+  const auto stored_keys = test_util::StoredKeys(*catalog->FindClip("baked")->part);
+  const Clip& stored = *stored_keys;
   const int head = stored.skeleton->Find("Head");
   EXPECT_TRUE(stored.joints[static_cast<size_t>(head)].rotation.empty());
   // Another joint's key is the walk at that key's time.

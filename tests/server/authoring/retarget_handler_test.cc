@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../testing/demo_catalog.h"
 #include "../testing/temp_store.h"
 
 namespace armature::server {
@@ -39,8 +40,10 @@ TEST(RetargetHandler, OntoAnIdenticalSkeletonEveryJointMapsAndTheMotionIsKept) {
   EXPECT_EQ(response.clip().skeleton(), "demo_walk");
   EXPECT_EQ(response.asset().name(), "demo_character_walk_on_demo_walk");
 
-  const Clip& source = *catalog->FindClip("demo_character.walk")->part->clip;
-  const Clip& result = *catalog->FindClip("demo_character_walk_on_demo_walk")->part->clip;
+  const auto source_keys = test_util::StoredKeys(*catalog->FindClip("demo_character.walk")->part);
+  const Clip& source = *source_keys;
+  const auto result_keys = test_util::StoredKeys(*catalog->FindClip("demo_character_walk_on_demo_walk")->part);
+  const Clip& result = *result_keys;
   std::vector<Trs> a(target.size()), b(target.size());
   for (double t : {0.0, 0.4, 1.3}) {
     ASSERT_TRUE(SampleClip(source, t, SampleOptions{}, a).ok());

@@ -40,7 +40,7 @@ TEST(MeshConvert, AClipOfAnotherSkeletonIsMappedByJointName) {
   ASSERT_NE(clip->skeleton_ref.part, nullptr);
   EXPECT_EQ(clip->skeleton_ref.part->name, "demo_character");
   const Skeleton& mesh_skeleton = *clip->skeleton_ref.part->skeleton;
-  const Skeleton& clip_skeleton = *clip->clip_ref.part->clip->skeleton;
+  const Skeleton& clip_skeleton = *clip->clip_ref.part->runtime->skeleton;
   ASSERT_EQ(clip->joint_map.size(), mesh_skeleton.size());
   for (size_t j = 0; j < mesh_skeleton.size(); ++j)
     EXPECT_EQ(clip->joint_map[j], clip_skeleton.Find(mesh_skeleton.names[j])) << mesh_skeleton.names[j];
@@ -59,6 +59,7 @@ TEST(MeshConvert, AClipLackingJointsOfTheMeshsSkeletonIsRefused) {
   asset->record.name = "stump";
   asset->contents.skeletons.push_back({"stump", stump});
   asset->contents.clips.push_back({"stump", "stump", clip});
+  ASSERT_TRUE(CompressClips(asset->contents, ClipPrecision{.exact = true}).ok());
   auto assets = base->assets;
   assets["stump"] = asset;
   auto catalog = BuildCatalog(std::move(assets));

@@ -24,7 +24,8 @@ TEST(MeshHandlers, SkinningByClipEqualsSkinningByItsSampledPose) {
   Status st = SkinMesh(*catalog, Limits{}, by_clip, &a);
   ASSERT_TRUE(st.ok()) << st.message();
 
-  const Clip& clip = *catalog->FindClip("demo_character.walk")->part->clip;
+  const auto clip_keys = test_util::StoredKeys(*catalog->FindClip("demo_character.walk")->part);
+  const Clip& clip = *clip_keys;
   std::vector<Trs> local(clip.skeleton->size());
   ASSERT_TRUE(SampleClip(clip, t, SampleOptions{}, local).ok());
   v1::SkinMeshRequest by_pose;

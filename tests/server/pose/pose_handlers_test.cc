@@ -24,7 +24,8 @@ TEST(PoseHandlers, EvaluateClipInWorldSpaceIsTheSampledPoseThroughFk) {
   ASSERT_EQ(response.poses_size(), 1);
 
   // The same pose from the engine directly.
-  const Clip& clip = *catalog->FindClip("demo_walk")->part->clip;
+  const auto clip_keys = test_util::StoredKeys(*catalog->FindClip("demo_walk")->part);
+  const Clip& clip = *clip_keys;
   const Skeleton& skeleton = *clip.skeleton;
   std::vector<Trs> local(skeleton.size());
   ASSERT_TRUE(SampleClip(clip, 0.4, SampleOptions{}, local).ok());

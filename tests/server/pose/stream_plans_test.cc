@@ -25,7 +25,7 @@ TEST_F(StreamPlans, AClipNamesItsJointsAndSkeletonOnTheFirstFrameOnly) {
   request.add_joints("Hips");
   auto plan = ClipStreamPlan::Make(*catalog_, limits_, request, pacing_);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
-  EXPECT_DOUBLE_EQ(plan->duration(), catalog_->FindClip("demo_walk")->part->clip->duration);
+  EXPECT_DOUBLE_EQ(plan->duration(), catalog_->FindClip("demo_walk")->part->runtime->duration);
   v1::PoseFrame first, second;
   ASSERT_TRUE(plan->Fill(0, 0.5, WrapMode::kClamp, first).ok());
   ASSERT_TRUE(plan->Fill(1, 0.7, WrapMode::kClamp, second).ok());

@@ -10,7 +10,7 @@ namespace {
 
 TEST(ResolveJoints, AnUnknownJointSuggestsTheClosestAndListsTheJoints) {
   auto catalog = test_util::DemoCatalog();
-  const Skeleton& skeleton = *catalog->FindClip("demo_walk")->part->clip->skeleton;
+  const Skeleton& skeleton = *catalog->FindClip("demo_walk")->part->runtime->skeleton;
   google::protobuf::RepeatedPtrField<std::string> names;
   names.Add("Hips");
   names.Add("LeftWirst");

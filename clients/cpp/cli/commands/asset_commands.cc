@@ -1,5 +1,8 @@
 // import, list, info, delete, health.
+#include <iomanip>
 #include <iostream>
+#include <sstream>
+#include <string>
 
 #include "cli_context.h"
 #include "cli_messages.h"
@@ -17,9 +20,25 @@ nlohmann::json ImportSummary(const v1::AssetInfo& a) {
                           {"skeleton", c.skeleton()},
                           {"duration", c.duration()},
                           {"frames", c.frames()},
-                          {"frameTime", c.frame_time()}});
+                          {"frameTime", c.frame_time()},
+                          {"runtimeBytes", c.runtime_bytes()},
+                          {"bytesPerJointSample", c.bytes_per_joint_sample()},
+                          {"exact", c.exact()},
+                          {"errorBoundCm", c.error_bound_cm()},
+                          {"worstErrorCm", c.worst_error_cm()}});
   for (const auto& m : a.meshes()) j["meshes"].push_back({{"name", m.name()}, {"vertexCount", m.vertex_count()}});
   return j;
+}
+
+// The clip's runtime form as `list` shows it: "2.23 B/joint-sample (68410 bytes), within 0.01 cm (worst
+// 0.0098 cm)", or "exact, 59.5 B/joint-sample (…)".
+std::string RuntimeFormText(const v1::ClipInfo& c) {
+  std::ostringstream out;
+  out << std::setprecision(3);
+  if (c.exact()) out << "exact, ";
+  out << c.bytes_per_joint_sample() << " B/joint-sample (" << c.runtime_bytes() << " bytes)";
+  if (!c.exact()) out << ", within " << c.error_bound_cm() << " cm (worst " << c.worst_error_cm() << " cm)";
+  return out.str();
 }
 
 void AddImportCommand(CLI::App& app, CliContext& ctx) {
@@ -29,6 +48,7 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
   auto replace = std::make_shared<bool>(false);
   auto outside = std::make_shared<bool>(false);
   auto format = std::make_shared<std::string>();
+  auto precision = std::make_shared<std::string>();
   cmd->add_option("FILE", *file, "The file to import")->required()->check(CLI::ExistingFile);
   cmd->add_option("--name", *name, "Asset name (default: the file's stem)");
   cmd->add_option("--format", *format,
@@ -39,9 +59,12 @@ void AddImportCommand(CLI::App& app, CliContext& ctx) {
   cmd->add_flag("--allow-outside-resources", *outside,
                 "Also upload the files a .gltf's buffer uris name outside its folder (absolute paths, '..', file: "
                 "uris); by default only files in its folder or subfolders are sent");
-  cmd->callback([&ctx, file, name, replace, outside, format] {
-    ctx.run = [&ctx, file, name, replace, outside, format] {
-      const auto response = ctx.MakeClient().ImportFile(*file, *name, *replace, *outside, *format);
+  cmd->add_option("--clip-error", *precision,
+                  "How closely the server keeps the clips: a bound in centimetres on points 3 cm from each joint, "
+                  "in (0, 10], or 'exact' (the stored keys bit for bit); default: the server's --clip-error");
+  cmd->callback([&ctx, file, name, replace, outside, format, precision] {
+    ctx.run = [&ctx, file, name, replace, outside, format, precision] {
+      const auto response = ctx.MakeClient().ImportFile(*file, *name, *replace, *outside, *format, *precision);
       auto summary = ImportSummary(response.asset());
       summary["warnings"] = std::vector<std::string>(response.warnings().begin(), response.warnings().end());
       PrintJson(summary);
@@ -66,7 +89,7 @@ void AddListCommand(CLI::App& app, CliContext& ctx) {
           std::cout << "  skeleton " << s.name() << ": " << s.joint_count() << " joints\n";
         for (const auto& c : a.clips())
           std::cout << "  clip     " << c.name() << ": " << c.duration() << " s, " << c.frames() << " frames, skeleton "
-                    << c.skeleton() << "\n";
+                    << c.skeleton() << ", " << RuntimeFormText(c) << "\n";
         for (const auto& m : a.meshes())
           std::cout << "  mesh     " << m.name() << ": " << m.vertex_count() << " vertices\n";
       }

@@ -117,12 +117,14 @@ class Client {
   // uploaded too, only from its folder or subfolders unless
   // `allow_outside_resources` (INVALID_ARGUMENT naming the uri otherwise).
   // `format` (bvh, gltf, glb, obj, fbx) overrides what the server would detect
-  // from the file name or content.
+  // from the file name or content. `precision` (ImportAssetRequest.precision):
+  // "exact", a bound in centimetres ("0.01"), or empty for the server's default.
   v1::ImportAssetResponse ImportFile(const std::filesystem::path& path, const std::string& name = "",
                                      bool replace = false, bool allow_outside_resources = false,
-                                     const std::string& format = "");
+                                     const std::string& format = "", const std::string& precision = "");
   v1::ImportAssetResponse Import(const UploadFile& main, const std::string& name = "", const std::string& format = "",
-                                 bool replace = false, const std::vector<UploadFile>& resources = {});
+                                 bool replace = false, const std::vector<UploadFile>& resources = {},
+                                 const std::string& precision = "");
   v1::ListAssetsResponse ListAssets();
   v1::AssetInfo GetAsset(const std::string& name);
   v1::AssetInfo DeleteAsset(const std::string& name);

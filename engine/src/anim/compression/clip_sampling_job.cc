@@ -38,7 +38,10 @@ SegmentPosition Locate(const CompressedClip& clip, double t) {
 
 void Store(TrackKind kind, const float* v, Trs& out) {
   switch (kind) {
-    case TrackKind::kRotation: out.rotation = Eigen::Quaterniond(v[3], v[0], v[1], v[2]); break;
+    case TrackKind::kRotation:
+      out.rotation = Eigen::Quaterniond(v[3], v[0], v[1], v[2]);
+      compression_internal::MakeUnit(out.rotation);
+      break;
     case TrackKind::kTranslation: out.translation = Eigen::Vector3d(v[0], v[1], v[2]); break;
     case TrackKind::kScale: out.scale = Eigen::Vector3d(v[0], v[1], v[2]); break;
   }
@@ -123,6 +126,14 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   rotations.Flush();
 }
 
+// STEP on a lossy clip: the time of the frame at or before `t` (a frame's
+// own time, within rounding, is that frame).
+double FrameAtOrBefore(const CompressedClip& clip, double t) {
+  if (!(clip.frames.frame_time > 0)) return 0;
+  const double p = t / clip.frames.frame_time;
+  return clip.frames.Time(static_cast<size_t>(std::floor(p + 1e-9 * std::max(1.0, p))));
+}
+
 Status CheckClip(const CompressedClip* clip) {
   if (!clip) return Status::InvalidArgument("sampling job: no clip");
   if (!clip->skeleton) return Status::InvalidArgument("sampling job: the clip has no skeleton");
@@ -131,8 +142,12 @@ Status CheckClip(const CompressedClip* clip) {
   return Status::Ok();
 }
 
-Status CheckTime(double time, WrapMode wrap) {
+Status CheckTime(double time, WrapMode wrap, const std::optional<Interpolation>& interpolation) {
   if (!std::isfinite(time)) return Status::InvalidArgument("sampling job: time is not finite");
+  if (interpolation && *interpolation != Interpolation::kStep && *interpolation != Interpolation::kLinear &&
+      *interpolation != Interpolation::kCubic)
+    return Status::InvalidArgument("sampling job: interpolation " + std::to_string(static_cast<int>(*interpolation)) +
+                                   " is not STEP, LINEAR or CUBIC");
   if (wrap != WrapMode::kClamp && wrap != WrapMode::kLoop)
     return Status::InvalidArgument("sampling job: wrap mode " + std::to_string(static_cast<int>(wrap)) +
                                    " is not CLAMP or LOOP");
@@ -143,16 +158,17 @@ Status CheckTime(double time, WrapMode wrap) {
 
 void ClipSamplingContext::Resize(const CompressedClip& clip) {
   clip_ = &clip;
+  serial_ = clip.serial;
   index_.segment = static_cast<size_t>(-1);
   index_.tracks.assign(clip.animated.size(), TrackCursor{});
   clip_pose_.assign(clip.skeleton ? clip.skeleton->size() : 0, Trs{});
 }
 
-bool ClipSamplingContext::Fits(const CompressedClip& clip) const { return clip_ == &clip; }
+bool ClipSamplingContext::Fits(const CompressedClip& clip) const { return clip_ == &clip && serial_ == clip.serial; }
 
 Status ClipSamplingJob::Validate() const {
   ARMATURE_RETURN_IF_ERROR(CheckClip(clip));
-  ARMATURE_RETURN_IF_ERROR(CheckTime(time, wrap));
+  ARMATURE_RETURN_IF_ERROR(CheckTime(time, wrap, interpolation));
   if (output.size() != clip->skeleton->size())
     return Status::InvalidArgument("sampling job: output has room for " + std::to_string(output.size()) +
                                    " transforms, the skeleton has " + std::to_string(clip->skeleton->size()) +
@@ -165,14 +181,15 @@ Status ClipSamplingJob::Validate() const {
 Status ClipSamplingJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
   const double t = WrapTime(time, clip->duration, wrap);
-  if (clip->exact()) return SampleClip(*clip->exact_keys, t, {}, output);
-  SampleLossy(*clip, t, context ? &context->index_ : nullptr, output);
+  if (clip->exact()) return SampleClip(*clip->exact_keys, t, {interpolation, WrapMode::kClamp}, output);
+  SampleLossy(*clip, interpolation == Interpolation::kStep ? FrameAtOrBefore(*clip, t) : t,
+              context ? &context->index_ : nullptr, output);
   return Status::Ok();
 }
 
 Status ClipSamplingOntoJob::Validate() const {
   ARMATURE_RETURN_IF_ERROR(CheckClip(clip));
-  ARMATURE_RETURN_IF_ERROR(CheckTime(time, wrap));
+  ARMATURE_RETURN_IF_ERROR(CheckTime(time, wrap, interpolation));
   if (!target) return Status::InvalidArgument("sampling job: no target skeleton");
   if (!context || !context->Fits(*clip))
     return Status::InvalidArgument("sampling job: a joint map needs a context resized to the clip");
@@ -189,7 +206,7 @@ Status ClipSamplingOntoJob::Validate() const {
 
 Status ClipSamplingOntoJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
-  ClipSamplingJob own{clip, time, wrap, context, context->clip_pose_};
+  ClipSamplingJob own{clip, time, wrap, context, context->clip_pose_, interpolation};
   ARMATURE_RETURN_IF_ERROR(own.Run());
   for (size_t j = 0; j < target->size(); ++j) {
     const Trs& sampled = context->clip_pose_[static_cast<size_t>(map[j])];

@@ -3,6 +3,7 @@
 #include "armature/engine/anim/compression/compressed_clip.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -127,7 +128,7 @@ std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReferen
   const size_t end = segment + 1 == clip.segment_offsets.size() ? clip.frames.count : start + kSegmentFrames;
   std::vector<size_t> over;
   for (size_t f = start; f < end; ++f) {
-    ClipSamplingJob job{&clip, clip.frames.Time(f), WrapMode::kClamp, nullptr, pose};
+    ClipSamplingJob job{&clip, clip.frames.Time(f), WrapMode::kClamp, nullptr, pose, {}};
     (void)job.Run();
     std::span<double> per_joint(errors.data() + f * n, n);
     meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data() + f * n, n), pose, per_joint);
@@ -208,7 +209,7 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
   }
   if (segments == 0) {  // one frame: constants only
     Pack(states, out);
-    (void)ClipSamplingJob{&out, 0, WrapMode::kClamp, nullptr, refiner.pose}.Run();
+    (void)ClipSamplingJob{&out, 0, WrapMode::kClamp, nullptr, refiner.pose, {}}.Run();
     refiner.meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data(), reference.joints), refiner.pose,
                                refiner.errors);
   } else if (!refiner.MeetBound(all)) {
@@ -234,8 +235,10 @@ size_t CompressedClip::ByteSize() const {
                (jt.translation.times.size() + jt.scale.times.size()) * (sizeof(double) + sizeof(Eigen::Vector3d));
     return bytes;
   }
+  size_t weight_bytes = 0;
+  for (const WeightsTrack& w : weights) weight_bytes += (w.times.size() + w.values.size()) * sizeof(double);
   return constants.size() * sizeof(ConstantTrack) + animated.size() * sizeof(AnimatedTrack) +
-         segment_offsets.size() * sizeof(uint32_t) + data.size();
+         segment_offsets.size() * sizeof(uint32_t) + data.size() + weight_bytes;
 }
 
 double CompressedClip::BytesPerJointSample() const {
@@ -248,7 +251,11 @@ FrameGrid CompressionFrames(const Clip& clip) {
   if (!(clip.duration > 0)) return {1, 0};
   const size_t own = clip.frame_count;
   const size_t least = static_cast<size_t>(std::ceil(clip.duration * kMinFramesPerSecond - 1e-9)) + 1;
-  grid.count = std::max(own, least);
+  // Fewer frames than that: each interval of the source's own split evenly, so that keys evenly spaced
+  // (a 24 fps glTF clip) stay on frames; between frames the form interpolates, and a grid across the
+  // keys would cut the corner at each one by far more than the bound.
+  const size_t intervals = own > 1 ? own - 1 : 1;
+  grid.count = own >= least ? own : intervals * ((least - 1 + intervals - 1) / intervals) + 1;
   grid.frame_time = clip.duration / static_cast<double>(grid.count - 1);
   return grid;
 }
@@ -259,9 +266,14 @@ StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<con
   ARMATURE_RETURN_IF_ERROR(CheckClipPrecision(precision));
   ARMATURE_RETURN_IF_ERROR(clip->Validate());
   ARMATURE_ASSIGN_OR_RETURN(const ErrorBound bound, ResolveErrorBound(*clip->skeleton, precision));
+  static std::atomic<uint64_t> serials{0};
   auto out = std::make_shared<CompressedClip>();
+  out->serial = ++serials;
   out->skeleton = clip->skeleton;
   out->duration = clip->duration;
+  out->source_frame_time = clip->frame_time;
+  out->source_frame_count = clip->frame_count;
+  out->source_interpolation = clip->default_interpolation;
   out->frames = CompressionFrames(*clip);
   out->precision = precision;
   out->bound = bound;
@@ -271,7 +283,10 @@ StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<con
   if (!precision.exact) {
     ARMATURE_ASSIGN_OR_RETURN(const ClipReference reference, SampleReference(*clip, out->frames, bound.shell_distance));
     std::string why;
-    if (CompressLossy(*clip, reference, *out, why)) return std::shared_ptr<const CompressedClip>(std::move(out));
+    if (CompressLossy(*clip, reference, *out, why)) {
+      out->weights = clip->weights;
+      return std::shared_ptr<const CompressedClip>(std::move(out));
+    }
     out->warning = "clip kept exact: " + why + " (" + std::to_string(precision.centimetres) + " cm)";
     out->constants.clear();
     out->animated.clear();

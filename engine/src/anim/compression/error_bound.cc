@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <vector>
@@ -47,6 +49,36 @@ Status CheckClipPrecision(const ClipPrecision& precision) {
     return Status::InvalidArgument("precision: " + std::to_string(cm) +
                                    " cm is not a bound; give one in (0, 10] centimetres, or 'exact'");
   return Status::Ok();
+}
+
+StatusOr<ClipPrecision> ParseClipPrecision(std::string_view text, std::string_view field,
+                                           const ClipPrecision& fallback) {
+  if (text.empty()) return fallback;
+  ClipPrecision precision;
+  if (text == "exact") {
+    precision.exact = true;
+    return precision;
+  }
+  const std::string owned(text);
+  char* end = nullptr;
+  precision.centimetres = std::strtod(owned.c_str(), &end);
+  if (end == owned.c_str() || *end != '\0')
+    return Status::InvalidArgument(std::string(field) + ": '" + owned +
+                                   "' is not a bound; give one in (0, 10] centimetres, or 'exact'");
+  if (Status checked = CheckClipPrecision(precision); !checked.ok())
+    return Status::InvalidArgument(std::string(field) + ": '" + owned +
+                                   "' is not a bound; give one in (0, 10] centimetres, or 'exact'");
+  return precision;
+}
+
+std::string ClipPrecisionText(const ClipPrecision& precision) {
+  if (precision.exact) return "exact";
+  char text[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, precision.centimetres);
+    if (std::strtod(text, nullptr) == precision.centimetres) break;
+  }
+  return text;
 }
 
 StatusOr<ErrorBound> ResolveErrorBound(const Skeleton& skeleton, const ClipPrecision& precision) {

@@ -6,10 +6,16 @@
 
 #include <cstddef>
 
-#include "anim/fast_slerp.h"
+#include "anim/compression/simd4.h"
 #include "armature/engine/math/transform.h"
 
 namespace armature::compression_internal {
+
+// Unit in double, as the stored rotations are: float samples leave |q| − 1
+// near 1e-7, which rotation matrices (ComputeWorld) and quaternion products
+// (IK) would turn into different floats. One Newton step toward 1/|q| (no
+// sqrt, no division) takes it to about 1e-14.
+inline void MakeUnit(Eigen::Quaterniond& q) { q.coeffs() *= 0.5 * (3.0 - q.squaredNorm()); }
 
 class RotationBatch {
  public:
@@ -25,10 +31,6 @@ class RotationBatch {
   }
 
   void Flush() {
-    using compiled_internal::Max;
-    using compiled_internal::Splat;
-    using compiled_internal::Sqrt;
-    using compiled_internal::v4;
     if (n_ == 0) return;
     for (size_t lane = n_; lane < 4; ++lane) {  // unused lanes: identity
       for (int c = 0; c < 3; ++c) a_[c][lane] = b_[c][lane] = 0.f;
@@ -38,7 +40,7 @@ class RotationBatch {
     const v4 wa = Sqrt(Max(one - a_[0] * a_[0] - a_[1] * a_[1] - a_[2] * a_[2], zero));
     const v4 wb = Sqrt(Max(one - b_[0] * b_[0] - b_[1] * b_[1] - b_[2] * b_[2], zero));
     const v4 d = a_[0] * b_[0] + a_[1] * b_[1] + a_[2] * b_[2] + wa * wb;
-    const v4 ub = compiled_internal::Select(d < zero, -u_, u_), ua = one - u_;
+    const v4 ub = Select(d < zero, -u_, u_), ua = one - u_;
     v4 r[4];
     for (int c = 0; c < 3; ++c) r[c] = ua * a_[c] + ub * b_[c];
     r[3] = ua * wa + ub * wb;
@@ -48,12 +50,13 @@ class RotationBatch {
       double q[4];  // x y z w
       for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped_[lane] ? r[3][lane] : r[k++][lane];
       out_[lane]->rotation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+      MakeUnit(out_[lane]->rotation);
     }
     n_ = 0;
   }
 
  private:
-  compiled_internal::v4 a_[3], b_[3], u_;
+  v4 a_[3], b_[3], u_;
   int dropped_[4];
   Trs* out_[4];
   size_t n_ = 0;

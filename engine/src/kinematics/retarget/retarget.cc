@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/kinematics/ik.h"
 #include "armature/engine/math/rotation.h"
@@ -83,7 +84,7 @@ struct Plan {
   int moved_root = -1;                         // the target root that is translated
 };
 
-Status ValidatePairs(const Clip& source, const Skeleton& target, const BodyPartMap& map, Plan& plan) {
+Status ValidatePairs(const CompressedClip& source, const Skeleton& target, const BodyPartMap& map, Plan& plan) {
   const Skeleton& s = *source.skeleton;
   plan.source_of.assign(target.size(), -1);
   plan.target_of.assign(s.size(), -1);
@@ -223,7 +224,7 @@ void PlanFacingAndScale(const Skeleton& target, const WorldPose& s0, const World
 }
 
 // The output's key times: every `dt` from 0, and the source's end.
-StatusOr<std::vector<double>> FrameTimes(const Clip& source, double dt, size_t max_frames) {
+StatusOr<std::vector<double>> FrameTimes(const CompressedClip& source, double dt, size_t max_frames) {
   const double frames_exact = source.duration / dt;
   if (frames_exact + 2 > static_cast<double>(max_frames))
     return Status::ResourceExhausted("retargeting " + std::to_string(source.duration) + " s at " + std::to_string(dt) +
@@ -238,8 +239,10 @@ StatusOr<std::vector<double>> FrameTimes(const Clip& source, double dt, size_t m
 // Poses the target frame by frame from the sampled source, before the feet.
 class FramePoser {
  public:
-  FramePoser(const Clip& source, const Skeleton& target, const Plan& plan, const WorldPose& s0, const WorldPose& t0)
+  FramePoser(const CompressedClip& source, const Skeleton& target, const Plan& plan, const WorldPose& s0,
+             const WorldPose& t0)
       : source_(source),
+        context_(source),
         s_(*source.skeleton),
         target_(target),
         plan_(plan),
@@ -259,7 +262,7 @@ class FramePoser {
 
   // The source's local and world pose at `time`.
   Status SampleSource(double time) {
-    ARMATURE_RETURN_IF_ERROR(SampleClip(source_, time, SampleOptions{}, f_.source_local));
+    ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{&source_, time, WrapMode::kClamp, &context_, f_.source_local, {}}.Run()));
     ComputeWorld(s_, f_.source_local, f_.source.world, f_.source.rotation);
     return Status::Ok();
   }
@@ -317,7 +320,8 @@ class FramePoser {
     UpdateWorldFrom(target_, plan_.moved_root, f_);
   }
 
-  const Clip& source_;
+  const CompressedClip& source_;
+  ClipSamplingContext context_;
   const Skeleton& s_;
   const Skeleton& target_;
   const Plan& plan_;
@@ -396,10 +400,9 @@ void AfterPinnedFeet(const Skeleton& target, const WorldPose& t0, const Plan& pl
 
 }  // namespace
 
-StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target, const BodyPartMap& map,
+StatusOr<RetargetResult> RetargetClip(const CompressedClip& source, const Skeleton& target, const BodyPartMap& map,
                                       const RetargetOptions& options) {
   if (!source.skeleton) return Status::InvalidArgument("source clip has no skeleton");
-  ARMATURE_RETURN_IF_ERROR(source.Validate());
   ARMATURE_RETURN_IF_ERROR(target.Validate());
   const Skeleton& s = *source.skeleton;
   Plan plan;
@@ -415,8 +418,8 @@ StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target
 
   FeetPlan feet;
   if (options.feet) ARMATURE_RETURN_IF_ERROR(PlanFeet(target, tp, t0.world, feet));
-  const double dt =
-      options.frame_time > 0 ? options.frame_time : (source.frame_time > 0 ? source.frame_time : 1.0 / 30);
+  const double dt = options.frame_time > 0 ? options.frame_time
+                                           : (source.source_frame_time > 0 ? source.source_frame_time : 1.0 / 30);
   ARMATURE_ASSIGN_OR_RETURN(const std::vector<double> times, FrameTimes(source, dt, options.max_frames));
 
   FramePoser poser(source, target, plan, s0, t0);

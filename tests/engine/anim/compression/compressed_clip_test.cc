@@ -88,7 +88,7 @@ TEST(CompressedClipTest, TheBoundHoldsOnEveryClip) {
     const CompressedClip& z = **compressed;
     EXPECT_EQ(z.exact(), !z.warning.empty()) << c.name << " is exact only with a warning";
     const PoseSampler job = [&](double t, std::span<Trs> out) {
-      return ClipSamplingJob{&z, t, WrapMode::kClamp, nullptr, out}.Run();
+      return ClipSamplingJob{&z, t, WrapMode::kClamp, nullptr, out, {}}.Run();
     };
     StatusOr<ClipError> error = MeasureClipError(*c.clip, z.frames, z.bound.shell_distance, job);
     ASSERT_TRUE(error.ok()) << c.name;
@@ -151,7 +151,7 @@ TEST(CompressedClipTest, ExactKeepsTheStoredKeysBitForBit) {
       for (size_t k = 0; k < a.translation.values.size(); ++k)
         ASSERT_EQ(std::memcmp(a.translation.values[k].data(), b.translation.values[k].data(), 3 * sizeof(double)), 0);
       for (double t : a.rotation.times) {  // at each key time the job gives what SampleClip gives
-        ASSERT_TRUE((ClipSamplingJob{z->get(), t, WrapMode::kClamp, nullptr, ours}.Run().ok()));
+        ASSERT_TRUE((ClipSamplingJob{z->get(), t, WrapMode::kClamp, nullptr, ours, {}}.Run().ok()));
         ASSERT_TRUE(SampleClip(*c.clip, t, {}, stored).ok());
         for (size_t i = 0; i < ours.size(); ++i) ASSERT_TRUE(SameBits(ours[i], stored[i])) << c.name << " t=" << t;
       }
@@ -170,12 +170,12 @@ TEST(CompressedClipTest, SequentialAndRandomSamplingAgree) {
     std::mt19937 rng(30);
     std::uniform_real_distribution<double> any(-0.5, c.clip->duration + 0.5);
     for (double t = 0; t <= c.clip->duration + 0.1; t += 1.0 / 90) {
-      ASSERT_TRUE((ClipSamplingJob{z->get(), t, WrapMode::kLoop, &context, in_order}.Run().ok()));
-      ASSERT_TRUE((ClipSamplingJob{z->get(), t, WrapMode::kLoop, nullptr, at_random}.Run().ok()));
+      ASSERT_TRUE((ClipSamplingJob{z->get(), t, WrapMode::kLoop, &context, in_order, {}}.Run().ok()));
+      ASSERT_TRUE((ClipSamplingJob{z->get(), t, WrapMode::kLoop, nullptr, at_random, {}}.Run().ok()));
       for (size_t i = 0; i < n; ++i) ASSERT_TRUE(SameBits(in_order[i], at_random[i])) << c.name << " t=" << t;
       const double r = any(rng);  // a jump away and back through the same context
-      ASSERT_TRUE((ClipSamplingJob{z->get(), r, WrapMode::kClamp, &context, in_order}.Run().ok()));
-      ASSERT_TRUE((ClipSamplingJob{z->get(), r, WrapMode::kClamp, nullptr, at_random}.Run().ok()));
+      ASSERT_TRUE((ClipSamplingJob{z->get(), r, WrapMode::kClamp, &context, in_order, {}}.Run().ok()));
+      ASSERT_TRUE((ClipSamplingJob{z->get(), r, WrapMode::kClamp, nullptr, at_random, {}}.Run().ok()));
       for (size_t i = 0; i < n; ++i) ASSERT_TRUE(SameBits(in_order[i], at_random[i])) << c.name << " t=" << r;
     }
   }
@@ -186,12 +186,12 @@ TEST(CompressedClipTest, JobValidatesItsInputs) {
   StatusOr<std::shared_ptr<const CompressedClip>> z = CompressClip(Cmu());
   ASSERT_TRUE(z.ok());
   std::vector<Trs> small(3), pose(Cmu()->skeleton->size());
-  EXPECT_FALSE((ClipSamplingJob{nullptr, 0, WrapMode::kClamp, nullptr, pose}.Validate().ok()));
-  EXPECT_FALSE((ClipSamplingJob{z->get(), 0, WrapMode::kClamp, nullptr, small}.Validate().ok()));
-  EXPECT_FALSE((ClipSamplingJob{z->get(), std::nan(""), WrapMode::kClamp, nullptr, pose}.Validate().ok()));
+  EXPECT_FALSE((ClipSamplingJob{nullptr, 0, WrapMode::kClamp, nullptr, pose, {}}.Validate().ok()));
+  EXPECT_FALSE((ClipSamplingJob{z->get(), 0, WrapMode::kClamp, nullptr, small, {}}.Validate().ok()));
+  EXPECT_FALSE((ClipSamplingJob{z->get(), std::nan(""), WrapMode::kClamp, nullptr, pose, {}}.Validate().ok()));
   ClipSamplingContext other;
-  EXPECT_FALSE((ClipSamplingJob{z->get(), 0, WrapMode::kClamp, &other, pose}.Validate().ok()));
-  EXPECT_TRUE((ClipSamplingJob{z->get(), 0, WrapMode::kClamp, nullptr, pose}.Validate().ok()));
+  EXPECT_FALSE((ClipSamplingJob{z->get(), 0, WrapMode::kClamp, &other, pose, {}}.Validate().ok()));
+  EXPECT_TRUE((ClipSamplingJob{z->get(), 0, WrapMode::kClamp, nullptr, pose, {}}.Validate().ok()));
 }
 
 // By joint name onto a skeleton with the clip's joints in another order:
@@ -217,15 +217,15 @@ TEST(CompressedClipTest, JointMapPlaysTheClipOnAnotherSkeleton) {
   ClipSamplingContext context(**z);
   std::vector<Trs> onto(target.size()), own(source.size());
   for (double t : {0.0, 0.5, 3.3, 20.0}) {
-    ASSERT_TRUE((ClipSamplingOntoJob{z->get(), map, &target, t, WrapMode::kClamp, &context, onto}.Run().ok()));
-    ASSERT_TRUE((ClipSamplingJob{z->get(), t, WrapMode::kClamp, nullptr, own}.Run().ok()));
+    ASSERT_TRUE((ClipSamplingOntoJob{z->get(), map, &target, t, WrapMode::kClamp, &context, onto, {}}.Run().ok()));
+    ASSERT_TRUE((ClipSamplingJob{z->get(), t, WrapMode::kClamp, nullptr, own, {}}.Run().ok()));
     for (size_t j = 0; j < target.size(); ++j) {
       EXPECT_TRUE(onto[j].rotation.coeffs() == own[j].rotation.coeffs()) << j;
       const bool moves = !cmu->joints[j].translation.empty();
       EXPECT_TRUE(onto[j].translation == (moves ? own[j].translation : target.rest[j].translation)) << j;
     }
   }
-  EXPECT_FALSE((ClipSamplingOntoJob{z->get(), map, &target, 0, WrapMode::kClamp, nullptr, onto}.Validate().ok()));
+  EXPECT_FALSE((ClipSamplingOntoJob{z->get(), map, &target, 0, WrapMode::kClamp, nullptr, onto, {}}.Validate().ok()));
 }
 
 }  // namespace

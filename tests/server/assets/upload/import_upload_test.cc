@@ -80,7 +80,7 @@ TEST(ImportUpload, ResourceNamesCountAgainstTheLimit) {
 }
 
 TEST(ImportUpload, HeaderFieldsAfterTheFirstMessageAreRefused) {
-  for (const char* field : {"filename", "name", "format", "replace"}) {
+  for (const char* field : {"filename", "name", "format", "replace", "precision"}) {
     ImportUpload upload(1000);
     ASSERT_TRUE(upload.Add(Header("a.bvh", "abc")).ok());
     v1::ImportAssetRequest late = Chunk("def");
@@ -88,9 +88,32 @@ TEST(ImportUpload, HeaderFieldsAfterTheFirstMessageAreRefused) {
     if (std::string(field) == "name") late.set_name("b");
     if (std::string(field) == "format") late.set_format("obj");
     if (std::string(field) == "replace") late.set_replace(true);
+    if (std::string(field) == "precision") late.set_precision("exact");
     const Status st = upload.Add(late);
     EXPECT_EQ(st.code(), StatusCode::kInvalidArgument) << field;
     EXPECT_EQ(st.message(), std::string("message 2: ") + field + " belongs in the first message only");
+  }
+}
+
+// precision is read once, in the first message, before the file arrives: a
+// bound in (0, 10] cm or "exact"; anything else is INVALID_ARGUMENT naming it.
+TEST(ImportUpload, PrecisionIsABoundOrExactAndIsCheckedInTheFirstMessage) {
+  for (const char* good : {"", "exact", "0.01", "10"}) {
+    ImportUpload upload(1000);
+    v1::ImportAssetRequest first = Header("a.bvh", "abc");
+    first.set_precision(good);
+    ASSERT_TRUE(upload.Add(first).ok()) << good;
+    auto import = std::move(upload).Finish();
+    ASSERT_TRUE(import.ok());
+    EXPECT_EQ(import->precision, good);
+  }
+  for (const char* bad : {"0", "-1", "nan", "10.01", "1e9", "fine"}) {
+    ImportUpload upload(1000);
+    v1::ImportAssetRequest first = Header("a.bvh", "abc");
+    first.set_precision(bad);
+    const Status st = upload.Add(first);
+    EXPECT_EQ(st.code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_EQ(st.message().rfind("precision: '" + std::string(bad) + "' is not a bound", 0), 0u) << st.message();
   }
 }
 

@@ -1,6 +1,8 @@
 // Clips on other skeletons: a clip plays on any skeleton whose joints it
 // has by name (the demo walk's BVH on the demo character's glTF skeleton).
-// The one binding rule of skinning a mesh by a clip and of motion layers.
+// The one binding rule of skinning a mesh by a clip and of motion layers;
+// ClipSamplingOntoJob (anim/compression/clip_sampling_job.h) plays a clip
+// through such a map.
 #pragma once
 
 #include <span>
@@ -22,12 +24,5 @@ namespace armature {
 // prefix with what `source` is.
 Status MapJointsByName(const Skeleton& target, const Skeleton& source, std::string_view target_label,
                        std::vector<int>& out);
-
-// Samples `clip` at `time` onto `target` through `map` (MapJointsByName(
-// target, *clip.skeleton)): each joint starts at target's rest transform
-// and its clip joint's tracks replace what they animate, so bone lengths
-// the clip does not animate stay the target's. No allocation.
-Status SampleClipOnto(const Clip& clip, std::span<const int> map, const Skeleton& target, double time,
-                      const SampleOptions& options, std::span<Trs> out);
 
 }  // namespace armature

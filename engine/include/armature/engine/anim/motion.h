@@ -20,6 +20,7 @@
 
 #include "armature/base/status.h"
 #include "armature/engine/anim/clip.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/anim/skeleton.h"
 #include "armature/engine/math/transform.h"
 
@@ -37,9 +38,9 @@ struct MaskJoint {
 };
 
 struct MotionLayer {
-  std::shared_ptr<const Clip> clip;
-  std::string clip_name;  // for messages
-  double weight = 1;      // 0..1
+  std::shared_ptr<const CompressedClip> clip;  // sampled through ClipSamplingJob
+  std::string clip_name;                       // for messages
+  double weight = 1;                           // 0..1
   double speed = 1;
   double time_offset = 0;  // seconds of clip time
   LayerMode mode = LayerMode::kOverride;
@@ -58,7 +59,7 @@ struct Motion {
 
 // One layer resolved against the motion's skeleton (the first layer's).
 struct BoundLayer {
-  const Clip* clip = nullptr;  // kept alive by MotionPlan::clips
+  const CompressedClip* clip = nullptr;  // kept alive by MotionPlan::clips
   double weight = 1, speed = 1, time_offset = 0;
   LayerMode mode = LayerMode::kOverride;
   WrapMode wrap = WrapMode::kLoop;
@@ -79,12 +80,13 @@ struct BoundLayer {
 struct JointLayer {
   uint32_t layer = 0;
   bool additive = false;
-  const JointTrack* track = nullptr;  // the layer's clip's track of the joint
+  uint8_t parts = 0;   // what the clip animates there (CompressedClip::animated_parts)
+  uint32_t joint = 0;  // the clip's joint
 };
 
 struct MotionPlan {
   std::shared_ptr<const Skeleton> skeleton;  // the first layer's
-  std::vector<std::shared_ptr<const Clip>> clips;
+  std::vector<std::shared_ptr<const CompressedClip>> clips;
   std::vector<BoundLayer> layers;
   // Per joint j, the layers acting on it in layer order:
   // joint_layers[joint_begin[j] .. joint_begin[j + 1]). A layer without weight
@@ -122,10 +124,13 @@ struct LayerTime {
   long long loops = 0;
 };
 
-// Scratch space reused across evaluations (sized by Resize, never in Run).
+// Scratch space reused across evaluations (sized by Resize, never in Run):
+// per layer its time, its clip's pose and the sampling job's context.
 struct MotionWorkspace {
   std::vector<LayerTime> layer_times;
-  void Resize(const MotionPlan& plan) { layer_times.resize(plan.layers.size()); }
+  std::vector<std::vector<Trs>> layer_poses;
+  std::vector<ClipSamplingContext> contexts;
+  void Resize(const MotionPlan& plan);
 };
 
 // The root's motion that EXTRACT takes out of the pose: the accumulated

@@ -17,8 +17,8 @@
 
 namespace armature {
 
-struct Mesh;          // engine/include/armature/engine/mesh/mesh.h
-struct CompiledClip;  // engine/include/armature/engine/anim/compiled_clip.h
+struct Mesh;            // engine/include/armature/engine/mesh/mesh.h
+struct CompressedClip;  // engine/include/armature/engine/anim/compression/compressed_clip.h
 
 enum class AssetFormat { kBvh, kGltf, kGlb, kObj, kFbx };
 
@@ -32,10 +32,13 @@ struct NamedSkeleton {
 struct NamedClip {
   std::string name;
   std::string skeleton_name;  // the NamedSkeleton it animates
+  // The parsed keys. The server drops them once `runtime` is set unless it is
+  // exact (then they are its keys): read the runtime form instead.
   std::shared_ptr<const Clip> clip;
-  // `clip`'s runtime form (CompileClip), set by whoever loads the asset for
-  // sampling (the server, at import); null: sample `clip` itself.
-  std::shared_ptr<const CompiledClip> compiled = nullptr;
+  // `clip`'s runtime form (CompressClip, under the import's precision), set by
+  // whoever loads the asset for sampling (the server, at import and load); all
+  // sampling goes through it (ClipSamplingJob).
+  std::shared_ptr<const CompressedClip> runtime = nullptr;
 };
 struct NamedMesh {
   std::string name;

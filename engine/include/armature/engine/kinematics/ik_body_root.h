@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "armature/engine/anim/clip.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/anim/skeleton.h"
 
 namespace armature {
@@ -17,7 +18,7 @@ namespace armature {
 // (clips of `skeleton`, joint for joint) moves its translation, or it is the
 // parent of the legs (the lowest common ancestor of both thighs, read by
 // name as retargeting reads them, FindBodyParts).
-std::vector<uint8_t> BodyRootCandidates(const Skeleton& skeleton, std::span<const Clip* const> clips);
+std::vector<uint8_t> BodyRootCandidates(const Skeleton& skeleton, std::span<const CompressedClip* const> clips);
 
 // The body root above `joint`: walking down `joint`'s ancestors from the
 // top, the first candidate; the topmost ancestor when none is (or when

@@ -7,20 +7,20 @@
 // holds the mesh; a glTF mesh without a skin follows its node.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "armature/engine/anim/clip.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/mesh/mesh.h"
 #include "armature/engine/anim/skeleton.h"
 #include "armature/base/status.h"
 #include "armature/engine/math/transform.h"
 
 namespace armature {
-
-struct CompiledClip;  // anim/compiled_clip.h
 
 enum class SkinningMethod { kLinear, kDualQuaternion };
 
@@ -44,6 +44,7 @@ struct SkinningWorkspace {
   std::vector<DualQuaternion> pair_dual_quaternions;  // per layout pair, in its heaviest joint's hemisphere
   std::vector<Matrix> stretch;                        // DQS: the scale/shear left of each joint's rotation
   std::vector<float> morphed;                         // morphed rest geometry, 6 SoA arrays of vertex_count
+  ClipSamplingContext clip_context;                   // SkinClip's, resized when the clip changes
 };
 
 struct SkinningOptions {
@@ -78,24 +79,24 @@ struct SkinningJob {
 Status SkinPose(const Mesh& mesh, const Skeleton& skeleton, std::span<const Trs> local, const SkinningOptions& options,
                 std::span<float> positions, std::span<float> normals, SkinningWorkspace& workspace);
 
-// Samples `clip` at `time` (joint tracks, and the weights track whose `mesh`
-// is mesh.name when there is one) and skins `mesh`, whose joints index
-// clip.skeleton.
-Status SkinClip(const Mesh& mesh, const Clip& clip, double time, const SampleOptions& sample,
+// Where and how SkinClip samples its clip: ClipSamplingJob's time, wrap and
+// interpolation; `onto` another skeleton with `map` =
+// MapJointsByName(*onto, *clip.skeleton) (ClipSamplingOntoJob), or null for
+// the clip's own.
+struct ClipSkinningTime {
+  double time = 0;
+  WrapMode wrap = WrapMode::kClamp;
+  std::optional<Interpolation> interpolation;
+  const Skeleton* onto = nullptr;
+  std::span<const int> map;
+};
+
+// The one way to skin by a clip: samples `clip` through the sampling job
+// (anim/compression/clip_sampling_job.h; the context kept in `workspace`),
+// with its weights track whose `mesh` is mesh.name when there is one, and
+// skins `mesh`, whose joints index the skeleton sampled.
+Status SkinClip(const Mesh& mesh, const CompressedClip& clip, const ClipSkinningTime& at,
                 const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                 SkinningWorkspace& workspace);
-
-// SkinClip through the clip's runtime form (anim/compiled_clip.h:
-// SampleCompiledClip for the joints; the weights track from compiled.source).
-Status SkinClip(const Mesh& mesh, const CompiledClip& clip, double time, const SampleOptions& sample,
-                const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
-                SkinningWorkspace& workspace);
-
-// As SkinClip, for a clip of another skeleton with `skeleton`'s joint names
-// (anim/joint_map.h): `mesh`'s joints index `skeleton`, and `map` =
-// MapJointsByName(skeleton, *clip.skeleton).
-Status SkinClipOnto(const Mesh& mesh, const Skeleton& skeleton, std::span<const int> map, const Clip& clip, double time,
-                    const SampleOptions& sample, const SkinningOptions& options, std::span<float> positions,
-                    std::span<float> normals, SkinningWorkspace& workspace);
 
 }  // namespace armature

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -41,25 +42,32 @@ class ClipSamplingContext {
   ClipSamplingContext() = default;
   explicit ClipSamplingContext(const CompressedClip& clip) { Resize(clip); }
   void Resize(const CompressedClip& clip);
+  // Resized to this very clip (not one freed before it at the same address).
   bool Fits(const CompressedClip& clip) const;
 
  private:
   friend struct ClipSamplingJob;
   friend struct ClipSamplingOntoJob;
   const CompressedClip* clip_ = nullptr;
+  uint64_t serial_ = 0;
   SegmentIndex index_;
   std::vector<Trs> clip_pose_;  // for ClipSamplingOntoJob
 };
 
 // Samples every joint's local transform at `time` into `output` (size =
 // the clip's joints). Between frames rotations are nlerped (the stride's
-// samples and the frames alike); an exact clip samples as SampleClip.
+// samples and the frames alike), then made unit in double (one Newton step);
+// an exact clip samples as SampleClip. `interpolation` overrides the tracks'
+// own: on an exact clip as SampleClip's; on a lossy one STEP holds the frame
+// at or before `time`, LINEAR and CUBIC interpolate between frames (the bound
+// holds at frames, as ACL measures it).
 struct ClipSamplingJob {
   const CompressedClip* clip = nullptr;
   double time = 0;
   WrapMode wrap = WrapMode::kClamp;
   ClipSamplingContext* context = nullptr;  // optional: sequential playback reuses it
   std::span<Trs> output;
+  std::optional<Interpolation> interpolation;
 
   Status Validate() const;
   Status Run() const;  // Validate(), then samples
@@ -76,6 +84,7 @@ struct ClipSamplingOntoJob {
   WrapMode wrap = WrapMode::kClamp;
   ClipSamplingContext* context = nullptr;
   std::span<Trs> output;
+  std::optional<Interpolation> interpolation;
 
   Status Validate() const;
   Status Run() const;

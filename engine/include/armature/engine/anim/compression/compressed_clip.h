@@ -41,8 +41,16 @@ struct AnimatedTrack {
 };
 
 struct CompressedClip {
+  // Unique per CompressClip call: a sampling context tells a clip from a
+  // later one at the same address.
+  uint64_t serial = 0;
   std::shared_ptr<const Skeleton> skeleton;
   double duration = 0;
+  // The source's Clip::frame_time (0: key-framed), frame_count and
+  // default_interpolation, for listings once the source has left memory.
+  double source_frame_time = 0;
+  size_t source_frame_count = 0;
+  Interpolation source_interpolation = Interpolation::kLinear;
   FrameGrid frames;         // the frames the bound holds at (the source's, or 30 fps at least)
   ClipPrecision precision;  // as asked (exact also when the bound could not be met)
   ErrorBound bound;         // in the skeleton's units
@@ -61,7 +69,11 @@ struct CompressedClip {
   std::vector<uint32_t> segment_offsets;  // byte offset of each segment in `data`
   std::vector<uint8_t> data;              // per segment: codes, ranges, then samples (packed_track.h)
 
+  // lossy: the morph weights as stored (not compressed; exact: in exact_keys).
+  std::vector<WeightsTrack> weights;
+
   bool exact() const { return exact_keys != nullptr; }
+  const std::vector<WeightsTrack>& MorphWeights() const { return exact_keys ? exact_keys->weights : weights; }
   // Bytes of the runtime form (stored keys for exact, in their double form).
   size_t ByteSize() const;
   // ByteSize over joints × frames.
@@ -73,8 +85,8 @@ struct CompressedClip {
 StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<const Clip> clip,
                                                              const ClipPrecision& precision = {});
 
-// The frames a clip is compressed at: its own (frame_count over duration)
-// when they are at least 30 per second, else 30 per second.
+// The frames a clip is compressed at: its own when at least 30 per second,
+// else each of its intervals split evenly to reach 30 (its keys stay frames).
 FrameGrid CompressionFrames(const Clip& clip);
 
 }  // namespace armature

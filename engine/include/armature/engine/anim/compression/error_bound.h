@@ -4,6 +4,9 @@
 // docs/error_metrics.md in ACL 2.1).
 #pragma once
 
+#include <string>
+#include <string_view>
+
 #include "armature/base/status.h"
 #include "armature/engine/anim/skeleton.h"
 
@@ -37,6 +40,16 @@ double UnitsPerCentimetre(const Skeleton& skeleton);
 // INVALID_ARGUMENT naming `precision` unless the bound is exact or in
 // (0, 10] centimetres (NaN refused).
 Status CheckClipPrecision(const ClipPrecision& precision);
+
+// The one reading of a precision as text (ImportAsset's `precision`, the CLI's
+// and the server's --clip-error): "exact", or a bound in centimetres ("0.01").
+// Empty gives `fallback`. INVALID_ARGUMENT naming `field` for anything else or
+// a bound CheckClipPrecision refuses (0, negative, NaN, over 10 cm).
+StatusOr<ClipPrecision> ParseClipPrecision(std::string_view text, std::string_view field,
+                                           const ClipPrecision& fallback = {});
+
+// "exact", or the centimetres as the shortest text that reads back the same.
+std::string ClipPrecisionText(const ClipPrecision& precision);
 
 // The bound in the skeleton's units: 0.01 cm at 3 cm is 0.01 at 3 for a
 // skeleton in centimetres, 0.0001 at 0.03 for one in metres. Checks first.

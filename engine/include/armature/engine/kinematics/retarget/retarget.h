@@ -26,6 +26,7 @@
 
 #include "armature/base/status.h"
 #include "armature/engine/anim/clip.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/anim/body_part_map.h"
 #include "armature/engine/anim/skeleton.h"
 
@@ -52,10 +53,11 @@ struct RetargetResult {
   std::vector<std::string> warnings;
 };
 
-// INVALID_ARGUMENT for a clip that fails Clip::Validate, pairs out of range or
+// The source is sampled through ClipSamplingJob (its runtime form; an exact
+// one gives the stored keys). INVALID_ARGUMENT for pairs out of range or
 // repeating a joint, or `feet` without a hip–knee–ankle chain in the target
 // (naming the leg and the joint that breaks it).
-StatusOr<RetargetResult> RetargetClip(const Clip& source, const Skeleton& target, const BodyPartMap& map,
+StatusOr<RetargetResult> RetargetClip(const CompressedClip& source, const Skeleton& target, const BodyPartMap& map,
                                       const RetargetOptions& options = {});
 
 }  // namespace armature

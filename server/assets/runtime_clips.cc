@@ -1,0 +1,26 @@
+#include "server/assets/runtime_clips.h"
+
+#include <spdlog/spdlog.h>
+
+#include "armature/engine/anim/compression/compressed_clip.h"
+
+namespace armature::server {
+
+Status CompressClips(AssetContents& contents, const ClipPrecision& precision) {
+  for (NamedClip& named : contents.clips) {
+    if (!named.clip) continue;
+    auto runtime = CompressClip(named.clip, precision);
+    if (!runtime.ok()) return runtime.status().WithContext("clip '" + named.name + "': ");
+    named.runtime = std::move(*runtime);
+    // The file form leaves memory: an exact runtime form holds it as its keys; a lossy one replaces it
+    // (export writes the runtime form's keys, ClipKeysOf).
+    if (!named.runtime->exact()) named.clip.reset();
+    if (!named.runtime->warning.empty()) {
+      spdlog::warn("clip '{}': {}", named.name, named.runtime->warning);
+      contents.warnings.push_back("clip '" + named.name + "': " + named.runtime->warning);
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace armature::server

@@ -1,0 +1,115 @@
+// The compressed clip as the server's one runtime form: precision read from
+// text, keys given back for export, STEP and unit rotations from the job.
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "armature/engine/anim/compression/clip_keys.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
+#include "armature/engine/anim/compression/error_bound.h"
+#include "../../testing/shared_clips.h"
+
+namespace armature {
+namespace {
+
+std::shared_ptr<const Clip> Cmu() {
+  static const std::vector<test_util::SharedClip> clips = test_util::LoadSharedClips();
+  for (const test_util::SharedClip& c : clips)
+    if (c.name == "bvh/cmu_01_01.bvh") return c.clip;
+  return nullptr;
+}
+
+TEST(RuntimeForm, PrecisionTextIsExactOrABoundInCentimetres) {
+  auto exact = ParseClipPrecision("exact", "precision");
+  ASSERT_TRUE(exact.ok());
+  EXPECT_TRUE(exact->exact);
+  auto bound = ParseClipPrecision("0.05", "precision");
+  ASSERT_TRUE(bound.ok());
+  EXPECT_FALSE(bound->exact);
+  EXPECT_EQ(bound->centimetres, 0.05);
+  ClipPrecision fallback;
+  fallback.centimetres = 0.2;
+  auto empty = ParseClipPrecision("", "precision", fallback);
+  ASSERT_TRUE(empty.ok());
+  EXPECT_EQ(empty->centimetres, 0.2);
+  EXPECT_EQ(ParseClipPrecision("10", "precision")->centimetres, 10.0);
+  for (const char* bad : {"0", "-0.01", "nan", "NaN", "inf", "10.5", "abc", "0.01cm", "Exact", " "}) {
+    auto parsed = ParseClipPrecision(bad, "--clip-error");
+    ASSERT_FALSE(parsed.ok()) << bad;
+    EXPECT_EQ(parsed.status().code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_EQ(parsed.status().message().rfind("--clip-error: ", 0), 0u) << parsed.status().message();
+  }
+  for (double cm : {0.01, 0.1, 1.0 / 3, 7.25, 10.0}) {
+    ClipPrecision p;
+    p.centimetres = cm;
+    EXPECT_EQ(ParseClipPrecision(ClipPrecisionText(p), "precision")->centimetres, cm) << ClipPrecisionText(p);
+  }
+  EXPECT_EQ(ClipPrecisionText({}), "0.01");
+  EXPECT_EQ(ClipPrecisionText(*exact), "exact");
+}
+
+// A lossy clip's keys are its samples at its frames (what export writes):
+// the stored keys at those times give the job's poses back, within the
+// double rounding of making each rotation unit.
+TEST(RuntimeForm, KeysOfALossyClipAreItsSamplesAtItsFrames) {
+  if (!Cmu()) GTEST_SKIP() << "../shared/data is absent";
+  auto lossy = CompressClip(Cmu());
+  ASSERT_TRUE(lossy.ok()) << lossy.status().message();
+  ASSERT_FALSE((*lossy)->exact());
+  auto keys = ClipKeysOf(**lossy);
+  ASSERT_TRUE(keys.ok()) << keys.status().message();
+  ASSERT_TRUE((*keys)->Validate().ok()) << (*keys)->Validate().message();
+  EXPECT_EQ((*keys)->frame_count, (*lossy)->frames.count);
+  EXPECT_EQ((*keys)->duration, Cmu()->duration);
+  const size_t n = Cmu()->skeleton->size();
+  std::vector<Trs> from_keys(n), from_job(n);
+  for (size_t f = 0; f < (*lossy)->frames.count; f += 97) {
+    const double t = (*lossy)->frames.Time(f);
+    ASSERT_TRUE(SampleClip(**keys, t, {}, from_keys).ok());
+    ASSERT_TRUE((ClipSamplingJob{lossy->get(), t, WrapMode::kClamp, nullptr, from_job, {}}.Run().ok()));
+    for (size_t j = 0; j < n; ++j) {
+      EXPECT_LE((from_keys[j].translation - from_job[j].translation).norm(), 1e-12) << f << " " << j;
+      EXPECT_LE(from_keys[j].rotation.angularDistance(from_job[j].rotation), 1e-12) << f << " " << j;
+    }
+  }
+  // An exact clip's keys are the stored ones themselves.
+  auto exact = CompressClip(Cmu(), ClipPrecision{.exact = true});
+  ASSERT_TRUE(exact.ok());
+  EXPECT_EQ(*ClipKeysOf(**exact), Cmu());
+}
+
+// STEP on a lossy clip holds the frame at or before the time; every rotation
+// the job gives is unit in double, as the stored ones are.
+TEST(RuntimeForm, StepHoldsTheFrameAndRotationsAreUnit) {
+  if (!Cmu()) GTEST_SKIP() << "../shared/data is absent";
+  auto lossy = CompressClip(Cmu());
+  ASSERT_TRUE(lossy.ok());
+  const CompressedClip& z = **lossy;
+  const size_t n = z.skeleton->size();
+  std::vector<Trs> at_frame(n), between(n), linear(n);
+  double worst_norm = 0;
+  for (size_t f : {size_t{0}, size_t{15}, size_t{16}, size_t{1000}, z.frames.count - 2}) {
+    const double t = z.frames.Time(f), mid = t + 0.6 * z.frames.frame_time;
+    ASSERT_TRUE((ClipSamplingJob{&z, t, WrapMode::kClamp, nullptr, at_frame, {}}.Run().ok()));
+    ASSERT_TRUE((ClipSamplingJob{&z, mid, WrapMode::kClamp, nullptr, between, Interpolation::kStep}.Run().ok()));
+    ASSERT_TRUE((ClipSamplingJob{&z, mid, WrapMode::kClamp, nullptr, linear, {}}.Run().ok()));
+    double moved = 0;
+    for (size_t j = 0; j < n; ++j) {
+      EXPECT_EQ(between[j].translation, at_frame[j].translation) << f << " " << j;
+      EXPECT_EQ(between[j].rotation.coeffs(), at_frame[j].rotation.coeffs()) << f << " " << j;
+      moved = std::max(moved, (linear[j].translation - at_frame[j].translation).norm());
+      worst_norm = std::max(worst_norm, std::abs(linear[j].rotation.norm() - 1));
+    }
+    EXPECT_GT(moved, 0) << "frame " << f << ": LINEAR moves between frames";
+  }
+  EXPECT_LE(worst_norm, 1e-13);
+  EXPECT_EQ((ClipSamplingJob{&z, 0, WrapMode::kClamp, nullptr, at_frame, static_cast<Interpolation>(9)}.Run().code()),
+            StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace armature
