@@ -30,7 +30,10 @@ class CrowdSession {
   using Frame = v1::CrowdFrame;
   static constexpr SessionKind kKind = SessionKind::kCrowd;
   static constexpr const char* kName = "CrowdSession";
-  static constexpr size_t kMaxErrors = 256;  // refusals kept for one frame; more are counted in the last
+  static constexpr size_t kMaxQueued = 16384;  // commands read before a tick takes them (SessionReactor)
+  static constexpr size_t kMaxErrors = 256;
+  static constexpr double kWriteTimeoutSeconds = 10;  // a client that stops reading is dropped (as on WebSockets)  //
+                                                      // refusals kept for one frame; more are counted in the last
 
   CrowdSession(CatalogSource catalog, const Limits& limits, std::shared_ptr<CrowdTotals> totals)
       : catalog_(std::move(catalog)), limits_(limits), totals_(std::move(totals)) {}

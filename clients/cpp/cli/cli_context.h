@@ -40,6 +40,7 @@ void AddInfoCommand(CLI::App& app, CliContext& ctx);
 void AddPoseCommand(CLI::App& app, CliContext& ctx);
 void AddStreamCommand(CLI::App& app, CliContext& ctx);
 void AddPlayCommand(CLI::App& app, CliContext& ctx);
+void AddCrowdCommand(CLI::App& app, CliContext& ctx);
 void AddExportCommand(CLI::App& app, CliContext& ctx);
 void AddDeleteCommand(CLI::App& app, CliContext& ctx);
 void AddHealthCommand(CLI::App& app, CliContext& ctx);

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   AddPoseCommand(app, ctx);
   AddStreamCommand(app, ctx);
   AddPlayCommand(app, ctx);
+  AddCrowdCommand(app, ctx);
   AddIkCommand(app, ctx);
   AddExportCommand(app, ctx);
   AddCreateClipCommand(app, ctx);

@@ -21,8 +21,9 @@
 //   Reads (commands) and paced writes run side by side: frame k is due at
 //   start + k/fps (the FrameScheduler paces it, as PacedStreamReactor does
 //   for streams) and is filled when frame k−1's write is done, applying the
-//   commands read until then. At kMaxQueued waiting commands reading pauses
-//   until the next frame takes them (no unbounded memory).
+//   commands read until then. At kMaxQueued (64, or the session's own) waiting commands reading pauses
+//   until the next frame takes them (no unbounded memory). A session with a
+//   kWriteTimeoutSeconds is cancelled when a write stays blocked that long.
 // Callbacks run under one lock; the logic is freed, and the session's
 // place given back, before the client hears the session is over.
 #pragma once
@@ -68,6 +69,27 @@ struct SessionRunners {
   FrameScheduler* scheduler = nullptr;      // paces the frames; required by paced sessions
 };
 
+// A paced session's queue bound: its own kMaxQueued when it has one (a crowd
+// adds thousands of characters at once), else 64.
+template <class Session>
+constexpr size_t MaxQueuedOf() {
+  if constexpr (requires { Session::kMaxQueued; })
+    return Session::kMaxQueued;
+  else
+    return 64;
+}
+
+// How long a paced session's write may stay blocked (a client that stops
+// reading) before the call is cancelled: the session's kWriteTimeoutSeconds,
+// else 0 (never).
+template <class Session>
+constexpr double WriteTimeoutOf() {
+  if constexpr (requires { Session::kWriteTimeoutSeconds; })
+    return Session::kWriteTimeoutSeconds;
+  else
+    return 0;
+}
+
 template <class Session>
 class SessionReactor final
     : public grpc::ServerBidiReactor<typename Session::Request, typename SessionOutput<Session>::type> {
@@ -75,7 +97,7 @@ class SessionReactor final
   using Output = typename SessionOutput<Session>::type;
 
  public:
-  static constexpr size_t kMaxQueued = 64;  // commands waiting for a paced session's next frame
+  static constexpr size_t kMaxQueued = MaxQueuedOf<Session>();  // commands waiting for a paced session's next frame
 
   // When `sessions` refuses the client a place, the call ends at once with
   // its RESOURCE_EXHAUSTED.
@@ -246,7 +268,34 @@ class SessionReactor final
     if constexpr (kPaced)
       output_.set_wall_time(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
     write_pending_ = true;
+    write_started_ = std::chrono::steady_clock::now();
+    if constexpr (kPaced && WriteTimeoutOf<Session>() > 0)
+      if (!stall_check_pending_) ScheduleStallCheck(write_started_);
     this->StartWrite(&output_);
+  }
+
+  // At `from` + the write timeout: a write blocked since then cancels the call
+  // (OnCancel ends it); one still pending but younger is checked again later.
+  void ScheduleStallCheck(std::chrono::steady_clock::time_point from) {
+    const auto timeout = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(WriteTimeoutOf<Session>()));
+    stall_check_pending_ = true;
+    refs_.fetch_add(1, std::memory_order_relaxed);
+    runners_.scheduler->Schedule(from + timeout, [this, timeout] {
+      bool stalled = false;
+      {
+        std::lock_guard lock(mu_);
+        stall_check_pending_ = false;
+        if (!finished_ && write_pending_) {
+          if (std::chrono::steady_clock::now() - write_started_ >= timeout)
+            stalled = true;
+          else
+            ScheduleStallCheck(write_started_);
+        }
+      }
+      if (stalled) context_->TryCancel();  // outside mu_: OnCancel takes it
+      Unref();
+    });
   }
 
   // Finishes once; after the write in flight, if any.
@@ -278,6 +327,8 @@ class SessionReactor final
   std::atomic<int> refs_{1};  // OnDone's, plus one per scheduled frame
   bool started_ = false, reading_ = false, read_closed_ = false;
   bool write_pending_ = false, cancelled_ = false, finished_ = false, end_requested_ = false;
+  bool stall_check_pending_ = false;                     // paced, with a write timeout
+  std::chrono::steady_clock::time_point write_started_;  // of the write in flight
   grpc::Status end_status_;
   std::chrono::steady_clock::time_point start_;  // paced: when frame 0 was filled
   typename Session::Request request_;
