@@ -42,11 +42,8 @@ StatusOr<std::string> SkeletonNameOf(const Catalog& catalog, const v1::CrowdChar
 }  // namespace
 
 StatusOr<std::shared_ptr<const CompressedClip>> CrowdClipSource::CompressedOf(const NamedClip& clip) {
-  auto found = compressed_.find(clip.clip);
-  if (found != compressed_.end()) return found->second;
-  ARMATURE_ASSIGN_OR_RETURN(std::shared_ptr<const CompressedClip> compressed, CompressClip(clip.clip));
-  compressed_.emplace(clip.clip, compressed);
-  return compressed;
+  if (clip.runtime == nullptr) return Status::Internal("clip '" + clip.name + "' has no runtime form");
+  return clip.runtime;
 }
 
 StatusOr<ResolvedCharacter> ResolveCharacter(const Catalog& catalog, const v1::CrowdCharacter& m,
@@ -61,13 +58,13 @@ StatusOr<ResolvedCharacter> ResolveCharacter(const Catalog& catalog, const v1::C
   auto skeleton = catalog.FindSkeleton(*skeleton_name);
   if (!skeleton.ok()) return skeleton.status().WithContext(who + "skeleton: ");
   const Skeleton& target = *skeleton->part->skeleton;
-  const Skeleton& source = *clip->part->clip->skeleton;
+  auto compressed = clips.CompressedOf(*clip->part);
+  if (!compressed.ok()) return compressed.status().WithContext(who + "clip: ");
+  const Skeleton& source = *(*compressed)->skeleton;
   if (source.names != target.names)
     return Status::InvalidArgument(who + "clip: '" + m.clip() + "' animates " + std::to_string(source.size()) +
                                    " joints that are not skeleton '" + *skeleton_name + "''s " +
                                    std::to_string(target.size()) + " (same names in the same order)");
-  auto compressed = clips.CompressedOf(*clip->part);
-  if (!compressed.ok()) return compressed.status().WithContext(who + "clip: ");
   ResolvedCharacter resolved;
   resolved.clip_name = m.clip();
   resolved.skeleton_name = *skeleton_name;

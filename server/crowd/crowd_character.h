@@ -20,10 +20,8 @@ namespace armature::server {
 // clip's CompressedClip, this returns it.)
 class CrowdClipSource {
  public:
+  // The clip's runtime form, as the store holds it (NamedClip::runtime).
   StatusOr<std::shared_ptr<const CompressedClip>> CompressedOf(const NamedClip& clip);
-
- private:
-  std::map<std::shared_ptr<const Clip>, std::shared_ptr<const CompressedClip>> compressed_;
 };
 
 struct ResolvedCharacter {

@@ -162,7 +162,8 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
       }
     }
     std::span<Trs> pose(scratch_.data(), entry.layout.joints);
-    ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{entry.clip.get(), t, WrapMode::kLoop, nullptr, pose}.Run()));
+    ARMATURE_RETURN_IF_ERROR(
+        (ClipSamplingJob{entry.clip.get(), t, WrapMode::kLoop, nullptr, pose, std::nullopt}.Run()));
     EncodePose(entry.layout, pose, dst);
     offset += bytes;
     ++samples;

@@ -89,7 +89,7 @@ StatusOr<PoseLayout> LayoutOfClip(const CompressedClip& clip) {
   layout.translated = VaryingJoints(clip, TrackKind::kTranslation);
   layout.scaled = VaryingJoints(clip, TrackKind::kScale);
   layout.base.resize(layout.joints);
-  ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{&clip, 0.0, WrapMode::kClamp, nullptr, layout.base}.Run()));
+  ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{&clip, 0.0, WrapMode::kClamp, nullptr, layout.base, std::nullopt}.Run()));
   return layout;
 }
 

@@ -42,7 +42,9 @@ void ExpectPosesMatch(const CrowdTicker& ticker, uint32_t clip, const CrowdTick&
     std::span<const uint8_t> bytes(tick.poses.data() + i * layout.EncodedSize(), layout.EncodedSize());
     ASSERT_TRUE(DecodePose(layout, bytes, decoded).ok());
     ASSERT_TRUE(
-        (ClipSamplingJob{&ticker.clip(clip), tick.clip_times[i], WrapMode::kLoop, nullptr, expected}.Run().ok()));
+        (ClipSamplingJob{&ticker.clip(clip), tick.clip_times[i], WrapMode::kLoop, nullptr, expected, std::nullopt}
+             .Run()
+             .ok()));
     for (size_t j = 0; j < layout.joints; ++j) {
       ASSERT_LE(AngleBetween(decoded[j].rotation, expected[j].rotation), MaxEncodedRotationError());
       ASSERT_LE((decoded[j].translation - expected[j].translation).norm(), 1e-4);

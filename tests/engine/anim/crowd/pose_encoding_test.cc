@@ -79,7 +79,7 @@ TEST(PoseEncodingTest, RealPosesRoundTripWithinTheBoundInAtMostEightBytesAJoint)
     std::vector<uint8_t> bytes(layout->EncodedSize());
     for (int k = 0; k <= 12; ++k) {
       const double t = (*clip)->duration * k / 12;
-      ASSERT_TRUE((ClipSamplingJob{clip->get(), t, WrapMode::kClamp, nullptr, pose}.Run().ok()));
+      ASSERT_TRUE((ClipSamplingJob{clip->get(), t, WrapMode::kClamp, nullptr, pose, std::nullopt}.Run().ok()));
       EncodePose(*layout, pose, bytes.data());
       ASSERT_TRUE(DecodePose(*layout, bytes, decoded).ok());
       for (size_t j = 0; j < pose.size(); ++j) {
