@@ -62,11 +62,14 @@ TEST_F(ClipByName, DemoWalkSkinsTheDemoCharacter) {
     EXPECT_LT(normal, 1e-5) << "t=" << t;
 
     // The character's own walk is the same motion keyed at 30 fps: at a
-    // frame time both clips hold the same key.
+    // frame time both clips hold the same key. Each copy is held compressed
+    // on its own under the default bound (0.01 cm at 3 cm from a joint), so
+    // they may differ by up to twice it.
     v1::SkinMeshRequest own = by_clip;
     own.set_clip("demo_character.walk");
     const double own_difference = MaxDifference(actual.positions(), client.SkinMesh(own).positions());
-    EXPECT_LT(own_difference, 1e-3) << "t=" << t;
+    constexpr double kDefaultBoundCm = 0.01;
+    EXPECT_LT(own_difference, 2 * kDefaultBoundCm) << "t=" << t;
     std::printf(
         "  t=%.1f: demo_walk on demo_character vs its EvaluateClip pose: %.2e cm (normals %.2e); vs "
         "demo_character.walk: %.2e cm\n",
