@@ -8,13 +8,13 @@ import time
 
 
 class Server:
-    def __init__(self, server_bin, extra_args=()):
+    def __init__(self, server_bin, extra_args=(), data_dir=None):
         self.dir = tempfile.TemporaryDirectory(prefix="armature-py-")
         port_file = os.path.join(self.dir.name, "ports.json")
         self.log = open(os.path.join(self.dir.name, "server.log"), "w+")
         self.proc = subprocess.Popen(
             [server_bin, "--host", "127.0.0.1", "--grpc-port", "0", "--http-port", "0",
-             "--data-dir", os.path.join(self.dir.name, "data"), "--port-file", port_file, *extra_args],
+             "--data-dir", data_dir or os.path.join(self.dir.name, "data"), "--port-file", port_file, *extra_args],
             stdout=self.log, stderr=subprocess.STDOUT)
         deadline = time.time() + 60
         while time.time() < deadline:
