@@ -37,7 +37,7 @@ StatusOr<MeshClip> ClipFor(const Catalog& catalog, const NamedMesh& mesh, const 
 Status SkinByClip(const Mesh& mesh, const MeshClip& mesh_clip, double time, const SampleOptions& sample,
                   const SkinningOptions& options, std::span<float> positions, std::span<float> normals,
                   SkinningWorkspace& workspace) {
-  ClipSkinningTime at{time, sample.wrap, sample.interpolation};
+  ClipSkinningTime at{time, sample.wrap, sample.interpolation, nullptr, {}};
   if (mesh_clip.skeleton_ref.part != nullptr) {
     at.onto = mesh_clip.skeleton_ref.part->skeleton.get();
     at.map = mesh_clip.joint_map;

@@ -40,7 +40,10 @@ std::string DecodeEntities(std::string_view text) {
 // The element `tag`'s raw text (entities kept) from `from` on; `from` moves
 // past it. False when none.
 bool NextElement(std::string_view xml, std::string_view tag, size_t& from, std::string_view& text) {
-  const std::string open = "<" + std::string(tag) + ">", close = "</" + std::string(tag) + ">";
+  // Appended piece by piece: GCC 12's -Wrestrict misreads "<" + std::string(...) here.
+  std::string open = "<", close = "</";
+  open.append(tag).push_back('>');
+  close.append(tag).push_back('>');
   const size_t begin = xml.find(open, from);
   if (begin == std::string_view::npos) return false;
   const size_t end = xml.find(close, begin + open.size());

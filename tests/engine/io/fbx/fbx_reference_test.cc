@@ -15,6 +15,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "armature/engine/anim/compression/clip_sampling_job.h"
+#include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/io/asset.h"
 #include "armature/engine/kinematics/fk.h"
 #include "armature/engine/mesh/skinning.h"
@@ -117,6 +119,15 @@ TEST_P(FbxReference, MatchesThreeJs) {
     ASSERT_GT(contents->clips.size(), static_cast<size_t>(c.animation));
     clip = contents->clips[static_cast<size_t>(c.animation)].clip.get();
   }
+  // The clip's runtime form as the server holds an `exact` import: the
+  // file's keys, sampled and skinned through the one job.
+  std::shared_ptr<const CompressedClip> runtime;
+  if (clip) {
+    auto compressed =
+        CompressClip(contents->clips[static_cast<size_t>(c.animation)].clip, ClipPrecision{.exact = true});
+    ASSERT_TRUE(compressed.ok()) << compressed.status().message();
+    runtime = *compressed;
+  }
   std::vector<double> times = {0.0};
   if (clip)
     for (double f : {0.13, 0.37, 0.5, 0.71, 0.96, 1.0}) times.push_back(f * clip->duration);
@@ -135,7 +146,9 @@ TEST_P(FbxReference, MatchesThreeJs) {
   std::vector<Trs> local(skeleton.size());
   for (size_t t = 0; t < times.size(); ++t) {
     local = skeleton.rest;
-    if (clip) ASSERT_TRUE(SampleClip(*clip, times[t], {}, local).ok());
+    if (runtime)
+      ASSERT_TRUE(
+          (ClipSamplingJob{runtime.get(), times[t], WrapMode::kClamp, nullptr, local, std::nullopt}.Run().ok()));
     ComputeWorld(skeleton, local, world[t]);
   }
   // The model's size: the extent of its joints at the first time.
@@ -157,8 +170,9 @@ TEST_P(FbxReference, MatchesThreeJs) {
     const Mesh& mesh = *named.mesh;
     std::vector<float> positions(3 * mesh.vertex_count()), normals;
     const auto skin = [&](size_t t) {
-      return clip ? SkinClip(mesh, *clip, times[t], {}, {}, positions, normals, workspace)
-                  : SkinPose(mesh, skeleton, skeleton.rest, {}, positions, normals, workspace);
+      return runtime ? SkinClip(mesh, *runtime, ClipSkinningTime{times[t], WrapMode::kClamp, std::nullopt, nullptr, {}},
+                                {}, positions, normals, workspace)
+                     : SkinPose(mesh, skeleton, skeleton.rest, {}, positions, normals, workspace);
     };
     // The three.js mesh with the same rest vertices; of several (copies of
     // one cube), the one placed where ours is at the first time.
