@@ -332,7 +332,6 @@ StatusOr<std::shared_ptr<const StoredAsset>> AssetStore::Import(ImportRequest re
   ARMATURE_RETURN_IF_ERROR(
       CheckAssetsTotal(EstimateAssetBytes(*contents), HeldAssetBytes(*current, replaced.get()), options_.limits)
           .WithContext(label + ": "));
-
   record.format = format;
   record.filename = request.filename;
   record.size_bytes = static_cast<int64_t>(request.bytes.size());

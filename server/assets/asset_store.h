@@ -66,7 +66,7 @@ struct StoreOptions {
   std::chrono::milliseconds watch_interval{500};
   // Set: the assets live on this bucket, the data dir is its cache.
   std::shared_ptr<BucketMirror> bucket{};
-  int keep_versions = 0;  // versions kept per name on the bucket; 0: all
+  int keep_versions = 0;         // versions kept per name on the bucket; 0: all
   ClipPrecision clip_precision;  // an import's clips' precision unless it asks (--clip-error)
 };
 

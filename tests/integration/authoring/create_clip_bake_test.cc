@@ -13,7 +13,16 @@
 namespace armature::testing {
 namespace {
 
-class CreateClipBake : public ServerSuite {};
+// The demo clips held exact: bakes are checked against the motion to 1e-5
+// rad, finer than the default bound (0.01 cm at 3 cm, ~3e-3 rad), within
+// which a compressed clip's segments may meet with a small step.
+class CreateClipBake : public ServerSuite {
+ protected:
+  static void SetUpTestSuite() {
+    data_ = new TempDir;
+    server_ = new ServerProcess(data_->path(), {"--clip-error", "exact"});
+  }
+};
 
 // Two walks blended half and half, one shifted by 0.4 s: a pose no clip has.
 v1::Motion Blend() {

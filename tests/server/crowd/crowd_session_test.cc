@@ -65,22 +65,23 @@ TEST_F(CrowdSessionLogic, FramesCarryEachCharactersPoseAtItsClipTime) {
   EXPECT_EQ(frame_.new_layouts_size(), 0);
   EXPECT_EQ(frame_.tick(), 1u);
   EXPECT_DOUBLE_EQ(frame_.time(), 0.1);
-  // Decoded against the clip, compressed as the session compressed it.
+  // Decoded against the clip's runtime form, the one the session samples.
   auto clip = catalog_->FindClip("demo_walk");
   ASSERT_TRUE(clip.ok());
-  auto compressed = CompressClip(clip->part->clip);
-  ASSERT_TRUE(compressed.ok());
-  auto engine_layout = LayoutOfClip(**compressed);
+  const std::shared_ptr<const CompressedClip> runtime = clip->part->runtime;
+  ASSERT_NE(runtime, nullptr);
+  auto engine_layout = LayoutOfClip(*runtime);
   ASSERT_TRUE(engine_layout.ok());
   std::vector<Trs> decoded(engine_layout->joints), expected(engine_layout->joints);
   for (int i = 0; i < frame_.ids_size(); ++i) {
     const double offset = frame_.ids(i) == 1 ? 0.25 : 0.5;
-    EXPECT_NEAR(frame_.clip_times(i), WrapTime(offset + 0.1, (*compressed)->duration, WrapMode::kLoop), 1.0 / 240);
+    EXPECT_NEAR(frame_.clip_times(i), WrapTime(offset + 0.1, runtime->duration, WrapMode::kLoop), 1.0 / 240);
     std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(frame_.poses().data()) + i * layout.pose_bytes(),
                                    layout.pose_bytes());
     ASSERT_TRUE(DecodePose(*engine_layout, bytes, decoded).ok());
-    ASSERT_TRUE(
-        (ClipSamplingJob{compressed->get(), frame_.clip_times(i), WrapMode::kLoop, nullptr, expected}.Run().ok()));
+    ASSERT_TRUE((ClipSamplingJob{runtime.get(), frame_.clip_times(i), WrapMode::kLoop, nullptr, expected, std::nullopt}
+                     .Run()
+                     .ok()));
     for (size_t j = 0; j < decoded.size(); ++j)
       EXPECT_LE(2 * std::acos(std::min(1.0, std::abs(decoded[j].rotation.dot(expected[j].rotation.normalized())))),
                 layout.max_rotation_error() + 1e-6);

@@ -103,6 +103,29 @@ double CompareJoints(const Skeleton& skeleton, const std::vector<std::vector<Eig
   return worst_joint;
 }
 
+// The clip's runtime form as the server holds an `exact` import: the
+// file's keys, sampled and skinned through the one job. Null on failure.
+std::shared_ptr<const CompressedClip> ExactRuntimeOf(std::shared_ptr<const Clip> clip) {
+  auto compressed = CompressClip(std::move(clip), ClipPrecision{.exact = true});
+  EXPECT_TRUE(compressed.ok()) << compressed.status().message();
+  return compressed.ok() ? *compressed : nullptr;
+}
+
+// World poses at each time, as EvaluateClip/ComputeFk make them (the rest
+// pose without a clip).
+std::vector<std::vector<Eigen::Affine3d>> WorldPoses(const Skeleton& skeleton, const CompressedClip* runtime,
+                                                     const std::vector<double>& times) {
+  std::vector<std::vector<Eigen::Affine3d>> world(times.size(), std::vector<Eigen::Affine3d>(skeleton.size()));
+  std::vector<Trs> local(skeleton.size());
+  for (size_t t = 0; t < times.size(); ++t) {
+    local = skeleton.rest;
+    if (runtime)
+      EXPECT_TRUE((ClipSamplingJob{runtime, times[t], WrapMode::kClamp, nullptr, local, std::nullopt}.Run().ok()));
+    ComputeWorld(skeleton, local, world[t]);
+  }
+  return world;
+}
+
 TEST_P(FbxReference, MatchesThreeJs) {
   const Case c = GetParam();
   const fs::path path = c.own ? fs::path(ARMATURE_TEST_DIR) / "data/fbx" / c.file : SharedData(c.file);
@@ -119,15 +142,9 @@ TEST_P(FbxReference, MatchesThreeJs) {
     ASSERT_GT(contents->clips.size(), static_cast<size_t>(c.animation));
     clip = contents->clips[static_cast<size_t>(c.animation)].clip.get();
   }
-  // The clip's runtime form as the server holds an `exact` import: the
-  // file's keys, sampled and skinned through the one job.
-  std::shared_ptr<const CompressedClip> runtime;
-  if (clip) {
-    auto compressed =
-        CompressClip(contents->clips[static_cast<size_t>(c.animation)].clip, ClipPrecision{.exact = true});
-    ASSERT_TRUE(compressed.ok()) << compressed.status().message();
-    runtime = *compressed;
-  }
+  const std::shared_ptr<const CompressedClip> runtime =
+      clip ? ExactRuntimeOf(contents->clips[static_cast<size_t>(c.animation)].clip) : nullptr;
+  if (clip) ASSERT_NE(runtime, nullptr);
   std::vector<double> times = {0.0};
   if (clip)
     for (double f : {0.13, 0.37, 0.5, 0.71, 0.96, 1.0}) times.push_back(f * clip->duration);
@@ -141,16 +158,7 @@ TEST_P(FbxReference, MatchesThreeJs) {
   const auto reference = nlohmann::json::parse(*out);
   if (clip) EXPECT_NEAR(reference["durations"][c.animation].get<double>(), clip->duration, 1e-6);
 
-  // Poses at each time, as EvaluateClip/ComputeFk make them.
-  std::vector<std::vector<Eigen::Affine3d>> world(times.size(), std::vector<Eigen::Affine3d>(skeleton.size()));
-  std::vector<Trs> local(skeleton.size());
-  for (size_t t = 0; t < times.size(); ++t) {
-    local = skeleton.rest;
-    if (runtime)
-      ASSERT_TRUE(
-          (ClipSamplingJob{runtime.get(), times[t], WrapMode::kClamp, nullptr, local, std::nullopt}.Run().ok()));
-    ComputeWorld(skeleton, local, world[t]);
-  }
+  const auto world = WorldPoses(skeleton, runtime.get(), times);
   // The model's size: the extent of its joints at the first time.
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = -lo;
   for (const auto& w : world[0]) lo = lo.cwiseMin(w.translation()), hi = hi.cwiseMax(w.translation());
