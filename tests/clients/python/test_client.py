@@ -117,12 +117,14 @@ class ClientTest(unittest.TestCase):
             path = os.path.join(d, "hand.bvh")
             with open(path, "w") as f:
                 f.write(HAND_BVH)
-            r = self.client.import_asset(path, name="py_hand")
+            # Exact: the poses below are checked to 1e-6, finer than the default bound.
+            r = self.client.import_asset(path, name="py_hand", precision="exact")
             self.assertEqual(r.asset.name, "py_hand")
+            self.assertTrue(r.asset.clips[0].exact)
             self.assertIn("py_hand", [a.name for a in self.client.list_assets()])
             with self.assertRaises(AlreadyExists):
                 self.client.import_asset(path, name="py_hand")
-            self.client.import_asset(path, name="py_hand", replace=True)
+            self.client.import_asset(path, name="py_hand", replace=True, precision="exact")
         clip = r.asset.clips[0].name
         p = self.client.evaluate_clip(clip, [0.5, 0.25], space="world")
         self.assertEqual(p.joint_names, ["Base", "Arm"])

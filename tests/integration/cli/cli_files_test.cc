@@ -104,9 +104,9 @@ TEST_F(CliFiles, ImportFormatOverridesTheFileName) {
   EXPECT_EQ(j["clips"][0]["name"], "capture");
   EXPECT_EQ(j["clips"][0]["frames"], 3);
   EXPECT_EQ(client::Client(OptionsFor(server_)).GetAsset("capture").format(), "bvh");
-  const CommandResult unknown = Cli({"import", file.string(), "--format", "fbx", "--name", "x"});
+  const CommandResult unknown = Cli({"import", file.string(), "--format", "dae", "--name", "x"});
   EXPECT_NE(unknown.exit_code, 0);
-  EXPECT_NE(unknown.err.find("bvh,gltf,glb,obj"), std::string::npos) << unknown.err;
+  EXPECT_NE(unknown.err.find("bvh,gltf,glb,obj,fbx"), std::string::npos) << unknown.err;
 }
 
 TEST_F(CliFiles, SkinWritesAnObjThatImportsBack) {

@@ -221,8 +221,10 @@ TEST_F(Gateway, ImportEvaluateAndDeleteAnAssetOverRest) {
   ServerProcess server(data_.path(), {"--no-demo"});
   auto http = Http(server);
 
-  // The raw file is the body; the other fields are query parameters.
-  auto imported = http.Post("/v1/assets:import?filename=chain.bvh&name=chain", kChainBvh, "application/octet-stream");
+  // The raw file is the body; the other fields are query parameters. Kept
+  // exact: the pose below is checked to 1e-6, finer than the default bound.
+  auto imported = http.Post("/v1/assets:import?filename=chain.bvh&name=chain&precision=exact", kChainBvh,
+                            "application/octet-stream");
   ASSERT_EQ(imported->status, 200) << imported->body;
   const json asset = Body(imported)["asset"];
   EXPECT_EQ(asset["name"], "chain");
@@ -230,6 +232,7 @@ TEST_F(Gateway, ImportEvaluateAndDeleteAnAssetOverRest) {
   EXPECT_EQ(asset["sizeBytes"], std::to_string(std::string(kChainBvh).size()));  // int64: a JSON string
   ASSERT_EQ(asset["clips"].size(), 1u);
   EXPECT_EQ(asset["clips"][0]["frames"], 2);
+  EXPECT_EQ(asset["clips"][0]["exact"], true);
 
   ExpectError(http.Post("/v1/assets:import?filename=chain.bvh&name=chain", kChainBvh, "application/octet-stream"), 409,
               grpc::StatusCode::ALREADY_EXISTS, "chain");
