@@ -1,6 +1,8 @@
 #include "server/crowd/crowd_character.h"
 
-#include <cmath>
+#include <string>
+
+#include "server/rpc/request_validation.h"
 
 namespace armature::server {
 namespace {
@@ -12,17 +14,17 @@ Status CheckRoot(const v1::CrowdRoot& root) {
   if (root.rotation_size() != 0 && root.rotation_size() != 4)
     return Status::InvalidArgument("root.rotation: 4 values (w, x, y, z) or none, not " +
                                    std::to_string(root.rotation_size()));
-  for (double v : root.translation())
-    if (!std::isfinite(v)) return Status::InvalidArgument("root.translation: not finite");
-  for (double v : root.rotation())
-    if (!std::isfinite(v)) return Status::InvalidArgument("root.rotation: not finite");
+  for (int i = 0; i < root.translation_size(); ++i)
+    ARMATURE_RETURN_IF_ERROR(ValidateFinite(root.translation(i), "root.translation[" + std::to_string(i) + "]"));
+  for (int i = 0; i < root.rotation_size(); ++i)
+    ARMATURE_RETURN_IF_ERROR(ValidateFinite(root.rotation(i), "root.rotation[" + std::to_string(i) + "]"));
   return Status::Ok();
 }
 
 Status CheckNumbers(const v1::CrowdCharacter& m) {
-  if (!std::isfinite(m.time_offset())) return Status::InvalidArgument("time_offset: not finite");
-  if (!std::isfinite(m.speed())) return Status::InvalidArgument("speed: not finite");
-  if (!std::isfinite(m.significance())) return Status::InvalidArgument("significance: not finite");
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(m.time_offset(), "time_offset"));
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(m.speed(), "speed"));
+  ARMATURE_RETURN_IF_ERROR(ValidateFinite(m.significance(), "significance"));
   return CheckRoot(m.root());
 }
 
@@ -41,13 +43,7 @@ StatusOr<std::string> SkeletonNameOf(const Catalog& catalog, const v1::CrowdChar
 
 }  // namespace
 
-StatusOr<std::shared_ptr<const CompressedClip>> CrowdClipSource::CompressedOf(const NamedClip& clip) {
-  if (clip.runtime == nullptr) return Status::Internal("clip '" + clip.name + "' has no runtime form");
-  return clip.runtime;
-}
-
-StatusOr<ResolvedCharacter> ResolveCharacter(const Catalog& catalog, const v1::CrowdCharacter& m,
-                                             CrowdClipSource& clips) {
+StatusOr<ResolvedCharacter> ResolveCharacter(const Catalog& catalog, const v1::CrowdCharacter& m) {
   const std::string who = "character " + std::to_string(m.id()) + ": ";
   if (Status st = CheckNumbers(m); !st.ok()) return st.WithContext(who);
   if (m.clip().empty()) return Status::InvalidArgument(who + "clip: required");
@@ -58,9 +54,9 @@ StatusOr<ResolvedCharacter> ResolveCharacter(const Catalog& catalog, const v1::C
   auto skeleton = catalog.FindSkeleton(*skeleton_name);
   if (!skeleton.ok()) return skeleton.status().WithContext(who + "skeleton: ");
   const Skeleton& target = *skeleton->part->skeleton;
-  auto compressed = clips.CompressedOf(*clip->part);
-  if (!compressed.ok()) return compressed.status().WithContext(who + "clip: ");
-  const Skeleton& source = *(*compressed)->skeleton;
+  std::shared_ptr<const CompressedClip> runtime = clip->part->runtime;
+  if (runtime == nullptr) return Status::Internal(who + "clip: '" + m.clip() + "' has no runtime form");
+  const Skeleton& source = *runtime->skeleton;
   if (source.names != target.names)
     return Status::InvalidArgument(who + "clip: '" + m.clip() + "' animates " + std::to_string(source.size()) +
                                    " joints that are not skeleton '" + *skeleton_name + "''s " +
@@ -68,7 +64,7 @@ StatusOr<ResolvedCharacter> ResolveCharacter(const Catalog& catalog, const v1::C
   ResolvedCharacter resolved;
   resolved.clip_name = m.clip();
   resolved.skeleton_name = *skeleton_name;
-  resolved.clip = std::move(*compressed);
+  resolved.clip = std::move(runtime);
   resolved.numbers = {.id = m.id(),
                       .time_offset = m.time_offset(),
                       .speed = m.speed() == 0 ? 1.0 : m.speed(),

@@ -15,22 +15,14 @@
 
 namespace armature::server {
 
-// The one place a crowd gets a clip's compressed form: compressed on first
-// use and kept, per session, by the clip. (When the catalog holds each
-// clip's CompressedClip, this returns it.)
-class CrowdClipSource {
- public:
-  // The clip's runtime form, as the store holds it (NamedClip::runtime).
-  StatusOr<std::shared_ptr<const CompressedClip>> CompressedOf(const NamedClip& clip);
-};
-
 struct ResolvedCharacter {
   std::string clip_name, skeleton_name;
   std::shared_ptr<const CompressedClip> clip;
   CrowdCharacter numbers;  // id, time offset, speed, significance (its clip index is the ticker's)
 };
 
-StatusOr<ResolvedCharacter> ResolveCharacter(const Catalog& catalog, const v1::CrowdCharacter& message,
-                                             CrowdClipSource& clips);
+// A command's character resolved against the catalog; its clip is the
+// store's runtime form (NamedClip::runtime), shared by every session.
+StatusOr<ResolvedCharacter> ResolveCharacter(const Catalog& catalog, const v1::CrowdCharacter& message);
 
 }  // namespace armature::server

@@ -66,7 +66,6 @@ class CrowdSession {
   std::shared_ptr<CrowdTotals> totals_;
   double fps_ = 30, budget_ms_ = 0, duration_ = 0;
   std::unique_ptr<CrowdTicker> ticker_;
-  CrowdClipSource clips_;
   std::vector<std::pair<std::string, std::string>> clip_names_;  // per ticker clip: (clip, skeleton)
   size_t layouts_sent_ = 0;
   std::unordered_map<uint32_t, v1::CrowdRoot> roots_;  // the characters held, with their roots

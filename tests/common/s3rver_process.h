@@ -5,7 +5,6 @@
 // S3RVER only; it checks that the key exists, not the SigV4 signature.
 #pragma once
 
-#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -19,6 +18,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "spawn_logged.h"
 
 namespace armature::testing {
 
@@ -80,17 +81,7 @@ class S3rverProcess {
         "node",   "--openssl-legacy-provider", (ToolDir() / "s3rver.mjs").string(), dir_.string(), port_file.string(),
         "--port", std::to_string(port)};
     args.insert(args.end(), buckets_.begin(), buckets_.end());
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(fd, 1);
-      ::dup2(fd, 2);
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      ::execvp(argv[0], argv.data());
-      ::_exit(127);
-    }
+    pid_ = SpawnLogged(std::move(args), log, /*search_path=*/true);
     for (int i = 0; i < 1500; ++i) {  // 30 s
       std::ifstream in(port_file);
       std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -23,6 +23,7 @@
 #include "armature/client.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
+#include "support/server_suite.h"
 
 namespace armature::testing {
 namespace {
@@ -103,26 +104,8 @@ double LegLength(const Frame& f, const Legs& l) {
 }
 double HipHeight(const Frame& f, const Legs& l) { return 0.5 * (f.at(l.left_thigh).y + f.at(l.right_thigh).y); }
 
-class Retarget : public ::testing::Test {
+class Retarget : public CmuAndRobotSuite {
  protected:
-  static void SetUpTestSuite() {
-    if (SharedData("bvh/cmu_01_01.bvh").empty() || SharedData("gltf/RobotExpressive/RobotExpressive.glb").empty())
-      return;
-    data_ = new TempDir;
-    server_ = new ServerProcess(data_->path());
-    client::Client client(OptionsFor(*server_));
-    client.ImportFile(SharedData("bvh/cmu_01_01.bvh"), "cmu");
-    client.ImportFile(SharedData("gltf/RobotExpressive/RobotExpressive.glb"), "robot");
-  }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete data_;
-    server_ = nullptr;
-    data_ = nullptr;
-  }
-  void SetUp() override {
-    if (!server_) GTEST_SKIP() << "../shared/data (cmu_01_01.bvh, RobotExpressive.glb) is absent";
-  }
   static v1::RetargetClipResponse Run(const std::string& skeleton, const std::string& name, bool feet = false) {
     client::Client client(OptionsFor(*server_));
     v1::RetargetClipRequest r;
@@ -133,9 +116,6 @@ class Retarget : public ::testing::Test {
     r.set_replace(true);
     return client.RetargetClip(r);
   }
-
-  static inline TempDir* data_ = nullptr;
-  static inline ServerProcess* server_ = nullptr;
 };
 
 // The largest angle between a target bone and the source's, after the one yaw

@@ -18,6 +18,7 @@
 #include "armature/v1/crowd.grpc.pb.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
+#include "support/server_suite.h"
 
 namespace armature::testing {
 namespace {
@@ -27,29 +28,7 @@ namespace {
 // at least its angle × 3, so its angle is under 0.01 / 3; twice that for margin.
 constexpr double kCompressionAngle = 2 * 0.01 / 3;
 
-class Crowd : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    if (SharedData("bvh/cmu_01_01.bvh").empty() || SharedData("gltf/RobotExpressive/RobotExpressive.glb").empty())
-      return;
-    data_ = new TempDir;
-    server_ = new ServerProcess(data_->path());
-    client::Client client(OptionsFor(*server_));
-    client.ImportFile(SharedData("bvh/cmu_01_01.bvh"), "cmu");
-    client.ImportFile(SharedData("gltf/RobotExpressive/RobotExpressive.glb"), "robot");
-  }
-  static void TearDownTestSuite() {
-    delete server_;
-    delete data_;
-    server_ = nullptr;
-    data_ = nullptr;
-  }
-  void SetUp() override {
-    if (!server_) GTEST_SKIP() << "../shared/data (cmu_01_01.bvh, RobotExpressive.glb) is absent";
-  }
-  static inline TempDir* data_ = nullptr;
-  static inline ServerProcess* server_ = nullptr;
-};
+class Crowd : public CmuAndRobotSuite {};
 
 v1::CrowdCommand AddCommand(uint32_t id, const std::string& clip, double offset, double speed = 1) {
   v1::CrowdCommand c;

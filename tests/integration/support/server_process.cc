@@ -2,7 +2,6 @@
 
 #include <signal.h>
 #include <sys/wait.h>
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -13,6 +12,8 @@
 #include <thread>
 
 #include <nlohmann/json.hpp>
+
+#include "../../common/spawn_logged.h"
 
 namespace armature::testing {
 namespace fs = std::filesystem;
@@ -53,17 +54,7 @@ ServerProcess::ServerProcess(const fs::path& data_dir, std::vector<std::string> 
       ARMATURE_SERVER_BIN, "--grpc-port",     "0",           "--http-port",     "0", "--host", "127.0.0.1",
       "--data-dir",        data_dir.string(), "--port-file", port_file.string()};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
-  pid_ = ::fork();
-  if (pid_ == 0) {
-    const int fd = ::open(log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
+  pid_ = SpawnLogged(std::move(args), log_);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (std::chrono::steady_clock::now() < deadline) {
     if (fs::exists(port_file)) {
