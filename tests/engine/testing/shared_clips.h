@@ -52,6 +52,14 @@ inline std::vector<SharedClip> LoadSharedClips() {
   }
   return clips;
 }
+
+// CMU 01_01 (parsed once), or null when the data is absent.
+inline std::shared_ptr<const Clip> SharedCmuClip() {
+  static const std::vector<SharedClip> clips = LoadSharedClips();
+  for (const SharedClip& c : clips)
+    if (c.name == "bvh/cmu_01_01.bvh") return c.clip;
+  return nullptr;
+}
 #endif
 
 }  // namespace armature::test_util

@@ -18,8 +18,9 @@ using compression_internal::TrackCode;
 // Where a clip time falls among the packed segments.
 struct SegmentPosition {
   size_t segment = 0;
-  size_t intervals = 0;  // frames − 1 in the segment
-  float q = 0;           // frame position inside it, in [0, intervals]
+  size_t intervals = 0;     // frames − 1 in the segment
+  float q = 0;              // frame position inside it, in [0, intervals]
+  bool shares_end = false;  // its last frame is the next segment's first (packed_track.h)
 };
 
 SegmentPosition Locate(const CompressedClip& clip, double t) {
@@ -33,6 +34,7 @@ SegmentPosition Locate(const CompressedClip& clip, double t) {
   const size_t start = at.segment * kSegmentFrames;
   at.intervals = std::min(kSegmentFrames, last - start);
   at.q = static_cast<float>(p - static_cast<double>(start));
+  at.shares_end = at.segment + 1 < clip.segment_offsets.size();
   return at;
 }
 
@@ -47,13 +49,23 @@ void Store(TrackKind kind, const float* v, Trs& out) {
   }
 }
 
+// The interval (first sample) a track's stride puts position `at` in.
+inline size_t IntervalOf(const TrackCursor& cursor, const SegmentPosition& at) {
+  const size_t last = (at.intervals >> cursor.stride_log) - 1;
+  return std::min(static_cast<size_t>(at.q) >> cursor.stride_log, last);
+}
+
+// True when that interval ends on the next segment's first sample.
+inline bool EndsOnNext(const TrackCursor& cursor, const SegmentPosition& at, size_t i) {
+  return at.shares_end && i + 1 == (at.intervals >> cursor.stride_log);
+}
+
 // One animated track at segment position `at`: its two samples around q,
 // interpolated.
 inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, const uint8_t* segment,
                         const SegmentPosition& at, Trs& out, compression_internal::RotationBatch& rotations) {
   using compression_internal::ReadBits;
-  const size_t last = (at.intervals >> cursor.stride_log) - 1;
-  const size_t i = std::min(static_cast<size_t>(at.q) >> cursor.stride_log, last);
+  const size_t i = IntervalOf(cursor, at);
   const float u =
       (at.q - static_cast<float>(i << cursor.stride_log)) * compression_internal::kInverseStride[cursor.stride_log];
   float a[3], b[3];
@@ -64,35 +76,74 @@ inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, c
     bit_a += cursor.bits[c];
     bit_b += cursor.bits[c];
   }
+  if (EndsOnNext(cursor, at, i)) std::copy(cursor.end, cursor.end + 3, b);
   if (track.kind == TrackKind::kRotation) return rotations.Add(a, b, u, cursor.dropped, &out);
   float r[3];
   for (int c = 0; c < 3; ++c) r[c] = a[c] + u * (b[c] - a[c]);
   Store(track.kind, r, out);
 }
 
-// Reads a segment's header into a cursor per track: `cursor_of(track)` says
-// where (written in place: a cursor built aside and copied stalls on store
-// forwarding), then `visit(track, cursor)`.
-template <class CursorOf, class Visit>
-void WalkSegment(const CompressedClip& clip, const uint8_t* segment, const uint8_t* end, size_t intervals,
-                 const CursorOf& cursor_of, const Visit& visit) {
-  using namespace compression_internal;
-  const size_t tracks = clip.animated.size();
-  size_t bit = tracks * 8;
-  const uint8_t* back = end;  // dropped components and ranges, from the end, in track order
-  for (size_t t = 0; t < tracks; ++t) {
-    const AnimatedTrack& track = clip.animated[t];
-    const TrackCode code = kCodes[segment[t]];
-    TrackCursor& cursor = cursor_of(t);
-    cursor.dropped = track.dropped == kDroppedPerSegment ? *--back : track.dropped;
-    const uint8_t* range = code.ranged ? (back -= kRangeBytes) : nullptr;
-    cursor.total = FillLayout(code.bits, track.extent, range, cursor.bits);
-    FillDequantizer(track.min, track.extent, range, cursor.bits, cursor.offset, cursor.scale);
-    cursor.bit = static_cast<uint32_t>(bit);
-    cursor.stride_log = code.stride_log;
-    visit(t, cursor);
-    bit += static_cast<size_t>(cursor.total) * ((intervals >> code.stride_log) + 1);
+// Reads a segment's header one track after another into cursors (written
+// in place: a cursor built aside and copied stalls on store forwarding).
+class HeaderReader {
+ public:
+  HeaderReader(const CompressedClip& clip, size_t segment) : clip_(clip) {
+    const size_t segments = clip.segment_offsets.size();
+    data_ = clip.data.data() + clip.segment_offsets[segment];
+    back_ = clip.data.data() + (segment + 1 < segments ? clip.segment_offsets[segment + 1]
+                                                       : clip.data.size() - compression_internal::kReadPadding);
+    const size_t start = segment * kSegmentFrames;
+    intervals_ = std::min(kSegmentFrames, clip.frames.count - 1 - start);
+    shares_end_ = segment + 1 < segments;
+    bit_ = clip.animated.size() * 8;
   }
+
+  const uint8_t* data() const { return data_; }
+
+  // Track `t`'s cursor (tracks in order, each once); its dequantizer only when `full`.
+  void Next(size_t t, TrackCursor& cursor, bool full = true) {
+    using namespace compression_internal;
+    const AnimatedTrack& track = clip_.animated[t];
+    const TrackCode code = kCodes[data_[t]];
+    cursor.dropped = track.dropped == kDroppedPerSegment ? *--back_ : track.dropped;
+    const uint8_t* range = code.ranged ? (back_ -= kRangeBytes) : nullptr;
+    cursor.total = FillLayout(code.bits, track.extent, range, cursor.bits);
+    if (full) FillDequantizer(track.min, track.extent, range, cursor.bits, cursor.offset, cursor.scale);
+    cursor.bit = static_cast<uint32_t>(bit_);
+    cursor.stride_log = code.stride_log;
+    bit_ += static_cast<size_t>(cursor.total) * StoredSamples(code.stride_log, intervals_, shares_end_);
+  }
+
+ private:
+  const CompressedClip& clip_;
+  const uint8_t* data_;
+  const uint8_t* back_;
+  size_t intervals_ = 0, bit_ = 0;
+  bool shares_end_ = false;
+};
+
+// `cursor.end` from the next segment's first sample of the track (its
+// cursor `first`), in `cursor`'s kept components.
+void ReadEnd(TrackKind kind, const TrackCursor& first, const uint8_t* next, TrackCursor& cursor) {
+  using namespace compression_internal;
+  float v[3];
+  size_t bit = first.bit;
+  for (int c = 0; c < 3; bit += first.bits[c], ++c)
+    v[c] = first.offset[c] + first.scale[c] * static_cast<float>(ReadBits(next, bit, first.bits[c]));
+  if (kind != TrackKind::kRotation || first.dropped == cursor.dropped) {
+    std::copy(v, v + 3, cursor.end);
+    return;
+  }
+  float q[4];
+  ExpandRotation(v, first.dropped, q);
+  ReduceRotation(q, cursor.dropped, cursor.end);
+}
+
+// Track `t`'s end from the next segment (read in step by `next`), when `needed`.
+inline void NextTrackEnd(const CompressedClip& clip, HeaderReader& next, size_t t, bool needed, TrackCursor& cursor) {
+  TrackCursor first;
+  next.Next(t, first, needed);
+  if (needed) ReadEnd(clip.animated[t].kind, first, next.data(), cursor);
 }
 
 void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std::span<Trs> out) {
@@ -101,28 +152,30 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   for (const ConstantTrack& c : clip.constants) Store(c.kind, c.value, out[c.joint]);
   if (clip.animated.empty()) return;
   const SegmentPosition at = Locate(clip, t);
-  const uint8_t* segment = clip.data.data() + clip.segment_offsets[at.segment];
-  const uint8_t* end = clip.data.data() + (at.segment + 1 < clip.segment_offsets.size()
-                                               ? clip.segment_offsets[at.segment + 1]
-                                               : clip.data.size() - compression_internal::kReadPadding);
+  const size_t tracks = clip.animated.size();
+  HeaderReader reader(clip, at.segment);
+  // The next segment's header is read in step, for the shared ends (the
+  // last one has none: it reads its own header again, unused).
+  HeaderReader next(clip, at.shares_end ? at.segment + 1 : at.segment);
   compression_internal::RotationBatch rotations;
-  if (!index) {
+  if (!index) {  // random access: each track's cursor, used at once
     TrackCursor cursor;
-    WalkSegment(
-        clip, segment, end, at.intervals, [&](size_t) -> TrackCursor& { return cursor; },
-        [&](size_t i, const TrackCursor& c) {
-          DecodeTrack(clip.animated[i], c, segment, at, out[clip.animated[i].joint], rotations);
-        });
+    for (size_t i = 0; i < tracks; ++i) {
+      reader.Next(i, cursor);
+      NextTrackEnd(clip, next, i, EndsOnNext(cursor, at, IntervalOf(cursor, at)), cursor);
+      DecodeTrack(clip.animated[i], cursor, reader.data(), at, out[clip.animated[i].joint], rotations);
+    }
     return rotations.Flush();
   }
   if (index->segment != at.segment) {  // sequential playback: each segment's header is read once
-    WalkSegment(
-        clip, segment, end, at.intervals, [&](size_t i) -> TrackCursor& { return index->tracks[i]; },
-        [](size_t, const TrackCursor&) {});
+    for (size_t i = 0; i < tracks; ++i) {
+      reader.Next(i, index->tracks[i]);
+      NextTrackEnd(clip, next, i, at.shares_end, index->tracks[i]);
+    }
     index->segment = at.segment;
   }
-  for (size_t i = 0; i < clip.animated.size(); ++i)
-    DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+  for (size_t i = 0; i < tracks; ++i)
+    DecodeTrack(clip.animated[i], index->tracks[i], reader.data(), at, out[clip.animated[i].joint], rotations);
   rotations.Flush();
 }
 

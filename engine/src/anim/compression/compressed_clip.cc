@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -103,12 +104,14 @@ void ClassifyTracks(const Clip& clip, const ClipReference& reference, double bou
   }
 }
 
-// Chooses every track's code in `segment` at its target; false when one cannot meet it.
+// Chooses every track's code in `segment` at its target, toward the next
+// segment's first samples as now chosen; false when one cannot meet it.
 bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t segment) {
   for (TrackState& state : states) {
+    UpdateEnd(state, out.frames, segment);
     SegmentTrackInput in = SegmentInput(state, out.frames, segment);
-    const SegmentTrackChoice& hint =
-        state.choice[segment > 0 && state.choice[segment].bits == 0 ? segment - 1 : segment];
+    const bool fresh = state.choice[segment].bits == 0 && segment + 1 < state.choice.size();
+    const SegmentTrackChoice& hint = state.choice[fresh ? segment + 1 : segment];
     if (hint.bits > 0) {
       in.hint_bits = kCodes[hint.code].bits;
       in.hint_stride_log = kCodes[hint.code].stride_log;
@@ -169,7 +172,9 @@ struct Refiner {
     return false;
   }
 
-  // Until every frame of `dirty` is within the bound: tighten the chains over it.
+  // Until every frame of `dirty` is within the bound: tighten the chains
+  // over it. A segment chosen again changes its first samples, so the one
+  // before it (which ends on them) is chosen again after it.
   bool MeetBound(std::vector<size_t> dirty) {
     for (int round = 0; round <= kRefinements; ++round) {
       Pack(states, out);
@@ -181,11 +186,18 @@ struct Refiner {
           why = "the bound is not met after " + std::to_string(kRefinements) + " refinements";
           return false;
         }
-        Tighten(states, skeleton, over, s);
-        if (!ChooseOrExplain(s)) return false;
-        next.push_back(s);
+        // The next segment's first samples are this one's last frame: tightened too.
+        for (size_t k = s; k <= std::min(s + 1, out.segment_offsets.size() - 1); ++k) {
+          Tighten(states, skeleton, over, k);
+          next.push_back(k);
+        }
+        if (s > 0) next.push_back(s - 1);
       }
       if (next.empty()) return true;
+      std::sort(next.begin(), next.end(), std::greater<>());
+      next.erase(std::unique(next.begin(), next.end()), next.end());
+      for (size_t s : next)
+        if (!ChooseOrExplain(s)) return false;
       dirty = std::move(next);
     }
     return true;
@@ -200,7 +212,7 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
   for (const TrackState& s : states) out.animated.push_back(s.track);
   Refiner refiner(*clip.skeleton, reference, out, states);
   std::vector<size_t> all;
-  for (size_t s = 0; s < segments; ++s) {
+  for (size_t s = segments; s-- > 0;) {  // last first: each segment ends on the next one's first samples
     if (!refiner.ChooseOrExplain(s)) {
       why = refiner.why;
       return false;

@@ -17,6 +17,13 @@
 // per track in order, its dropped component (per-segment rotations) and
 // its range (when ranged), so both are found without a first pass; ACL chooses the bit rate per track and
 // segment too, but keeps every frame.
+//
+// A segment's last frame is the next segment's first: a segment that has a
+// next one does not store it, and its last interval interpolates toward the
+// next segment's first sample, decoded as that segment decodes it. So
+// sampling is continuous across a boundary (each segment quantizing the
+// shared frame in its own range left a step), and each track keeps one
+// sample fewer per segment. The clip's last segment stores its last frame.
 #pragma once
 
 #include <array>
@@ -102,9 +109,15 @@ inline SampleLayout MakeLayout(int bits, const float* clip_extent, const uint8_t
   return layout;
 }
 
+// Samples one track stores in a segment of `intervals` frames; `shares_end`
+// when the segment's last frame is the next segment's first.
+inline size_t StoredSamples(int stride_log, size_t intervals, bool shares_end) {
+  return (intervals >> stride_log) + (shares_end ? 0 : 1);
+}
+
 // Bits one track takes in a segment of `intervals` frames.
-inline size_t TrackBits(const SampleLayout& layout, int stride_log, size_t intervals) {
-  return static_cast<size_t>(layout.total) * ((intervals >> stride_log) + 1);
+inline size_t TrackBits(const SampleLayout& layout, int stride_log, size_t intervals, bool shares_end) {
+  return static_cast<size_t>(layout.total) * StoredSamples(stride_log, intervals, shares_end);
 }
 
 // The `bits`-bit integer at bit `offset` (little-endian, LSB first).
@@ -187,6 +200,15 @@ inline void ExpandRotation(const float* kept, int dropped, float* q) {
     return;
   }
   for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped ? rebuilt : kept[k++];
+}
+
+// The three kept components of rotation `q` (x y z w) when `dropped` is
+// rebuilt: the sign that makes the dropped one ≥ 0 (q and −q are one
+// rotation). Undoes ExpandRotation exactly when `dropped` is the same.
+inline void ReduceRotation(const float* q, int dropped, float* kept) {
+  const float sign = q[dropped] < 0.f ? -1.f : 1.f;
+  for (int c = 0, k = 0; c < 4; ++c)
+    if (c != dropped) kept[k++] = sign * q[c];
 }
 
 // nlerp of two rotations (x y z w), along the shorter arc.

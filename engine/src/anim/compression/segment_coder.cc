@@ -10,12 +10,28 @@ namespace {
 
 constexpr size_t kMaxFrames = kSegmentFrames + 1;
 
+// One past the last frame the segment stores: its last frame is the next
+// segment's when it shares it.
+size_t StoredEnd(const SegmentTrackInput& in) { return in.end ? in.intervals : in.intervals + 1; }
+
+// The shared end sample as the sampling job reads it: reduced to this
+// segment's kept components, then rebuilt.
+void EndSample(const SegmentTrackInput& in, float* out) {
+  if (in.kind != TrackKind::kRotation) {
+    std::copy(in.end, in.end + 3, out);
+    return;
+  }
+  float kept[3];
+  ReduceRotation(in.end, in.dropped, kept);
+  ExpandRotation(kept, in.dropped, out);
+}
+
 // The segment range over the samples a stride keeps: low byte rounded
 // down, high rounded up, so every sample lies inside.
 void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
   for (int c = 0; c < 3; ++c) {
     double lo = 1, hi = 0;
-    for (size_t f = 0; f <= in.intervals; f += size_t{1} << stride_log) {
+    for (size_t f = 0; f < StoredEnd(in); f += size_t{1} << stride_log) {
       lo = std::min(lo, in.normalized[f * 3 + c]);
       hi = std::max(hi, in.normalized[f * 3 + c]);
     }
@@ -44,7 +60,7 @@ size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, cons
   const SampleLayout layout = MakeLayout(bits, in.clip_extent, range);
   const Dequantizer d = MakeDequantizer(in.clip_min, in.clip_extent, range, layout);
   size_t count = 0;
-  for (size_t f = 0; f <= in.intervals; f += size_t{1} << stride_log, ++count) {
+  for (size_t f = 0; f < StoredEnd(in); f += size_t{1} << stride_log, ++count) {
     float kept[3];
     for (int c = 0; c < 3; ++c)
       kept[c] =
@@ -54,37 +70,48 @@ size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, cons
     else
       std::copy(kept, kept + 3, out[count]);
   }
+  if (in.end) EndSample(in, out[count++]);
   return count;
 }
 
+// The squared value error of decoded `r` (interpolated) against the stored `raw`.
+double FrameError2(const SegmentTrackInput& in, const double* raw, const float* a, const float* b, float u) {
+  if (in.kind == TrackKind::kRotation) {
+    float r[4];
+    Nlerp(a, b, u, r);
+    return RotationChordSquared(raw, r);
+  }
+  double e2 = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double v = a[c] + u * (b[c] - a[c]);
+    e2 += (v - raw[c]) * (v - raw[c]);
+  }
+  return e2;
+}
+
 // The largest displacement over the segment's frames, or early once above
-// `target`. Compared squared, per unit of lever.
+// `target`. Compared squared, per unit of lever. A shared end (the next
+// segment's first sample) has its own error, which no choice here changes:
+// the last interval is allowed the blend of the target and that error, and
+// the result is scaled so that ≤ target means every frame is allowed.
 double ChoiceError(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, double target) {
   float samples[kMaxFrames][4];
   const size_t count = DecodeSamples(in, bits, stride_log, range, samples);
   const float inv_stride = kInverseStride[stride_log];
-  const double limit = target / in.lever, limit2 = limit * limit;
-  double worst2 = 0;
+  const double limit = target / in.lever;
+  const double end_error =
+      in.end ? std::sqrt(FrameError2(in, &in.raw[in.intervals * 4], samples[count - 1], samples[count - 1], 0.f)) : 0;
+  double worst = 0;  // the largest squared error over its allowed square
   for (size_t f = 0; f <= in.intervals; ++f) {
     const size_t i = std::min(f >> stride_log, count - 2);
     const float u = static_cast<float>(f - (i << stride_log)) * inv_stride;
-    const double* raw = &in.raw[f * 4];
-    double e2;
-    if (in.kind == TrackKind::kRotation) {
-      float r[4];
-      Nlerp(samples[i], samples[i + 1], u, r);
-      e2 = RotationChordSquared(raw, r);
-    } else {
-      e2 = 0;
-      for (int c = 0; c < 3; ++c) {
-        const double v = samples[i][c] + u * (samples[i + 1][c] - samples[i][c]);
-        e2 += (v - raw[c]) * (v - raw[c]);
-      }
-    }
-    worst2 = std::max(worst2, e2);
-    if (worst2 > limit2) break;
+    const double e2 = FrameError2(in, &in.raw[f * 4], samples[i], samples[i + 1], u);
+    double allowed = limit;
+    if (in.end && i + 2 == count) allowed = std::max(limit, (1 - u) * limit + u * end_error);
+    worst = std::max(worst, e2 / (allowed * allowed));
+    if (worst > 1) break;
   }
-  return std::sqrt(worst2) * in.lever;
+  return std::sqrt(worst) * target;
 }
 
 // The fewest bits in [lo, kMaxBits] meeting `target` (errors shrink with
@@ -122,20 +149,21 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
   for (int s = kStrideLogs - 1; s >= 0; --s) {
     const size_t stride = size_t{1} << s;
     if (in.intervals % stride != 0) continue;
-    const size_t samples = in.intervals / stride + 1;
+    const size_t samples = StoredSamples(s, in.intervals, in.end != nullptr);
     if (best && (kMinBits + 2) * samples >= best->bits) continue;  // cannot be cheaper
     SegmentTrackChoice ranged;
     SegmentRange(in, s, ranged.range);
     const int ranged_bits = FewestBits(in, s, ranged.range, target, kMinBits);
     if (ranged_bits == 0) continue;
     ranged.code = EncodeTrackCode(ranged_bits, s, true);
-    ranged.bits = TrackBits(MakeLayout(ranged_bits, in.clip_extent, ranged.range), s, in.intervals) + 8 * kRangeBytes;
+    ranged.bits = TrackBits(MakeLayout(ranged_bits, in.clip_extent, ranged.range), s, in.intervals, in.end != nullptr) +
+                  8 * kRangeBytes;
     if (!best || ranged.bits < best->bits) best = ranged;
     // Without a segment range: more bits per sample, no range bytes.
     for (int bits = ranged_bits; bits <= std::min(kMaxBits, ranged_bits + 4); ++bits) {
       SegmentTrackChoice plain;
       plain.code = EncodeTrackCode(bits, s, false);
-      plain.bits = TrackBits(MakeLayout(bits, in.clip_extent, nullptr), s, in.intervals);
+      plain.bits = TrackBits(MakeLayout(bits, in.clip_extent, nullptr), s, in.intervals, in.end != nullptr);
       if (plain.bits >= best->bits) break;
       if (ChoiceError(in, bits, s, nullptr, target) <= target) {
         best = plain;
@@ -146,11 +174,21 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
   return best;
 }
 
+void DecodeFirstSample(const SegmentTrackInput& in, const SegmentTrackChoice& choice, float* out) {
+  const TrackCode code = kCodes[choice.code];
+  float samples[kMaxFrames][4] = {};
+  SegmentTrackInput first = in;
+  first.end = nullptr;
+  first.intervals = 0;  // frame 0 only
+  DecodeSamples(first, code.bits, code.stride_log, code.ranged ? choice.range : nullptr, samples);
+  std::copy(samples[0], samples[0] + 4, out);
+}
+
 void PackSegmentTrack(const SegmentTrackInput& in, const SegmentTrackChoice& choice, uint8_t* data, size_t offset) {
   const TrackCode code = kCodes[choice.code];
   const uint8_t* range = code.ranged ? choice.range : nullptr;
   const SampleLayout layout = MakeLayout(code.bits, in.clip_extent, range);
-  for (size_t f = 0; f <= in.intervals; f += size_t{1} << code.stride_log)
+  for (size_t f = 0; f < StoredEnd(in); f += size_t{1} << code.stride_log)
     for (int c = 0; c < 3; offset += layout.bits[c], ++c)
       WriteBits(data, offset, layout.bits[c], Quantize(in.normalized[f * 3 + c], range, c, layout.bits[c]));
 }

@@ -26,6 +26,9 @@ struct SegmentTrackInput {
   // World displacement per unit of value error: rotations per unit of
   // chord (2·sin(angle/2)), vectors per unit of distance.
   double lever = 1;
+  // The next segment's first sample as decoded (x y z w, or x y z), when
+  // this segment shares its last frame with it (packed_track.h); else null.
+  const float* end = nullptr;
   int hint_bits = 0;         // bits likely to be near the answer (a neighbour's), or 0
   int hint_stride_log = -1;  // the stride the hint is for
 };
@@ -39,6 +42,9 @@ struct SegmentTrackChoice {
 // The cheapest choice within `target`, or nothing when 23 bits on every
 // frame do not reach it.
 std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in, double target);
+
+// The choice's first sample as the sampling job decodes it (x y z w, or x y z).
+void DecodeFirstSample(const SegmentTrackInput& in, const SegmentTrackChoice& choice, float* out);
 
 // Writes the choice's samples at bit `offset` of `data`.
 void PackSegmentTrack(const SegmentTrackInput& in, const SegmentTrackChoice& choice, uint8_t* data, size_t offset);

@@ -101,6 +101,7 @@ TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double fi
   }
   s.target.assign(segments, first_target);
   s.choice.assign(segments, {});
+  s.end.assign(segments, {0, 0, 0, 1});
   return s;
 }
 
@@ -116,7 +117,13 @@ SegmentTrackInput SegmentInput(const TrackState& s, const FrameGrid& frames, siz
   in.clip_min = s.track.min;
   in.clip_extent = s.track.extent;
   in.lever = s.values.segment_lever[segment];
+  if (segment + 1 < s.choice.size()) in.end = s.end[segment].data();
   return in;
+}
+
+void UpdateEnd(TrackState& s, const FrameGrid& frames, size_t segment) {
+  if (segment + 1 < s.choice.size())
+    DecodeFirstSample(SegmentInput(s, frames, segment + 1), s.choice[segment + 1], s.end[segment].data());
 }
 
 }  // namespace armature::compression_internal

@@ -3,6 +3,7 @@
 // rotation drops, its target and its choice.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -19,10 +20,16 @@ struct TrackState {
   std::vector<double> normalized;  // per segment: (kSegmentFrames + 1) × 3
   std::vector<double> target;      // per segment
   std::vector<SegmentTrackChoice> choice;
+  // per segment but the last: the next segment's first sample as decoded
+  // (its last frame, shared: packed_track.h), set before it is chosen.
+  std::vector<std::array<float, 4>> end;
 };
 
 // The track's clip range, dropped components and normalized values.
 TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double first_target);
+
+// Sets `segment`'s shared end from the next segment's current choice.
+void UpdateEnd(TrackState& state, const FrameGrid& frames, size_t segment);
 
 // The frames of `segment` as the segment coder reads them.
 SegmentTrackInput SegmentInput(const TrackState& state, const FrameGrid& frames, size_t segment);

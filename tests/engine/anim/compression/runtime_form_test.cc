@@ -16,12 +16,7 @@
 namespace armature {
 namespace {
 
-std::shared_ptr<const Clip> Cmu() {
-  static const std::vector<test_util::SharedClip> clips = test_util::LoadSharedClips();
-  for (const test_util::SharedClip& c : clips)
-    if (c.name == "bvh/cmu_01_01.bvh") return c.clip;
-  return nullptr;
-}
+std::shared_ptr<const Clip> Cmu() { return test_util::SharedCmuClip(); }
 
 TEST(RuntimeForm, PrecisionTextIsExactOrABoundInCentimetres) {
   auto exact = ParseClipPrecision("exact", "precision");

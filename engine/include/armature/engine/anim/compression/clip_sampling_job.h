@@ -18,7 +18,9 @@ namespace armature {
 
 // One animated track in one segment, read from its header: where its
 // samples start, their bits per component, its stride, the component a
-// rotation rebuilds, and value = offset + scale · q per component.
+// rotation rebuilds, and value = offset + scale · q per component; `end`:
+// the segment's last frame, the next segment's first sample as it decodes
+// it, in this segment's kept components (when the segment has a next).
 struct TrackCursor {
   uint32_t bit = 0;
   uint8_t bits[3] = {};
@@ -26,6 +28,7 @@ struct TrackCursor {
   uint8_t stride_log = 0;
   uint8_t dropped = 3;
   float offset[3] = {}, scale[3] = {};
+  float end[3] = {};
 };
 
 // Every animated track's cursor in one segment.
