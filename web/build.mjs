@@ -38,19 +38,20 @@ const generatedStubs = {
 
 await mkdir(outdir, { recursive: true });
 await esbuild.build({
-  entryPoints: [path.join(here, 'src/main.js')],
+  // The viewer (index.html) and the crowd page (crowd.html).
+  entryPoints: { app: path.join(here, 'src/main.js'), crowd: path.join(here, 'src/crowd/crowd_page.js') },
   bundle: true,
   format: 'esm',
   target: 'es2020',
   minify: true,
   sourcemap: true,
-  outfile: path.join(outdir, 'app.js'),
+  outdir,
   logLevel: 'warning',
   // The client and the stubs live outside web/: their packages come from web's node_modules.
   nodePaths: [path.join(here, 'node_modules')],
   plugins: [generatedStubs],
 });
-for (const file of ['index.html', 'style.css']) await copyFile(path.join(here, file), path.join(outdir, file));
+for (const file of ['index.html', 'crowd.html', 'style.css']) await copyFile(path.join(here, file), path.join(outdir, file));
 // The API reference at /docs: swagger-ui-dist's prebuilt files, with our page that points it at /openapi.json.
 await mkdir(path.join(outdir, 'docs'), { recursive: true });
 for (const file of ['index.html', 'docs.js']) await copyFile(path.join(here, 'docs', file), path.join(outdir, 'docs', file));

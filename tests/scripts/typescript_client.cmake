@@ -17,8 +17,18 @@ if(ARMATURE_NODE AND ARMATURE_PROTOC AND EXISTS ${TS_CLIENT_DIR}/node_modules/ty
       $<TARGET_FILE:armature-server>)
   set_tests_properties(typescript_client.api PROPERTIES
     TIMEOUT 180 FIXTURES_REQUIRED typescript_client_built RESOURCE_LOCK typescript_client_source)
+  # The crowd session over its WebSocket route, decoded poses against EvaluateClip
+  # (CMU 01_01 and RobotExpressive from ../shared/data; it skips without them).
+  add_test(NAME typescript_client.crowd
+    COMMAND ${ARMATURE_NODE} --experimental-websocket --test-reporter=spec ${TS_CLIENT_DIR}/test/crowd.test.mjs
+      $<TARGET_FILE:armature-server>)
+  set_tests_properties(typescript_client.crowd PROPERTIES
+    TIMEOUT 180 FIXTURES_REQUIRED typescript_client_built RESOURCE_LOCK typescript_client_source
+    ENVIRONMENT ARMATURE_SHARED_DATA=${ARMATURE_SHARED_DATA})
 else()
   # Not a skip: the setup provides node, protoc and the client's node_modules.
-  add_test(NAME typescript_client.api COMMAND sh -c
-    "echo 'FAIL: node, protoc or clients/typescript/node_modules missing: run scripts/setup.sh test, then configure again'; exit 1")
+  foreach(test api crowd)
+    add_test(NAME typescript_client.${test} COMMAND sh -c
+      "echo 'FAIL: node, protoc or clients/typescript/node_modules missing: run scripts/setup.sh test, then configure again'; exit 1")
+  endforeach()
 endif()

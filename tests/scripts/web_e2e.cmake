@@ -16,9 +16,10 @@
 # drawn on the demo character's mesh), mixamo_e2e (RobotExpressive under a 0.01-scaled
 # Armature in centimetres, web/test/support/mixamo_rig.mjs: the views sized from posed positions;
 # skips without it), material_e2e (CesiumMan drawn with its JPEG texture, checked by pixel
-# colour; skips without it).
+# colour; skips without it), crowd_e2e (crowd.html: 1,000 RobotExpressive characters in one CrowdSession
+# over its WebSocket, drawn instanced, the HUD's tick figures; skips without it).
 set(ARMATURE_VIEWER_TESTS viewer_e2e mesh_e2e deform_e2e blend_e2e character_e2e drop_e2e retarget_e2e first_look_e2e
-    docs_e2e joint_tree_e2e blend_body_e2e mixamo_e2e material_e2e)
+    docs_e2e joint_tree_e2e blend_body_e2e mixamo_e2e material_e2e crowd_e2e)
 if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   foreach(test ${ARMATURE_VIEWER_TESTS})
     string(REGEX REPLACE "_e2e$" "" shot ${test})
@@ -47,9 +48,12 @@ if(ARMATURE_NODE AND ARMATURE_WEB_BUILT)
   # The Retarget panel's first choice of source clip in node.
   add_test(NAME web.retarget_source COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/unit/retarget_source_test.mjs)
   set_tests_properties(web.retarget_source PROPERTIES TIMEOUT 60)
+  # A crowd's poses between frames (interpolation, forward kinematics) against three.js, in node.
+  add_test(NAME web.crowd_poses COMMAND ${ARMATURE_NODE} ${CMAKE_SOURCE_DIR}/web/test/unit/crowd_poses_test.mjs)
+  set_tests_properties(web.crowd_poses PROPERTIES TIMEOUT 60)
 else()
   # Not a skip: the setup provides node and web/node_modules.
-  foreach(test ${ARMATURE_VIEWER_TESTS} session_e2e openapi_valid blend_motion latest_wins retarget_source)
+  foreach(test ${ARMATURE_VIEWER_TESTS} session_e2e openapi_valid blend_motion latest_wins retarget_source crowd_poses)
     add_test(NAME web.${test} COMMAND sh -c
       "echo 'FAIL: node or web/node_modules missing: run scripts/setup.sh test, then configure again'; exit 1")
   endforeach()

@@ -1,7 +1,8 @@
 // The server, as the viewer uses it: every unary and streaming call and both
 // sessions go through the TypeScript client (clients/typescript): the calls
 // over gRPC-Web, the IK and deformation sessions over WebSockets (the client's
-// sessions, its socket in a worker), all in binary protobuf, so big answers
+// sessions, its socket in a worker), and the crowd session over its WebSocket,
+// all in binary protobuf, so big answers
 // (skinned meshes, pose batches, deformed shapes) travel as protobuf, not JSON
 // text. Only dropped files go another way: posted as a form by drop_import.js.
 // Requests and answers keep the REST gateway's JSON shape (proto3 JSON names,
@@ -12,7 +13,7 @@
 import { fromJson, toJson } from '@bufbuild/protobuf';
 
 import {
-  AssetService, AuthoringService, DeformService, IkService, MeshService, PoseService, WorkerWebSocket,
+  AssetService, AuthoringService, CrowdSession, DeformService, IkService, MeshService, PoseService, WorkerWebSocket,
   createArmatureClient, openDeformSession as openClientDeformSession, openIkSession as openClientIkSession,
 } from '../../clients/typescript/src/index.ts';
 
@@ -199,4 +200,11 @@ export function openDeformSession(setup, handleIndices) {
 // DeformResponse as decoded (every vertex's `positions`, `iterations`).
 export function deformMove(session, positions) {
   return viewerCall(() => session.send({ message: { case: 'move', value: { positions } } }));
+}
+
+// A crowd (CrowdService.CrowdSession over its WebSocket): the client's
+// CrowdSession, its frames' poses decoded to typed arrays. `start` as the
+// CrowdStart message's fields (fps, budgetMs, maxInterval, shareQuantum).
+export function openCrowdSession(start) {
+  return viewerCall(() => CrowdSession.open(origin, start));
 }

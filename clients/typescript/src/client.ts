@@ -9,7 +9,10 @@ import { createGrpcWebTransport } from '@connectrpc/connect-web';
 
 import { packFloats } from './arrays.js';
 import { toArmatureError } from './errors.js';
+import { importAsset } from './import_asset.js';
+import type { ImportAssetOptions } from './import_asset.js';
 import { AssetService } from './gen/armature/v1/assets_pb.js';
+import type { ImportAssetResponse } from './gen/armature/v1/assets_pb.js';
 import { AuthoringService } from './gen/armature/v1/authoring_pb.js';
 import { DeformService } from './gen/armature/v1/deform_pb.js';
 import { IkService } from './gen/armature/v1/ik_pb.js';
@@ -104,6 +107,8 @@ export interface ArmatureClient {
   evaluateClip(clip: string, times: number[], options?: EvaluateClipOptions): Promise<PoseSequence>;
   streamClip(clip: string, options?: StreamClipOptions): AsyncIterable<PoseStreamFrame>;
   skinMesh(mesh: string, clip: string, time: number, options?: SkinMeshOptions): Promise<SkinnedMesh>;
+  /** Imports a file over REST's raw upload (ImportAsset), e.g. `{filename: 'walk.bvh', precision: 0.5}`. */
+  importAsset(data: Uint8Array | ArrayBuffer | Blob, options: ImportAssetOptions): Promise<ImportAssetResponse>;
   /** A skeleton's joint names, fetched once per client (see forgetSkeletons). */
   jointNames(skeleton: string): Promise<string[]>;
   /** Drops the cached joint names, e.g. after a skeleton was imported again. */
@@ -204,6 +209,7 @@ export function createArmatureClient(baseUrl: string, options: ClientOptions = {
     authoring: typedClient(AuthoringService, transport),
     jointNames,
     forgetSkeletons: forget,
+    importAsset: (data, o) => importAsset(baseUrl, data, o, { token: options.token, fetch: options.fetch }),
 
     async evaluateClip(clip, times, o = {}) {
       const res = await pose.evaluateClip({

@@ -40,6 +40,20 @@ export interface SessionOptions {
 
 const OPEN = 1;
 
+/** A session's WebSocket at `url`, open, in binary (the token as the subprotocol "bearer.<token>"). */
+export async function openSocket(url: string, options: SessionOptions): Promise<SessionSocket> {
+  const Socket = options.WebSocket ?? (globalThis.WebSocket as WebSocketConstructor | undefined);
+  if (!Socket) throw new Error('no WebSocket: pass options.WebSocket (the ws package) or use node 22+');
+  const socket = new Socket(url, options.token ? [`bearer.${options.token}`] : []);
+  socket.binaryType = 'arraybuffer';
+  await new Promise<void>((resolve, reject) => {
+    socket.onopen = () => resolve();
+    socket.onerror = () => reject(new ArmatureError(Code.Unavailable, `could not open a session at ${url}`));
+  });
+  socket.onerror = null;
+  return socket;
+}
+
 // A request sent and not answered yet.
 interface Waiting<Res extends DescMessage> {
   resolve: (answer: MessageShape<Res>) => void;
@@ -72,16 +86,7 @@ export class Session<Req extends DescMessage, Res extends DescMessage> {
   static async open<Req extends DescMessage, Res extends DescMessage>(
     url: string, request: Req, response: Res, options: SessionOptions,
   ): Promise<Session<Req, Res>> {
-    const Socket = options.WebSocket ?? (globalThis.WebSocket as WebSocketConstructor | undefined);
-    if (!Socket) throw new Error('no WebSocket: pass options.WebSocket (the ws package) or use node 22+');
-    const socket = new Socket(url, options.token ? [`bearer.${options.token}`] : []);
-    socket.binaryType = 'arraybuffer';
-    await new Promise<void>((resolve, reject) => {
-      socket.onopen = () => resolve();
-      socket.onerror = () => reject(new ArmatureError(Code.Unavailable, `could not open a session at ${url}`));
-    });
-    socket.onerror = null;
-    return new Session(url, socket, request, response, options.keepLog);
+    return new Session(url, await openSocket(url, options), request, response, options.keepLog);
   }
 
   /** The session takes requests (it has neither failed nor been closed). */
@@ -131,7 +136,8 @@ export class Session<Req extends DescMessage, Res extends DescMessage> {
   }
 }
 
-const wsUrl = (baseUrl: string, path: string) => baseUrl.replace(/\/+$/, '').replace(/^http/, 'ws') + path;
+/** The WebSocket URL of a REST path on the server at `baseUrl` (http → ws, https → wss). */
+export const wsUrl = (baseUrl: string, path: string): string => baseUrl.replace(/\/+$/, '').replace(/^http/, 'ws') + path;
 
 export type IkSession = Session<typeof IkSessionRequestSchema, typeof SolveIkResponseSchema>;
 export type DeformSession = Session<typeof DeformSessionRequestSchema, typeof DeformResponseSchema>;

@@ -19,11 +19,12 @@ import { createGrpcTransport } from '@connectrpc/connect-node';
 import { toBinary } from '@bufbuild/protobuf';
 
 import {
-  ArmatureError, Code, DeadlineExceededError, IkService, MeshService, NotFoundError, PoseService, Space,
+  ArmatureError, Code, DeadlineExceededError, IkService, InvalidArgumentError, MeshService, NotFoundError, PoseService, Space,
   UnauthenticatedError, createArmatureClient, openIkSession,
 } from '../dist/index.js';
 import { SolveIkResponseSchema } from '../dist/gen/armature/v1/ik_pb.js';
 import { startServer } from '../../../web/test/support/server.mjs';
+import { ARM_BVH } from '../../../web/test/support/fixtures.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const [serverBin] = process.argv.slice(2);
@@ -51,6 +52,7 @@ after(async () => {
 });
 
 const flat = (parts) => Float32Array.from(parts.flat());
+const restClip = async (name) => (await (await fetch(`${server.url}/v1/clips/${encodeURIComponent(name)}`)).json());
 const restSkeleton = async (name) => (await (await fetch(`${server.url}/v1/skeletons/${encodeURIComponent(name)}`)).json());
 
 test('evaluateClip packs the gRPC answer into Float32Arrays, with REST\'s joint names', async (t) => {
@@ -250,4 +252,27 @@ test('a session with keepLog keeps its latest requests and their round trips', a
   assert.deepEqual(log.requests.map((r) => r.targets[0].targetPosition), [[1, 100, 0], [2, 100, 0]]);
   assert.ok(log.roundTrips.length === 2 && log.pageRoundTrips.length === 2 &&
             log.roundTrips.every((ms, i) => ms > 0 && ms <= log.pageRoundTrips[i]));
+});
+
+test('importAsset sends its precision: "exact" keeps the keys, a number is the bound in centimetres', async () => {
+  const bvh = new TextEncoder().encode(ARM_BVH);
+  const exact = await client.importAsset(bvh, { filename: 'arm.bvh', name: 'arm_exact', precision: 'exact' });
+  const [clip] = exact.asset.clips;
+  assert.equal(exact.asset.name, 'arm_exact');
+  assert.ok(clip.exact, 'exact was asked');
+  assert.equal(clip.errorBoundCm, 0);
+  const bounded = (await client.importAsset(bvh, { filename: 'arm.bvh', name: 'arm_2cm', precision: 2 })).asset.clips[0];
+  assert.equal(bounded.exact, false);
+  assert.equal(bounded.errorBoundCm, 2);
+  assert.ok(bounded.worstErrorCm <= 2, `worst error ${bounded.worstErrorCm} cm`);
+  // The same as REST reports it, and without a precision the server's default (--clip-error 0.01).
+  assert.equal((await restClip(bounded.name)).errorBoundCm, 2);
+  const plain = (await client.importAsset(bvh, { filename: 'arm.bvh', name: 'arm_default' })).asset.clips[0];
+  assert.equal(plain.errorBoundCm, 0.01);
+  await assert.rejects(client.importAsset(bvh, { filename: 'arm.bvh', name: 'arm_11', precision: 11 }), (e) => {
+    assert.ok(e instanceof InvalidArgumentError, `${e.constructor.name}: ${e.message}`);
+    assert.match(e.message, /precision/);
+    return true;
+  });
+  await assert.rejects(client.importAsset(bvh, { filename: 'arm.bvh', precision: Number.NaN }), TypeError);
 });

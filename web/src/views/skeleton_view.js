@@ -3,29 +3,16 @@
 // Site; joints are spheres. Orbit camera (drag, wheel) and a ground grid; the
 // camera follows the root across the ground.
 import * as THREE from 'three';
-import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+
+import { resizeStage, setUpStage } from './stage.js';
 
 export const BONE_COLOR = 0xff8c1a;
 const JOINT_COLOR = 0xf0f0f0;
-const BACKGROUND = 0x1c1f24;
 const UP = new THREE.Vector3(0, 1, 0);
 
 export class SkeletonView {
   constructor(container) {
-    this.container = container;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true });
-    this.renderer.setPixelRatio(window.devicePixelRatio);
-    container.appendChild(this.renderer.domElement);
-
-    this.scene = new THREE.Scene();
-    this.scene.background = new THREE.Color(BACKGROUND);
-    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 2.0));
-    const sun = new THREE.DirectionalLight(0xffffff, 1.5);
-    sun.position.set(1, 2, 1.5);
-    this.scene.add(sun);
-
-    this.camera = new THREE.PerspectiveCamera(45, 1, 0.1, 100000);
-    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    setUpStage(this, container);
     this.controls.enableDamping = true;
 
     this.figure = new THREE.Group();
@@ -40,17 +27,12 @@ export class SkeletonView {
     this.overlay = false;    // thin and see-through, drawn over a mesh
     this.materials = [];
 
-    new ResizeObserver(() => this.resize()).observe(container);
     this.resize();
     this.renderer.setAnimationLoop(() => this.render());
   }
 
   resize() {
-    const { clientWidth: w, clientHeight: h } = this.container;
-    if (w === 0 || h === 0) return;
-    this.renderer.setSize(w, h, false);
-    this.camera.aspect = w / h;
-    this.camera.updateProjectionMatrix();
+    resizeStage(this);
   }
 
   render() {

@@ -14,8 +14,8 @@ void WebSocketHandler::Handle(const httplib::Request& req, httplib::Response& re
   if (!route || !route->binding->client_streaming() || !route->binding->server_streaming())
     return WriteError(res, 404, grpc::StatusCode::NOT_FOUND,
                       "no session at " + req.path +
-                          ": WebSockets reach the bidirectional methods (IkSession, DeformSession, PlaybackSession) "
-                          "on their REST paths, e.g. /v1/skeletons/{skeleton}:ikSession");
+                          ": WebSockets reach the bidirectional methods (IkSession, DeformSession, PlaybackSession, "
+                          "CrowdSession) on their REST paths, e.g. /v1/skeletons/{skeleton}:ikSession");
   const HttpBinding& binding = *route->binding;
   if (!CheckUpgradeRequest(req, res)) return;
   const SessionCredentials credentials = CredentialsOf(req);

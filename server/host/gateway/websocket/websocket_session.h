@@ -1,6 +1,7 @@
-// One bidirectional session (IkSession, DeformSession, PlaybackSession) on an
-// upgraded connection, run in the HTTP handler's thread until it ends: one
-// poll() over the non-blocking socket and the call's wake descriptor.
+// One bidirectional session (IkSession, DeformSession, PlaybackSession,
+// CrowdSession) on an upgraded connection, run in the HTTP handler's thread
+// until it ends: one poll() over the non-blocking socket and the call's wake
+// descriptor.
 //
 // Each text frame is one JSON request message (the first one also takes the
 // path's fields), binary frames the proto encoding; answers use the encoding
