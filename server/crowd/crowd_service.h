@@ -26,6 +26,8 @@ class CrowdServiceImpl final : public v1::CrowdService::CallbackService {
 
   grpc::ServerBidiReactor<v1::CrowdCommand, v1::CrowdFrame>* CrowdSession(
       grpc::CallbackServerContext* context) override;
+  grpc::ServerWriteReactor<v1::CrowdFrame>* WatchCrowd(grpc::CallbackServerContext* context,
+                                                       const v1::WatchCrowdRequest* request) override;
 
  private:
   AssetStore& store_;

@@ -121,6 +121,7 @@ StatusOr<uint32_t> CrowdSession::ClipIndexOf(const ResolvedCharacter& resolved) 
 }
 
 void CrowdSession::Refuse(uint64_t number, uint32_t id, const Status& status) {
+  if (first_refusal_.ok()) first_refusal_ = status;
   if (errors_.size() >= kMaxErrors) {
     ++errors_dropped_;
     return;

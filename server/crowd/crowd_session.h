@@ -31,9 +31,7 @@ class CrowdSession {
   static constexpr SessionKind kKind = SessionKind::kCrowd;
   static constexpr const char* kName = "CrowdSession";
   static constexpr size_t kMaxQueued = 16384;  // commands read before a tick takes them (SessionReactor)
-  static constexpr size_t kMaxErrors = 256;
-  static constexpr double kWriteTimeoutSeconds = 10;  // a client that stops reading is dropped (as on WebSockets)  //
-                                                      // refusals kept for one frame; more are counted in the last
+  static constexpr size_t kMaxErrors = 256;    // refusals kept for one frame; more are counted in the last
 
   CrowdSession(CatalogSource catalog, const Limits& limits, std::shared_ptr<CrowdTotals> totals)
       : catalog_(std::move(catalog)), limits_(limits), totals_(std::move(totals)) {}
@@ -42,6 +40,8 @@ class CrowdSession {
   // The first message; errors name the field ("start.fps: …") and end the call.
   Status Start(const CallStop& call, const Request& first);
   double fps() const { return fps_; }
+  // A client that stops reading is dropped after this long (--crowd-write-timeout-seconds, SessionReactor).
+  double write_timeout_seconds() const { return limits_.crowd_write_timeout_seconds; }
   uint64_t frames() const { return frames_; }
 
   void Queue(Request command) { queued_.emplace_back(++commands_, std::move(command)); }
@@ -50,6 +50,8 @@ class CrowdSession {
   Status ApplyQueued();
   // Tick frames(); false when the duration has played or, without one, the client closed its side.
   StatusOr<bool> NextFrame(bool closed, Frame* frame);
+  // The first command refused since the start (OK: none); a read-only watch fails on it.
+  const Status& first_refusal() const { return first_refusal_; }
 
  private:
   Status Apply(const Catalog& catalog, const Request& command);
@@ -71,6 +73,7 @@ class CrowdSession {
   std::unordered_map<uint32_t, v1::CrowdRoot> roots_;  // the characters held, with their roots
   std::vector<std::pair<uint64_t, Request>> queued_;   // (message number, command)
   std::vector<v1::CrowdError> errors_;
+  Status first_refusal_;
   uint64_t commands_ = 0, frames_ = 0, errors_dropped_ = 0;
   std::chrono::steady_clock::time_point start_;
   CrowdTick tick_;

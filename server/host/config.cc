@@ -136,6 +136,10 @@ void AddStreamAndSessionFlags(CLI::App& app, Limits& limits) {
                  "Most characters every crowd session together may hold")
       ->envname("ARMATURE_MAX_CROWD_CHARACTERS_TOTAL")
       ->check(CLI::PositiveNumber);
+  app.add_option("--crowd-write-timeout-seconds", limits.crowd_write_timeout_seconds,
+                 "A crowd session whose frame stays unwritten this long (a client that stops reading) is dropped")
+      ->envname("ARMATURE_CROWD_WRITE_TIMEOUT_SECONDS")
+      ->check(CLI::Range(0.1, 3600.0));
   app.add_option("--max-ik-sessions", limits.max_ik_sessions, "Most IK sessions open at once, all clients together")
       ->envname("ARMATURE_MAX_IK_SESSIONS")
       ->check(CLI::NonNegativeNumber);

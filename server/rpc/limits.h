@@ -41,6 +41,7 @@ struct Limits {
   double crowd_budget_ms = 4;               // --crowd-budget-ms: a session's default and largest budget
   int max_crowd_characters = 10000;         // --max-crowd-characters: characters of one crowd session
   int max_crowd_characters_total = 100000;  // --max-crowd-characters-total: characters of every crowd
+  double crowd_write_timeout_seconds = 10;  // --crowd-write-timeout-seconds: a crowd that stops reading is dropped
   int max_concurrent_uploads = 4;           // --max-concurrent-uploads: ImportAsset calls (gRPC and REST) at once
 };
 

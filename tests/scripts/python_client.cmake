@@ -14,3 +14,8 @@ add_test(NAME python_client.api
     ${PYTHON_CLIENT_WORK}/venv/bin/python $<TARGET_FILE:armature-server> $<TARGET_FILE:armature>)
 set_tests_properties(python_client.api PROPERTIES
   TIMEOUT 300 FIXTURES_REQUIRED python_client_installed SKIP_REGULAR_EXPRESSION "SKIP:")
+add_test(NAME python_client.crowd
+  COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/clients/python/test_crowd.py
+    ${PYTHON_CLIENT_WORK}/venv/bin/python $<TARGET_FILE:armature-server>)
+set_tests_properties(python_client.crowd PROPERTIES
+  TIMEOUT 300 FIXTURES_REQUIRED python_client_installed SKIP_REGULAR_EXPRESSION "SKIP:")

@@ -6,6 +6,7 @@
     poses.translations.shape  # (2, joints, 3); poses.rotations (2, joints, 4); poses.joint_names
 """
 from .client import Client
+from .crowd import CrowdDecoder, CrowdFrame, CrowdSession
 from .errors import (Aborted, AlreadyExists, ArmatureError, Cancelled, DataLoss, DeadlineExceeded,
                      FailedPrecondition, Internal, InvalidArgument, NotFound, OutOfRange, PermissionDenied,
                      ResourceExhausted, Unauthenticated, Unavailable, Unimplemented, Unknown)
@@ -15,4 +16,4 @@ __version__ = "0.1.0"
 __all__ = ["Client", "ArmatureError", "Aborted", "AlreadyExists", "Cancelled", "DataLoss", "DeadlineExceeded",
            "FailedPrecondition", "Internal", "InvalidArgument", "NotFound", "OutOfRange", "PermissionDenied",
            "ResourceExhausted", "Unauthenticated", "Unavailable", "Unimplemented", "Unknown", "IkResult",
-           "PoseFrame", "Poses", "SkinnedMesh"]
+           "PoseFrame", "Poses", "SkinnedMesh", "CrowdDecoder", "CrowdFrame", "CrowdSession"]

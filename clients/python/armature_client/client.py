@@ -8,10 +8,11 @@ import numpy as np
 from google.protobuf import json_format
 
 from . import errors
+from .crowd import CrowdDecoder, CrowdSession, crowd_start
 from .results import IkResult, PoseFrame, Poses, SkinnedMesh, packed, scales_of
 
 try:
-    from ._proto.armature.v1 import (assets_pb2, assets_pb2_grpc, ik_pb2, ik_pb2_grpc, meshes_pb2,
+    from ._proto.armature.v1 import (assets_pb2, assets_pb2_grpc, crowd_pb2, crowd_pb2_grpc, ik_pb2, ik_pb2_grpc, meshes_pb2,
                                      meshes_pb2_grpc, motion_pb2, poses_pb2, poses_pb2_grpc, types_pb2)
 except ImportError as e:  # the source tree, not an installed package
     raise ImportError("armature_client: the generated gRPC stubs are missing; install the package "
@@ -92,6 +93,7 @@ class Client:
         self._poses = poses_pb2_grpc.PoseServiceStub(self._channel)
         self._meshes = meshes_pb2_grpc.MeshServiceStub(self._channel)
         self._ik = ik_pb2_grpc.IkServiceStub(self._channel)
+        self._crowds = crowd_pb2_grpc.CrowdServiceStub(self._channel)
         self._joint_names_by_skeleton = {}
 
     def close(self):
@@ -254,6 +256,29 @@ class Client:
                             translations=packed(frame.pose.translations, 3, n),
                             rotations=packed(frame.pose.rotations, 4, n), scales=scales_of(frame.pose, n),
                             joint_names=names, joints=indices, skeleton=skeleton)
+
+    # -- crowds -------------------------------------------------------------
+    def crowd_session(self, fps=30, *, budget_ms=0.0, max_interval=0, share_quantum=0.0, duration=0.0,
+                      timeout=None):
+        """A crowd: `with client.crowd_session(fps=30) as s: s.add(id=..., skeleton=..., clip=...,
+        time_offset=...)`, then `for f in s.frames():` (a CrowdFrame: f.ids, f.rotations (n, joints, 4),
+        f.translations (n, joints, 3) as LOCAL poses, f.time, f.clip_times, f.stats, f.errors).
+        budget_ms 0 = the server's --crowd-budget-ms; duration 0 = until s.close()."""
+        start = crowd_start(crowd_pb2, fps, budget_ms, max_interval, share_quantum, duration)
+        return CrowdSession(self._crowds.CrowdSession, start, self._metadata,
+                            self.stream_timeout if timeout is None else timeout, crowd_pb2)
+
+    def watch_crowd(self, characters, fps=30, *, budget_ms=0.0, max_interval=0, share_quantum=0.0, duration=0.0,
+                    max_ticks=0, timeout=None):
+        """A read-only crowd (WatchCrowd, which gRPC-Web can carry): `characters` are dicts of
+        CrowdCharacter's fields ({"id": 1, "clip": "walk", "timeOffset": 0.5}); yields CrowdFrames."""
+        request = crowd_pb2.WatchCrowdRequest(
+            start=crowd_start(crowd_pb2, fps, budget_ms, max_interval, share_quantum, duration),
+            characters=[_message(crowd_pb2.CrowdCharacter, c, f"characters[{i}]") for i, c in enumerate(characters)],
+            max_ticks=max_ticks)
+        decoder = CrowdDecoder()
+        for frame in self._stream(self._crowds.WatchCrowd, request, timeout):
+            yield decoder.decode(frame)
 
     # -- meshes -------------------------------------------------------------
     def get_mesh_geometry(self, mesh, timeout=None):

@@ -23,7 +23,7 @@
 //   for streams) and is filled when frame k−1's write is done, applying the
 //   commands read until then. At kMaxQueued (64, or the session's own) waiting commands reading pauses
 //   until the next frame takes them (no unbounded memory). A session with a
-//   kWriteTimeoutSeconds is cancelled when a write stays blocked that long.
+//   write_timeout_seconds() > 0 is cancelled when a write stays blocked that long.
 // Callbacks run under one lock; the logic is freed, and the session's
 // place given back, before the client hears the session is over.
 #pragma once
@@ -36,6 +36,7 @@
 #include <utility>
 
 #include <grpcpp/grpcpp.h>
+#include <spdlog/spdlog.h>
 
 #include "armature/base/status.h"
 #include "server/rpc/call_guard.h"
@@ -80,12 +81,12 @@ constexpr size_t MaxQueuedOf() {
 }
 
 // How long a paced session's write may stay blocked (a client that stops
-// reading) before the call is cancelled: the session's kWriteTimeoutSeconds,
-// else 0 (never).
+// reading) before the call is cancelled: the session's
+// write_timeout_seconds() (a server option), else 0 (never).
 template <class Session>
-constexpr double WriteTimeoutOf() {
-  if constexpr (requires { Session::kWriteTimeoutSeconds; })
-    return Session::kWriteTimeoutSeconds;
+double WriteTimeoutOf(const Session& session) {
+  if constexpr (requires { session.write_timeout_seconds(); })
+    return session.write_timeout_seconds();
   else
     return 0;
 }
@@ -103,7 +104,11 @@ class SessionReactor final
   // its RESOURCE_EXHAUSTED.
   SessionReactor(grpc::CallbackServerContext* context, SessionAdmission& sessions, StreamAdmission::Ticket stream,
                  std::unique_ptr<Session> session, SessionRunners runners = {})
-      : context_(context), stream_(std::move(stream)), runners_(runners), session_(std::move(session)) {
+      : context_(context),
+        stream_(std::move(stream)),
+        runners_(runners),
+        session_(std::move(session)),
+        write_timeout_(WriteTimeoutOf(*session_)) {
     std::lock_guard lock(mu_);
     auto ticket = sessions.Admit(*context, Session::kKind);
     if (!ticket.ok()) {
@@ -269,16 +274,16 @@ class SessionReactor final
       output_.set_wall_time(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
     write_pending_ = true;
     write_started_ = std::chrono::steady_clock::now();
-    if constexpr (kPaced && WriteTimeoutOf<Session>() > 0)
-      if (!stall_check_pending_) ScheduleStallCheck(write_started_);
+    if constexpr (kPaced)
+      if (write_timeout_ > 0 && !stall_check_pending_) ScheduleStallCheck(write_started_);
     this->StartWrite(&output_);
   }
 
   // At `from` + the write timeout: a write blocked since then cancels the call
   // (OnCancel ends it); one still pending but younger is checked again later.
   void ScheduleStallCheck(std::chrono::steady_clock::time_point from) {
-    const auto timeout = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(WriteTimeoutOf<Session>()));
+    const auto timeout =
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(write_timeout_));
     stall_check_pending_ = true;
     refs_.fetch_add(1, std::memory_order_relaxed);
     runners_.scheduler->Schedule(from + timeout, [this, timeout] {
@@ -293,7 +298,11 @@ class SessionReactor final
             ScheduleStallCheck(write_started_);
         }
       }
-      if (stalled) context_->TryCancel();  // outside mu_: OnCancel takes it
+      if (stalled) {
+        spdlog::warn("{}: a frame stayed unwritten {} s (the client stopped reading): the call is dropped",
+                     Session::kName, write_timeout_);
+        context_->TryCancel();  // outside mu_: OnCancel takes it
+      }
       Unref();
     });
   }
@@ -321,7 +330,8 @@ class SessionReactor final
   SessionAdmission::Ticket ticket_;  // this session's place
   const SessionRunners runners_;
   std::unique_ptr<Session> session_;
-  CallStop call_;  // the call's deadline and cancellation, for Start
+  const double write_timeout_;  // seconds a write may stay blocked; 0 = forever
+  CallStop call_;               // the call's deadline and cancellation, for Start
 
   std::mutex mu_;
   std::atomic<int> refs_{1};  // OnDone's, plus one per scheduled frame
