@@ -16,6 +16,7 @@
 #include "armature/client.h"
 #include "armature/crowd_decoder.h"
 #include "armature/v1/crowd.grpc.pb.h"
+#include "crowd/crowd_commands.h"
 #include "support/client_helpers.h"
 #include "support/server_process.h"
 #include "support/server_suite.h"
@@ -29,23 +30,6 @@ namespace {
 constexpr double kCompressionAngle = 2 * 0.01 / 3;
 
 class Crowd : public CmuAndRobotSuite {};
-
-v1::CrowdCommand AddCommand(uint32_t id, const std::string& clip, double offset, double speed = 1) {
-  v1::CrowdCommand c;
-  c.mutable_add()->set_id(id);
-  c.mutable_add()->set_clip(clip);
-  c.mutable_add()->set_time_offset(offset);
-  c.mutable_add()->set_speed(speed);
-  c.mutable_add()->set_significance(-static_cast<double>(id));
-  return c;
-}
-
-v1::CrowdCommand StartCommand(double duration) {  // 30 ticks a second for `duration`
-  v1::CrowdCommand start;
-  start.mutable_start()->set_fps(30);
-  start.mutable_start()->set_duration(duration);
-  return start;
-}
 
 double Angle(const float* a, const float* b) {  // w, x, y, z each
   double dot = 0, na = 0, nb = 0;
@@ -102,27 +86,13 @@ TEST_F(Crowd, DecodedPosesAreEvaluateClipsLocalPosesWithinTheStatedError) {
 
 TEST_F(Crowd, RefusedCommandsNameTheCharacterAndTheSessionRunsOn) {
   client::Client client(OptionsFor(*server_));
-  std::string robot_skeleton;
-  const v1::ListSkeletonsResponse skeletons = client.ListSkeletons();  // kept: the loop reads into it
-  for (const v1::SkeletonInfo& s : skeletons.skeletons())
-    if (s.asset() == "robot") robot_skeleton = s.name();
+  const std::string robot_skeleton = RobotSkeleton(client);
   ASSERT_FALSE(robot_skeleton.empty());
   auto stub = v1::CrowdService::NewStub(client.channel());
   grpc::ClientContext context;
   client.Prepare(context, true);
   auto stream = stub->CrowdSession(&context);
-  ASSERT_TRUE(stream->Write(StartCommand(0.4)));
-  ASSERT_TRUE(stream->Write(AddCommand(1, "cmu", 0)));
-  ASSERT_TRUE(stream->Write(AddCommand(1, "cmu", 0)));  // duplicate
-  v1::CrowdCommand misfit = AddCommand(2, "cmu", 0);    // CMU's clip on the robot
-  misfit.mutable_add()->set_skeleton(robot_skeleton);
-  ASSERT_TRUE(stream->Write(misfit));
-  v1::CrowdCommand nan = AddCommand(3, "cmu", 0);
-  nan.mutable_add()->set_significance(std::nan(""));
-  ASSERT_TRUE(stream->Write(nan));
-  v1::CrowdCommand remove;
-  remove.set_remove(44);
-  ASSERT_TRUE(stream->Write(remove));
+  for (const v1::CrowdCommand& c : RefusedCommands(robot_skeleton)) ASSERT_TRUE(stream->Write(c));
   stream->WritesDone();
   std::vector<v1::CrowdError> errors;
   v1::CrowdFrame frame;

@@ -557,9 +557,10 @@ TEST_F(Gateway, OpenApiIsGeneratedFromTheDescriptors) {
   // Every annotated RPC is there.
   int operations = 0;
   for (const auto& [path, methods] : doc["paths"].items()) operations += static_cast<int>(methods.size());
-  EXPECT_EQ(operations, 31);  // 15 asset and pose routes (EvaluateMotion, PlaybackSession among them), Deform +
+  EXPECT_EQ(operations, 32);  // 15 asset and pose routes (EvaluateMotion, PlaybackSession among them), Deform +
                               // DeformSession, SolveIk + IkSession, MeshService's 10 (SkinCharacter, GetMaterial,
-                              // GetMaterialImage), AuthoringService's 2 (RetargetClip, CreateClip)
+                              // GetMaterialImage), AuthoringService's 2 (RetargetClip, CreateClip), CrowdSession
+  EXPECT_TRUE(doc["paths"]["/v1/crowds:session"]["post"].is_object());
   EXPECT_TRUE(doc["paths"]["/v1/clips/{clip}:retarget"]["post"].is_object());
   EXPECT_TRUE(doc["paths"]["/v1/meshes/{mesh}:deform"]["post"].is_object());
   EXPECT_TRUE(doc["paths"]["/v1/skeletons/{skeleton}:createClip"]["post"].is_object());
