@@ -13,6 +13,11 @@
 // this process; reports the inter-frame arrival interval (mean, p99, max
 // deviation from 1/fps), frames late or lost, and the CPU of --server-pid.
 //
+// Crowd mode (--crowds 1x10000,100x100): SESSIONS CrowdSession calls of
+// CHARACTERS each at --fps; reports the mean tick interval against 1/fps
+// (arrival and the server's own clock), late ticks, deferred characters,
+// wire bytes per joint, and server CPU per character-tick (--server-pid).
+//
 // Exits 1 when a call failed or nothing completed, 2 on bad flags.
 #include <cstdio>
 #include <sstream>
@@ -20,6 +25,7 @@
 #include <CLI/CLI.hpp>
 
 #include "armature/client.h"
+#include "crowd_scale.h"
 #include "load_target.h"
 #include "proc_cpu.h"
 #include "stream_scale.h"
@@ -151,6 +157,52 @@ bool RunUnaryPoint(const std::vector<std::shared_ptr<grpc::Channel>>& channels, 
   return ok;
 }
 
+// "SxC,SxC": sessions × characters per point.
+bool ParseCrowds(const std::string& text, std::vector<std::pair<int, int>>& out) {
+  std::istringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    const auto x = item.find('x');
+    std::vector<int> sessions, characters;
+    if (x == std::string::npos || !ParseList(item.substr(0, x), 1, 10000, sessions) ||
+        !ParseList(item.substr(x + 1), 1, 100000, characters))
+      return false;
+    out.emplace_back(sessions[0], characters[0]);
+  }
+  return !out.empty();
+}
+
+bool RunCrowdPoint(const std::vector<std::shared_ptr<grpc::Channel>>& channels, const CrowdScaleOptions& o) {
+  const CrowdScaleOutcome r = RunCrowdScale(channels, o);
+  const double period = 1000.0 / o.fps;
+  std::printf(
+      "%d crowd(s) of %d characters at %.0f fps over %zu connection(s): all first frames in %.2f s, window "
+      "%.2f s\n",
+      o.sessions, o.characters, o.fps, channels.size(), r.open_seconds, r.window_seconds);
+  std::printf("  tick interval ms: arrival mean %.3f (%.4f of 1/fps) p99 %.3f; server mean %.3f (%.4f) p99 %.3f\n",
+              r.interval_ms.mean, r.interval_ms.mean / period, r.interval_ms.p99, r.server_interval_ms.mean,
+              r.server_interval_ms.mean / period, r.server_interval_ms.p99);
+  std::printf(
+      "  frames %lld of %lld due, late ticks %lld; per tick (all crowds): %.0f poses sent, %.0f characters "
+      "deferred; %.2f wire bytes a joint\n",
+      static_cast<long long>(r.frames), static_cast<long long>(r.frames_expected), static_cast<long long>(r.late_ticks),
+      r.updated_per_tick, r.deferred_per_tick, r.wire_bytes_per_joint);
+  std::printf(
+      "  server CPU %.1f %% of a core (%.3f us a pose sent, %.3f us a character-tick), this client %.1f %%; "
+      "crowds failed %d%s%s\n",
+      r.server_cpu_percent, r.server_cpu_us_per_update, r.server_cpu_us_per_character_tick, r.client_cpu_percent,
+      r.sessions_failed, r.first_error.empty() ? "" : ", first error: ", r.first_error.c_str());
+  std::printf(
+      "RESULT mode=crowds sessions=%d characters=%d fps=%.0f interval_mean_ms=%.3f interval_ratio=%.4f "
+      "server_interval_mean_ms=%.3f server_interval_ratio=%.4f frames=%lld expected=%lld late=%lld "
+      "updated_per_tick=%.1f deferred_per_tick=%.1f wire_bytes_per_joint=%.3f server_cpu_pct=%.1f "
+      "server_cpu_us_per_update=%.4f server_cpu_us_per_character_tick=%.4f failed=%d\n",
+      o.sessions, o.characters, o.fps, r.interval_ms.mean, r.interval_ms.mean / period, r.server_interval_ms.mean,
+      r.server_interval_ms.mean / period, static_cast<long long>(r.frames), static_cast<long long>(r.frames_expected),
+      static_cast<long long>(r.late_ticks), r.updated_per_tick, r.deferred_per_tick, r.wire_bytes_per_joint,
+      r.server_cpu_percent, r.server_cpu_us_per_update, r.server_cpu_us_per_character_tick, r.sessions_failed);
+  return r.sessions_failed == 0 && r.sessions_opened == o.sessions && r.frames > 0;
+}
+
 bool RunStreamPoint(const std::vector<std::shared_ptr<grpc::Channel>>& channels, StreamScaleOptions o) {
   const StreamScaleOutcome r = RunStreamScale(channels, o);
   std::printf("%d streams at %.0f fps over %zu connection(s): all first frames in %.2f s, window %.2f s\n", o.streams,
@@ -184,7 +236,8 @@ bool RunStreamPoint(const std::vector<std::shared_ptr<grpc::Channel>>& channels,
 int main(int argc, char** argv) {
   CLI::App app{"armature-load: closed-loop load on an armature-server on this machine"};
   std::string target = "127.0.0.1:50051", rpc_text = "evaluate", concurrency_text = "1,8,32,128", streams_text;
-  std::string import_bvh;
+  std::string import_bvh, crowds_text;
+  CrowdScaleOptions crowd;  // its budget and sharing from flags; the rest per point
   double seconds = 5, fps = 60, warmup = 1, late_ms = 5;
   int rounds = 2, connections = 1, server_pid = 0, window_kb = 0, read_kb = 0;
   CallShape shape;
@@ -204,7 +257,15 @@ int main(int argc, char** argv) {
   app.add_option("--mesh-clip", shape.mesh_clip, "Clip of SkinMesh");
   app.add_option("--streams", streams_text,
                  "Stream mode: StreamClip streams at once, one point per value (e.g. 100,500,1000)");
-  app.add_option("--fps", fps, "Stream mode: frames per second of each stream")->check(CLI::Range(1.0, 240.0));
+  app.add_option("--crowds", crowds_text,
+                 "Crowd mode: SESSIONSxCHARACTERS CrowdSession calls, one point per value (e.g. 1x10000,100x100)");
+  app.add_option("--budget-ms", crowd.budget_ms, "Crowd mode: each crowd's tick budget; 0 = the server's")
+      ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--share-quantum", crowd.share_quantum,
+                 "Crowd mode: clip times rounded to this to share samples; 0 = the server's 1/120 s, -1 = no sharing")
+      ->check(CLI::Range(-1.0, 1.0));
+  app.add_option("--fps", fps, "Stream and crowd modes: frames per second of each stream")
+      ->check(CLI::Range(1.0, 240.0));
   app.add_option("--warmup", warmup, "Stream mode: seconds after every stream plays before measuring")
       ->check(CLI::Range(0.0, 60.0));
   app.add_option("--late-ms", late_ms, "Stream mode: a frame this much past its due time is late")
@@ -226,6 +287,9 @@ int main(int argc, char** argv) {
     return std::fprintf(stderr, "--concurrency: a comma-separated list of 1..4096\n"), 2;
   if (!streams_text.empty() && !ParseList(streams_text, 1, 20000, stream_counts))
     return std::fprintf(stderr, "--streams: a comma-separated list of 1..20000\n"), 2;
+  std::vector<std::pair<int, int>> crowds;
+  if (!crowds_text.empty() && !ParseCrowds(crowds_text, crowds))
+    return std::fprintf(stderr, "--crowds: a comma-separated list of SESSIONSxCHARACTERS (e.g. 1x10000)\n"), 2;
 
   if (!import_bvh.empty()) {
     armature::client::ClientOptions o;
@@ -238,7 +302,19 @@ int main(int argc, char** argv) {
   }
   const auto channels = Channels(target, connections, window_kb, read_kb);
   bool ok = true;
-  if (!stream_counts.empty()) {
+  if (!crowds.empty()) {
+    for (const auto& [sessions, characters] : crowds) {
+      CrowdScaleOptions o = crowd;
+      o.sessions = sessions;
+      o.characters = characters;
+      o.fps = fps;
+      o.seconds = seconds;
+      o.warmup_seconds = warmup;
+      o.clip = shape.clip;
+      o.server_pid = server_pid;
+      ok = RunCrowdPoint(channels, o) && ok;
+    }
+  } else if (!stream_counts.empty()) {
     for (int n : stream_counts) {
       StreamScaleOptions o;
       o.streams = n;

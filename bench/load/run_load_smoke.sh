@@ -1,7 +1,7 @@
 #!/bin/sh
 # The ctest smoke of armature-load: it refuses targets off this machine, and
 # against a real server (demo assets) it reports sane numbers for a short
-# closed loop at concurrency 2 and for a few 60 fps streams.
+# closed loop at concurrency 2, for a few 60 fps streams and for two 30 fps crowds.
 set -eu
 server_bin=$1
 load_bin=$2
@@ -42,4 +42,15 @@ within "$(field "$out" interval_mean_ms)" 15 18.5 || fail "mean interval not nea
 within "$(field "$out" frames)" 400 520 || fail "frames received not near the 480 due"
 [ "$(field "$out" lost)" = 0 ] || fail "frames lost"
 within "$(field "$out" server_cpu_pct)" 0 400 || fail "server CPU not read (-1: /proc/<pid>/stat unreadable)"
+
+out=$(sh "$here/with_server.sh" "$server_bin" --log-level warn -- \
+  "$load_bin" --target 127.0.0.1:@PORT@ --clip demo_walk --crowds 2x50 --fps 30 --seconds 2 --warmup 0.5 \
+  --server-pid @PID@) || fail "crowd run: $out"
+echo "$out"
+# 2 crowds × 2 s × 30 fps = 120 frames due, each tick near 1/30 s; 50 characters fit any budget.
+within "$(field "$out" interval_ratio)" 0.9 1.1 || fail "mean tick interval not near 33.3 ms"
+within "$(field "$out" frames)" 100 130 || fail "crowd frames not near the 120 due"
+within "$(field "$out" updated_per_tick)" 90 100 || fail "not every character updated each tick"
+within "$(field "$out" wire_bytes_per_joint)" 1 8 || fail "over 8 bytes a joint"
+[ "$(field "$out" failed)" = 0 ] || fail "a crowd failed"
 echo PASS

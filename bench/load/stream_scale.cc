@@ -9,12 +9,11 @@
 #include <thread>
 
 #include "armature/v1/poses.grpc.pb.h"
-#include "proc_cpu.h"
+#include "call_window.h"
 
 namespace armature_load {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 namespace v1 = armature::v1;
 
 struct Arrival {
@@ -23,16 +22,9 @@ struct Arrival {
   double wall_time;  // the server's: when it wrote the frame, since the stream started
 };
 
-// Ends when every stream is done.
-struct Done {
-  std::mutex mu;
-  std::condition_variable cv;
-  int left = 0;
-};
-
-class PacedStream final : public grpc::ClientReadReactor<v1::PoseFrame> {
+class PacedStream final : public grpc::ClientReadReactor<v1::PoseFrame>, public CallProgress {
  public:
-  PacedStream(const StreamScaleOptions& o, double stream_seconds, size_t capacity, Done& done) : done_(done) {
+  PacedStream(const StreamScaleOptions& o, double stream_seconds, size_t capacity, Done& done) : CallProgress(done) {
     request_.set_clip(o.clip);
     request_.set_fps(o.fps);
     request_.set_loop(true);
@@ -55,34 +47,21 @@ class PacedStream final : public grpc::ClientReadReactor<v1::PoseFrame> {
     if (!ok) return;
     const auto now = Clock::now();
     if (arrivals_.size() < arrivals_.capacity()) arrivals_.push_back({now, frame_.index(), frame_.wall_time()});
-    if (!first_.load(std::memory_order_relaxed)) first_.store(true, std::memory_order_release);
+    Started();
     StartRead(&frame_);
   }
 
-  void OnDone(const grpc::Status& status) override {
-    status_ = status;
-    ended_.store(true, std::memory_order_release);
-    std::lock_guard lock(done_.mu);
-    if (--done_.left == 0) done_.cv.notify_all();
-  }
+  void OnDone(const grpc::Status& status) override { Ended(status); }
 
   void Cancel() { context_.TryCancel(); }
-  bool started() const { return first_.load(std::memory_order_acquire); }
-  bool ended() const { return ended_.load(std::memory_order_acquire); }
   const std::vector<Arrival>& arrivals() const { return arrivals_; }
-  const grpc::Status& status() const { return status_; }
 
  private:
-  Done& done_;
   grpc::ClientContext context_;
   v1::StreamClipRequest request_;
   v1::PoseFrame frame_;
   std::vector<Arrival> arrivals_;
-  std::atomic<bool> first_{false}, ended_{false};
-  grpc::Status status_;
 };
-
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 }  // namespace
 
@@ -102,38 +81,16 @@ StreamScaleOutcome RunStreamScale(const std::vector<std::shared_ptr<grpc::Channe
   std::vector<std::unique_ptr<PacedStream>> streams;
   for (int i = 0; i < o.streams; ++i)
     streams.push_back(std::make_unique<PacedStream>(o, stream_seconds, capacity, done));
-  const auto open_start = Clock::now();
-  for (int i = 0; i < o.streams; ++i) streams[i]->Begin(*stubs[i % stubs.size()]);
-
-  // Wait for every stream's first frame (or its failure), then warm up.
-  const auto open_limit = open_start + std::chrono::seconds(static_cast<int>(kOpenAllowance));
-  while (Clock::now() < open_limit) {
-    int ready = 0;  // playing, or ended (a failure is reported below)
-    for (auto& s : streams) ready += s->started() || s->ended() ? 1 : 0;
-    if (ready == o.streams) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  out.open_seconds = Seconds(Clock::now() - open_start);
-  std::this_thread::sleep_for(std::chrono::duration<double>(o.warmup_seconds));
-  const auto window_start = Clock::now();
-  const double server0 = o.server_pid > 0 ? ProcessCpuSeconds(o.server_pid) : -1;
-  const double client0 = ProcessCpuSeconds(0);
-  std::this_thread::sleep_for(std::chrono::duration<double>(o.seconds));
-  const auto window_end = Clock::now();
-  const double server1 = o.server_pid > 0 ? ProcessCpuSeconds(o.server_pid) : -1;
-  const double client1 = ProcessCpuSeconds(0);
-  out.window_seconds = Seconds(window_end - window_start);
-  if (server0 >= 0 && server1 >= 0) out.server_cpu_percent = 100 * (server1 - server0) / out.window_seconds;
-  if (client0 >= 0 && client1 >= 0) out.client_cpu_percent = 100 * (client1 - client0) / out.window_seconds;
-  // Measured: the rest of each stream is not needed. One that ended before
-  // now failed, whatever its status.
-  std::vector<bool> ended_early;
-  for (auto& s : streams) ended_early.push_back(s->ended());
-  for (auto& s : streams) s->Cancel();
-  {
-    std::unique_lock lock(done.mu);
-    done.cv.wait(lock, [&] { return done.left == 0; });
-  }
+  const CallWindow w = MeasureCalls(
+      streams, done, [&](size_t i) { streams[i]->Begin(*stubs[i % stubs.size()]); }, kOpenAllowance, o.warmup_seconds,
+      o.seconds, o.server_pid);
+  // One that ended before the window's end failed, whatever its status.
+  const auto open_start = w.open_start, window_start = w.start, window_end = w.end;
+  const std::vector<bool>& ended_early = w.ended_early;
+  out.open_seconds = w.open_seconds;
+  out.window_seconds = w.seconds;
+  out.server_cpu_percent = w.server_cpu_percent;
+  out.client_cpu_percent = w.client_cpu_percent;
 
   const double period_ms = 1000.0 / o.fps;
   std::vector<double> intervals, deviations, stream_deviations, server_late;
