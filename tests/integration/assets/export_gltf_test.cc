@@ -52,7 +52,9 @@ TEST(ExportGltf, AGlbWithMeshesImportsBackAndPlaysTheSamePoses) {
     ASSERT_EQ(got.poses(i).translations_size(), want.poses(i).translations_size());
     for (int k = 0; k < want.poses(i).translations_size(); ++k) {
       const double v = want.poses(i).translations(k);
-      EXPECT_NEAR(got.poses(i).translations(k), v, 1e-6 * std::max(1.0, std::abs(v))) << "t=" << times[i];
+      // The import compresses the exported samples again under the default bound (1e-4 m for glTF):
+      // the samples come back within it, not bit for bit.
+      EXPECT_NEAR(got.poses(i).translations(k), v, 1e-6 * std::max(1.0, std::abs(v)) + 1e-4) << "t=" << times[i];
     }
     for (int k = 0; k < want.poses(i).rotations_size(); k += 4) {
       double dot = 0;

@@ -49,7 +49,9 @@ TEST(RetargetHandler, OntoAnIdenticalSkeletonEveryJointMapsAndTheMotionIsKept) {
     ASSERT_TRUE(SampleClip(source, t, SampleOptions{}, a).ok());
     ASSERT_TRUE(SampleClip(result, t, SampleOptions{}, b).ok());
     for (size_t j = 0; j < target.size(); ++j) {
-      EXPECT_LT(a[j].rotation.angularDistance(b[j].rotation), 1e-3) << target.names[j] << " at " << t;
+      // The result is compressed again under the default bound, 0.01 cm at 3 cm: a joint's local
+      // rotation may move up to about 0.01 / 3 rad where no child lengthens its lever.
+      EXPECT_LT(a[j].rotation.angularDistance(b[j].rotation), 0.01 / 3) << target.names[j] << " at " << t;
       EXPECT_LT((a[j].translation - b[j].translation).norm(), 1e-2) << target.names[j] << " at " << t;
     }
   }

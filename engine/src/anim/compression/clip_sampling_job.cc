@@ -139,11 +139,51 @@ void ReadEnd(TrackKind kind, const TrackCursor& first, const uint8_t* next, Trac
   ReduceRotation(q, cursor.dropped, cursor.end);
 }
 
-// Track `t`'s end from the next segment (read in step by `next`), when `needed`.
-inline void NextTrackEnd(const CompressedClip& clip, HeaderReader& next, size_t t, bool needed, TrackCursor& cursor) {
+// Reads the ends of the tracks that `at` interpolates toward, walking the
+// next segment's header only as far as the last of them.
+void ReadNeededEnds(const CompressedClip& clip, const SegmentPosition& at, std::span<TrackCursor> cursors) {
+  size_t through = 0;
+  for (size_t t = 0; t < cursors.size(); ++t)
+    if (EndsOnNext(cursors[t], at, IntervalOf(cursors[t], at))) through = t + 1;
+  HeaderReader next(clip, at.segment + 1);
   TrackCursor first;
-  next.Next(t, first, needed);
-  if (needed) ReadEnd(clip.animated[t].kind, first, next.data(), cursor);
+  for (size_t t = 0; t < through; ++t) {
+    const bool needed = EndsOnNext(cursors[t], at, IntervalOf(cursors[t], at));
+    next.Next(t, first, needed);
+    if (needed) ReadEnd(clip.animated[t].kind, first, next.data(), cursors[t]);
+  }
+}
+
+// The context's cursors for `at`. Playback (segments in order) takes the
+// cursors read for the previous segment's ends and reads every end at
+// once; a seek reads only the ends its position needs, and every end once
+// a later position needs more.
+void IndexSegment(const CompressedClip& clip, const SegmentPosition& at, SegmentIndex& index) {
+  const size_t tracks = clip.animated.size();
+  if (index.segment != at.segment) {
+    const bool in_order = index.segment + 1 == at.segment;
+    if (index.next_segment == at.segment) {
+      index.tracks.swap(index.next);
+    } else {
+      HeaderReader reader(clip, at.segment);
+      for (size_t i = 0; i < tracks; ++i) reader.Next(i, index.tracks[i]);
+    }
+    index.next_segment = static_cast<size_t>(-1);
+    index.segment = at.segment;
+    index.ends_q = -1;
+    if (at.shares_end && !in_order) {
+      ReadNeededEnds(clip, at, index.tracks);
+      index.ends_q = at.q;
+    }
+  }
+  if (!at.shares_end || at.q <= index.ends_q) return;
+  HeaderReader next(clip, at.segment + 1);
+  for (size_t i = 0; i < tracks; ++i) {
+    next.Next(i, index.next[i]);
+    ReadEnd(clip.animated[i].kind, index.next[i], next.data(), index.tracks[i]);
+  }
+  index.next_segment = at.segment + 1;
+  index.ends_q = static_cast<float>(kSegmentFrames);
 }
 
 void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std::span<Trs> out) {
@@ -153,29 +193,26 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   if (clip.animated.empty()) return;
   const SegmentPosition at = Locate(clip, t);
   const size_t tracks = clip.animated.size();
-  HeaderReader reader(clip, at.segment);
-  // The next segment's header is read in step, for the shared ends (the
-  // last one has none: it reads its own header again, unused).
-  HeaderReader next(clip, at.shares_end ? at.segment + 1 : at.segment);
+  const uint8_t* segment = clip.data.data() + clip.segment_offsets[at.segment];
   compression_internal::RotationBatch rotations;
   if (!index) {  // random access: each track's cursor, used at once
-    TrackCursor cursor;
+    HeaderReader reader(clip, at.segment);
+    // The next segment's header is read in step, for the shared ends (the
+    // last segment has none: it reads its own again, unused).
+    HeaderReader next(clip, at.shares_end ? at.segment + 1 : at.segment);
+    TrackCursor cursor, first;
     for (size_t i = 0; i < tracks; ++i) {
       reader.Next(i, cursor);
-      NextTrackEnd(clip, next, i, EndsOnNext(cursor, at, IntervalOf(cursor, at)), cursor);
-      DecodeTrack(clip.animated[i], cursor, reader.data(), at, out[clip.animated[i].joint], rotations);
+      const bool needed = EndsOnNext(cursor, at, IntervalOf(cursor, at));
+      next.Next(i, first, needed);
+      if (needed) ReadEnd(clip.animated[i].kind, first, next.data(), cursor);
+      DecodeTrack(clip.animated[i], cursor, segment, at, out[clip.animated[i].joint], rotations);
     }
     return rotations.Flush();
   }
-  if (index->segment != at.segment) {  // sequential playback: each segment's header is read once
-    for (size_t i = 0; i < tracks; ++i) {
-      reader.Next(i, index->tracks[i]);
-      NextTrackEnd(clip, next, i, at.shares_end, index->tracks[i]);
-    }
-    index->segment = at.segment;
-  }
+  IndexSegment(clip, at, *index);
   for (size_t i = 0; i < tracks; ++i)
-    DecodeTrack(clip.animated[i], index->tracks[i], reader.data(), at, out[clip.animated[i].joint], rotations);
+    DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
   rotations.Flush();
 }
 
@@ -214,6 +251,8 @@ void ClipSamplingContext::Resize(const CompressedClip& clip) {
   serial_ = clip.serial;
   index_.segment = static_cast<size_t>(-1);
   index_.tracks.assign(clip.animated.size(), TrackCursor{});
+  index_.next_segment = static_cast<size_t>(-1);
+  index_.next.assign(clip.animated.size(), TrackCursor{});
   clip_pose_.assign(clip.skeleton ? clip.skeleton->size() : 0, Trs{});
 }
 

@@ -32,9 +32,16 @@ struct TrackCursor {
 };
 
 // Every animated track's cursor in one segment.
+// `next`: the following segment's cursors once read (its first samples are
+// this segment's ends), reused when playback moves on to it. `ends_q`: the
+// position through which the tracks' ends are read (a seek reads only those
+// it needs; every one once playback goes past it).
 struct SegmentIndex {
   size_t segment = static_cast<size_t>(-1);
   std::vector<TrackCursor> tracks;
+  size_t next_segment = static_cast<size_t>(-1);
+  std::vector<TrackCursor> next;
+  float ends_q = 0;
 };
 
 // Per-playback state: the segment last sampled and where each animated
