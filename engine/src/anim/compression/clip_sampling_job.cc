@@ -15,6 +15,12 @@ using compression_internal::kRangeBytes;
 using compression_internal::kSegmentFrames;
 using compression_internal::TrackCode;
 
+// A ClipJointSubset's parts, as the sampler reads them.
+struct ClipJointSubsetView {
+  std::span<const uint32_t> joints, constants, animated;
+  std::span<const uint8_t> in_subset;
+};
+
 // Where a clip time falls among the packed segments.
 struct SegmentPosition {
   size_t segment = 0;
@@ -95,10 +101,22 @@ void WalkSegment(const CompressedClip& clip, const uint8_t* segment, const uint8
   }
 }
 
-void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std::span<Trs> out) {
+// The rest pose and the constant tracks: of every joint, or of the subset's.
+void StoreStill(const CompressedClip& clip, const ClipJointSubsetView* subset, std::span<Trs> out) {
   const Skeleton& skeleton = *clip.skeleton;
-  std::copy(skeleton.rest.begin(), skeleton.rest.end(), out.begin());
-  for (const ConstantTrack& c : clip.constants) Store(c.kind, c.value, out[c.joint]);
+  if (!subset) {
+    std::copy(skeleton.rest.begin(), skeleton.rest.end(), out.begin());
+    for (const ConstantTrack& c : clip.constants) Store(c.kind, c.value, out[c.joint]);
+    return;
+  }
+  for (uint32_t j : subset->joints) out[j] = skeleton.rest[j];
+  for (uint32_t i : subset->constants)
+    Store(clip.constants[i].kind, clip.constants[i].value, out[clip.constants[i].joint]);
+}
+
+void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, const ClipJointSubsetView* subset,
+                 std::span<Trs> out) {
+  StoreStill(clip, subset, out);
   if (clip.animated.empty()) return;
   const SegmentPosition at = Locate(clip, t);
   const uint8_t* segment = clip.data.data() + clip.segment_offsets[at.segment];
@@ -111,7 +129,8 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
     WalkSegment(
         clip, segment, end, at.intervals, [&](size_t) -> TrackCursor& { return cursor; },
         [&](size_t i, const TrackCursor& c) {
-          DecodeTrack(clip.animated[i], c, segment, at, out[clip.animated[i].joint], rotations);
+          if (!subset || subset->in_subset[i])
+            DecodeTrack(clip.animated[i], c, segment, at, out[clip.animated[i].joint], rotations);
         });
     return rotations.Flush();
   }
@@ -121,8 +140,13 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
         [](size_t, const TrackCursor&) {});
     index->segment = at.segment;
   }
-  for (size_t i = 0; i < clip.animated.size(); ++i)
-    DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+  if (subset) {
+    for (uint32_t i : subset->animated)
+      DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+  } else {
+    for (size_t i = 0; i < clip.animated.size(); ++i)
+      DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+  }
   rotations.Flush();
 }
 
@@ -166,6 +190,27 @@ void ClipSamplingContext::Resize(const CompressedClip& clip) {
 
 bool ClipSamplingContext::Fits(const CompressedClip& clip) const { return clip_ == &clip && serial_ == clip.serial; }
 
+ClipJointSubset::ClipJointSubset(const CompressedClip& clip, std::span<const uint32_t> joints)
+    : clip_(&clip), serial_(clip.serial), joints_(joints.begin(), joints.end()) {
+  std::sort(joints_.begin(), joints_.end());
+  joints_.erase(std::unique(joints_.begin(), joints_.end()), joints_.end());
+  std::vector<uint8_t> chosen(clip.skeleton ? clip.skeleton->size() : 0, 0);
+  for (uint32_t j : joints_)
+    if (j < chosen.size()) chosen[j] = 1;
+  for (size_t i = 0; i < clip.constants.size(); ++i)
+    if (chosen[clip.constants[i].joint]) constants_.push_back(static_cast<uint32_t>(i));
+  in_subset_.assign(clip.animated.size(), 0);
+  for (size_t i = 0; i < clip.animated.size(); ++i)
+    if (chosen[clip.animated[i].joint]) {
+      animated_.push_back(static_cast<uint32_t>(i));
+      in_subset_[i] = 1;
+    }
+}
+
+bool ClipJointSubset::Fits(const CompressedClip& clip) const {
+  return clip_ == &clip && serial_ == clip.serial && (joints_.empty() || joints_.back() < clip.skeleton->size());
+}
+
 Status ClipSamplingJob::Validate() const {
   ARMATURE_RETURN_IF_ERROR(CheckClip(clip));
   ARMATURE_RETURN_IF_ERROR(CheckTime(time, wrap, interpolation));
@@ -175,6 +220,8 @@ Status ClipSamplingJob::Validate() const {
                                    " joints");
   if (context && !context->Fits(*clip))
     return Status::InvalidArgument("sampling job: the context was not resized to this clip");
+  if (joints && !joints->Fits(*clip))
+    return Status::InvalidArgument("sampling job: the joint subset was not built for this clip");
   return Status::Ok();
 }
 
@@ -182,8 +229,10 @@ Status ClipSamplingJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
   const double t = WrapTime(time, clip->duration, wrap);
   if (clip->exact()) return SampleClip(*clip->exact_keys, t, {interpolation, WrapMode::kClamp}, output);
+  std::optional<ClipJointSubsetView> subset;
+  if (joints) subset = ClipJointSubsetView{joints->joints_, joints->constants_, joints->animated_, joints->in_subset_};
   SampleLossy(*clip, interpolation == Interpolation::kStep ? FrameAtOrBefore(*clip, t) : t,
-              context ? &context->index_ : nullptr, output);
+              context ? &context->index_ : nullptr, subset ? &*subset : nullptr, output);
   return Status::Ok();
 }
 
