@@ -1,4 +1,5 @@
 // BindMotion: a motion's validation and everything resolved once per motion.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -130,6 +131,14 @@ void IndexJointLayers(MotionPlan& plan) {
     }
   }
   plan.joint_begin[n] = static_cast<uint32_t>(plan.joint_layers.size());
+  std::vector<std::vector<uint32_t>> read(plan.layers.size());
+  for (const JointLayer& e : plan.joint_layers) read[e.layer].push_back(e.joint);
+  for (size_t i = 0; i < plan.layers.size(); ++i) {
+    BoundLayer& l = plan.layers[i];
+    std::sort(read[i].begin(), read[i].end());
+    read[i].erase(std::unique(read[i].begin(), read[i].end()), read[i].end());
+    if (read[i].size() < l.clip->skeleton->size()) l.sampled.emplace(*l.clip, read[i]);
+  }
 }
 
 }  // namespace

@@ -100,8 +100,10 @@ void BlendJoint(const MotionPlan& plan, const MotionWorkspace& ws, size_t j, Roo
   const Trs& rest = plan.skeleton->rest[j];
   const JointLayer* begin = plan.joint_layers.data() + plan.joint_begin[j];
   const JointLayer* end = plan.joint_layers.data() + plan.joint_begin[j + 1];
-  out = rest;
-  if (begin == end) return;
+  if (begin == end) {
+    out = rest;
+    return;
+  }
   const bool is_root = static_cast<int>(j) == plan.root;
   // One override layer at full weight: the mixer takes its sample as it is.
   if (end - begin == 1 && !begin->additive && plan.layers[begin->layer].joint_weight[j] >= 1 && !is_root) {
@@ -117,12 +119,18 @@ void BlendJoint(const MotionPlan& plan, const MotionWorkspace& ws, size_t j, Roo
       continue;
     }
     const double w = plan.layers[e->layer].joint_weight[j];
-    Trs v = LayerSample(ws, *e, rest);
-    if (is_root) ApplyRootMotion(plan, plan.layers[e->layer], times[e->layer], root_mode, v);
-    // Only the properties the clip animates take part (three.js binds tracks, not joints).
-    if (e->parts & 2) t.Add(v.translation, w);
-    if (e->parts & 1) r.Add(v.rotation, w);
-    if (e->parts & 4) s.Add(v.scale, w);
+    // Only the properties the clip animates take part (three.js binds tracks,
+    // not joints), read in place: the root alone needs a copy to move.
+    Trs moved;
+    const Trs* v = &ws.layer_poses[e->layer][e->joint];
+    if (is_root) {
+      moved = LayerSample(ws, *e, rest);
+      ApplyRootMotion(plan, plan.layers[e->layer], times[e->layer], root_mode, moved);
+      v = &moved;
+    }
+    if (e->parts & 2) t.Add(v->translation, w);
+    if (e->parts & 1) r.Add(v->rotation, w);
+    if (e->parts & 4) s.Add(v->scale, w);
   }
   out.translation = t.Finish(rest.translation);
   out.rotation = r.Finish(rest.rotation);
@@ -199,9 +207,15 @@ Status BlendMotionJob::Run() const {
   std::span<LayerTime> times(workspace->layer_times);
   for (size_t i = 0; i < p.layers.size(); ++i) {
     times[i] = LayerTimeAt(p, i, time);
-    // The whole clip pose once per layer (the job's one way to sample); times are already wrapped.
-    ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{
-        p.layers[i].clip, times[i].time, WrapMode::kClamp, &workspace->contexts[i], workspace->layer_poses[i], {}}
+    // Each layer's clip once, only at the joints the blend reads; times are already wrapped.
+    const BoundLayer& l = p.layers[i];
+    ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{l.clip,
+                                              times[i].time,
+                                              WrapMode::kClamp,
+                                              &workspace->contexts[i],
+                                              workspace->layer_poses[i],
+                                              {},
+                                              l.sampled ? &*l.sampled : nullptr}
                                   .Run()));
   }
   const bool extract = p.root_motion == RootMotion::kExtract;

@@ -15,6 +15,12 @@ using compression_internal::kRangeBytes;
 using compression_internal::kSegmentFrames;
 using compression_internal::TrackCode;
 
+// A ClipJointSubset's parts, as the sampler reads them.
+struct ClipJointSubsetView {
+  std::span<const uint32_t> joints, constants, animated;
+  std::span<const uint8_t> in_subset;
+};
+
 // Where a clip time falls among the packed segments.
 struct SegmentPosition {
   size_t segment = 0;
@@ -186,10 +192,22 @@ void IndexSegment(const CompressedClip& clip, const SegmentPosition& at, Segment
   index.ends_q = static_cast<float>(kSegmentFrames);
 }
 
-void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std::span<Trs> out) {
+// The rest pose and the constant tracks: of every joint, or of the subset's.
+void StoreStill(const CompressedClip& clip, const ClipJointSubsetView* subset, std::span<Trs> out) {
   const Skeleton& skeleton = *clip.skeleton;
-  std::copy(skeleton.rest.begin(), skeleton.rest.end(), out.begin());
-  for (const ConstantTrack& c : clip.constants) Store(c.kind, c.value, out[c.joint]);
+  if (!subset) {
+    std::copy(skeleton.rest.begin(), skeleton.rest.end(), out.begin());
+    for (const ConstantTrack& c : clip.constants) Store(c.kind, c.value, out[c.joint]);
+    return;
+  }
+  for (uint32_t j : subset->joints) out[j] = skeleton.rest[j];
+  for (uint32_t i : subset->constants)
+    Store(clip.constants[i].kind, clip.constants[i].value, out[clip.constants[i].joint]);
+}
+
+void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, const ClipJointSubsetView* subset,
+                 std::span<Trs> out) {
+  StoreStill(clip, subset, out);
   if (clip.animated.empty()) return;
   const SegmentPosition at = Locate(clip, t);
   const size_t tracks = clip.animated.size();
@@ -198,21 +216,28 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, std:
   if (!index) {  // random access: each track's cursor, used at once
     HeaderReader reader(clip, at.segment);
     // The next segment's header is read in step, for the shared ends (the
-    // last segment has none: it reads its own again, unused).
+    // last segment has none: it reads its own again, unused). Both walk
+    // every track; only the subset's are decoded.
     HeaderReader next(clip, at.shares_end ? at.segment + 1 : at.segment);
     TrackCursor cursor, first;
     for (size_t i = 0; i < tracks; ++i) {
       reader.Next(i, cursor);
-      const bool needed = EndsOnNext(cursor, at, IntervalOf(cursor, at));
+      const bool wanted = !subset || subset->in_subset[i];
+      const bool needed = wanted && EndsOnNext(cursor, at, IntervalOf(cursor, at));
       next.Next(i, first, needed);
       if (needed) ReadEnd(clip.animated[i].kind, first, next.data(), cursor);
-      DecodeTrack(clip.animated[i], cursor, segment, at, out[clip.animated[i].joint], rotations);
+      if (wanted) DecodeTrack(clip.animated[i], cursor, segment, at, out[clip.animated[i].joint], rotations);
     }
     return rotations.Flush();
   }
   IndexSegment(clip, at, *index);
-  for (size_t i = 0; i < tracks; ++i)
-    DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+  if (subset) {
+    for (uint32_t i : subset->animated)
+      DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+  } else {
+    for (size_t i = 0; i < tracks; ++i)
+      DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+  }
   rotations.Flush();
 }
 
@@ -258,6 +283,27 @@ void ClipSamplingContext::Resize(const CompressedClip& clip) {
 
 bool ClipSamplingContext::Fits(const CompressedClip& clip) const { return clip_ == &clip && serial_ == clip.serial; }
 
+ClipJointSubset::ClipJointSubset(const CompressedClip& clip, std::span<const uint32_t> joints)
+    : clip_(&clip), serial_(clip.serial), joints_(joints.begin(), joints.end()) {
+  std::sort(joints_.begin(), joints_.end());
+  joints_.erase(std::unique(joints_.begin(), joints_.end()), joints_.end());
+  std::vector<uint8_t> chosen(clip.skeleton ? clip.skeleton->size() : 0, 0);
+  for (uint32_t j : joints_)
+    if (j < chosen.size()) chosen[j] = 1;
+  for (size_t i = 0; i < clip.constants.size(); ++i)
+    if (chosen[clip.constants[i].joint]) constants_.push_back(static_cast<uint32_t>(i));
+  in_subset_.assign(clip.animated.size(), 0);
+  for (size_t i = 0; i < clip.animated.size(); ++i)
+    if (chosen[clip.animated[i].joint]) {
+      animated_.push_back(static_cast<uint32_t>(i));
+      in_subset_[i] = 1;
+    }
+}
+
+bool ClipJointSubset::Fits(const CompressedClip& clip) const {
+  return clip_ == &clip && serial_ == clip.serial && (joints_.empty() || joints_.back() < clip.skeleton->size());
+}
+
 Status ClipSamplingJob::Validate() const {
   ARMATURE_RETURN_IF_ERROR(CheckClip(clip));
   ARMATURE_RETURN_IF_ERROR(CheckTime(time, wrap, interpolation));
@@ -267,6 +313,8 @@ Status ClipSamplingJob::Validate() const {
                                    " joints");
   if (context && !context->Fits(*clip))
     return Status::InvalidArgument("sampling job: the context was not resized to this clip");
+  if (joints && !joints->Fits(*clip))
+    return Status::InvalidArgument("sampling job: the joint subset was not built for this clip");
   return Status::Ok();
 }
 
@@ -274,8 +322,10 @@ Status ClipSamplingJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
   const double t = WrapTime(time, clip->duration, wrap);
   if (clip->exact()) return SampleClip(*clip->exact_keys, t, {interpolation, WrapMode::kClamp}, output);
+  std::optional<ClipJointSubsetView> subset;
+  if (joints) subset = ClipJointSubsetView{joints->joints_, joints->constants_, joints->animated_, joints->in_subset_};
   SampleLossy(*clip, interpolation == Interpolation::kStep ? FrameAtOrBefore(*clip, t) : t,
-              context ? &context->index_ : nullptr, output);
+              context ? &context->index_ : nullptr, subset ? &*subset : nullptr, output);
   return Status::Ok();
 }
 

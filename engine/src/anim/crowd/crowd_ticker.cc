@@ -35,7 +35,8 @@ StatusOr<uint32_t> CrowdTicker::AddClip(std::shared_ptr<const CompressedClip> cl
   max_joints_ = std::max<size_t>(max_joints_, layout.joints);
   max_pose_bytes_ = std::max(max_pose_bytes_, layout.EncodedSize());
   scratch_.resize(max_joints_);
-  clips_.push_back({std::move(clip), std::move(layout)});
+  ClipSamplingContext context(*clip);
+  clips_.push_back({std::move(clip), std::move(layout), std::move(context)});
   return static_cast<uint32_t>(clips_.size() - 1);
 }
 
@@ -145,7 +146,7 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
   size_t offset = 0, samples = 0;
   for (size_t i = 0; i < count; ++i) {
     const CrowdCharacter& c = characters_[due_[i]];
-    const ClipEntry& entry = clips_[c.clip];
+    ClipEntry& entry = clips_[c.clip];
     const size_t bytes = entry.layout.EncodedSize();
     int64_t step = 0;
     const double t = ClipTime(c, time, &step);
@@ -163,7 +164,7 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
     }
     std::span<Trs> pose(scratch_.data(), entry.layout.joints);
     ARMATURE_RETURN_IF_ERROR(
-        (ClipSamplingJob{entry.clip.get(), t, WrapMode::kLoop, nullptr, pose, std::nullopt}.Run()));
+        (ClipSamplingJob{entry.clip.get(), t, WrapMode::kLoop, &entry.context, pose, std::nullopt}.Run()));
     EncodePose(entry.layout, pose, dst);
     offset += bytes;
     ++samples;

@@ -1,5 +1,6 @@
 // The compressed clip as the server's one runtime form: precision read from
 // text, keys given back for export, STEP and unit rotations from the job.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -103,6 +104,41 @@ TEST(RuntimeForm, StepHoldsTheFrameAndRotationsAreUnit) {
   }
   EXPECT_LE(worst_norm, 1e-13);
   EXPECT_EQ((ClipSamplingJob{&z, 0, WrapMode::kClamp, nullptr, at_frame, static_cast<Interpolation>(9)}.Run().code()),
+            StatusCode::kInvalidArgument);
+}
+
+// A joint subset decodes only its joints' tracks: each equals the whole
+// pose's (with a context and without), every other joint is left as it was.
+TEST(RuntimeForm, AJointSubsetSamplesItsJointsAsTheWholePose) {
+  if (!Cmu()) GTEST_SKIP() << "../shared/data is absent";
+  auto lossy = CompressClip(Cmu());
+  auto other = CompressClip(Cmu());
+  ASSERT_TRUE(lossy.ok() && other.ok());
+  const CompressedClip& z = **lossy;
+  const size_t n = z.skeleton->size();
+  const std::vector<uint32_t> joints = {0, 7, 8, 9, static_cast<uint32_t>(n - 1)};
+  const ClipJointSubset subset(z, joints);
+  ClipSamplingContext whole_context(z), subset_context(z);
+  Trs untouched;
+  untouched.translation = Eigen::Vector3d(1e6, 2e6, 3e6);
+  std::vector<Trs> whole(n), part(n), no_context(n);
+  for (double t = 0; t < 3.0; t += 0.137) {
+    std::fill(part.begin(), part.end(), untouched);
+    std::fill(no_context.begin(), no_context.end(), untouched);
+    ASSERT_TRUE((ClipSamplingJob{&z, t, WrapMode::kClamp, &whole_context, whole, {}}.Run().ok()));
+    ASSERT_TRUE((ClipSamplingJob{&z, t, WrapMode::kClamp, &subset_context, part, {}, &subset}.Run().ok()));
+    ASSERT_TRUE((ClipSamplingJob{&z, t, WrapMode::kClamp, nullptr, no_context, {}, &subset}.Run().ok()));
+    for (size_t j = 0; j < n; ++j) {
+      const bool in = std::find(joints.begin(), joints.end(), j) != joints.end();
+      for (const std::vector<Trs>* pose : {&part, &no_context}) {
+        const Trs& expected = in ? whole[j] : untouched;
+        EXPECT_EQ((*pose)[j].translation, expected.translation) << t << " " << j;
+        EXPECT_EQ((*pose)[j].rotation.coeffs(), expected.rotation.coeffs()) << t << " " << j;
+      }
+    }
+  }
+  const ClipJointSubset elsewhere(**other, joints);
+  EXPECT_EQ((ClipSamplingJob{&z, 0, WrapMode::kClamp, nullptr, part, {}, &elsewhere}.Run().code()),
             StatusCode::kInvalidArgument);
 }
 

@@ -2,6 +2,7 @@
 // job's at each character's clip time within the encoding's bound, sharing
 // samples once per (clip, quantized time), a short budget defers the least
 // significant, the schedule is deterministic, and bad characters are named.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -70,6 +71,30 @@ TEST(CrowdTickerTest, DecodedPosesAreTheClipAtEachCharactersTime) {
   }
   ExpectPosesMatch(ticker, clip, tick);
   EXPECT_EQ(tick.poses.size(), 50u * (31 * 6 + 12));
+}
+
+// Characters due one after the other in one segment reuse its header (the
+// ticker's context per clip): their bytes are those of a pose sampled alone.
+TEST(CrowdTickerTest, CharactersCloseInTimeEncodeTheirOwnSamples) {
+  SKIP_WITHOUT_CMU();
+  CrowdTicker ticker({.budget_us = 1e6});
+  const uint32_t clip = *ticker.AddClip(Cmu());
+  for (uint32_t id = 0; id < 40; ++id)
+    ASSERT_TRUE(ticker.Add({.id = id, .clip = clip, .time_offset = 0.0137 * id}).ok());
+  const PoseLayout& layout = ticker.layout(clip);
+  std::vector<Trs> alone(layout.joints);
+  std::vector<uint8_t> bytes(layout.EncodedSize());
+  CrowdTick tick;
+  for (uint64_t k = 0; k < 6; ++k) {
+    ASSERT_TRUE(ticker.Tick(k, static_cast<double>(k) / 30, &tick).ok());
+    ASSERT_EQ(tick.ids.size(), 40u);
+    for (size_t i = 0; i < tick.ids.size(); ++i) {
+      ASSERT_TRUE(
+          (ClipSamplingJob{Cmu().get(), tick.clip_times[i], WrapMode::kLoop, nullptr, alone, std::nullopt}.Run().ok()));
+      EncodePose(layout, alone, bytes.data());
+      EXPECT_TRUE(std::equal(bytes.begin(), bytes.end(), tick.poses.begin() + i * bytes.size())) << k << " " << i;
+    }
+  }
 }
 
 TEST(CrowdTickerTest, CharactersAtOneQuantizedTimeShareOneSample) {

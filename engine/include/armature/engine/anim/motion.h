@@ -68,6 +68,9 @@ struct BoundLayer {
   std::vector<int> clip_joint;
   std::vector<double> joint_weight;
   std::vector<Trs> reference;  // ADDITIVE: per motion joint, the clip at reference_time
+  // The clip joints the blend reads (those of its joint_layers entries), when
+  // not all: the job samples only these (a masked layer's few joints).
+  std::optional<ClipJointSubset> sampled;
   // Root motion (override layers). IN_PLACE: the root's translation in the
   // clip's first frame. ACCUMULATE: one loop moves the root, in world
   // directions, by x ↦ R(yaw)·(x − loop_origin) + loop_origin + loop_shift.

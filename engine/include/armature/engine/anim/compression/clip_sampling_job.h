@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <vector>
@@ -64,8 +65,29 @@ class ClipSamplingContext {
   std::vector<Trs> clip_pose_;  // for ClipSamplingOntoJob
 };
 
+// A subset of a clip's joints to sample, resolved once (allocates) into the
+// clip's tracks on them, so a job decodes nothing else: a masked motion
+// layer samples only the joints it acts on.
+class ClipJointSubset {
+ public:
+  ClipJointSubset() = default;
+  // `joints` are the clip's joint indices (each < its skeleton's size).
+  ClipJointSubset(const CompressedClip& clip, std::span<const uint32_t> joints);
+  bool Fits(const CompressedClip& clip) const;
+
+ private:
+  friend struct ClipSamplingJob;
+  const CompressedClip* clip_ = nullptr;
+  uint64_t serial_ = 0;
+  std::vector<uint32_t> joints_;     // ascending, unique
+  std::vector<uint32_t> constants_;  // indices into clip.constants on those joints
+  std::vector<uint32_t> animated_;   // indices into clip.animated on those joints
+  std::vector<uint8_t> in_subset_;   // per animated track: 1 when on one of those joints
+};
+
 // Samples every joint's local transform at `time` into `output` (size =
-// the clip's joints). Between frames rotations are nlerped (the stride's
+// the clip's joints), or only `joints`' when given (the other transforms
+// are left as they were, except on an exact clip, which writes all). Between frames rotations are nlerped (the stride's
 // samples and the frames alike), then made unit in double (one Newton step);
 // an exact clip samples as SampleClip. `interpolation` overrides the tracks'
 // own: on an exact clip as SampleClip's; on a lossy one STEP holds the frame
@@ -78,6 +100,7 @@ struct ClipSamplingJob {
   ClipSamplingContext* context = nullptr;  // optional: sequential playback reuses it
   std::span<Trs> output;
   std::optional<Interpolation> interpolation;
+  const ClipJointSubset* joints = nullptr;  // optional: built for this clip
 
   Status Validate() const;
   Status Run() const;  // Validate(), then samples

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "armature/base/status.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/anim/crowd/pose_encoding.h"
 
@@ -74,6 +75,9 @@ class CrowdTicker {
   struct ClipEntry {
     std::shared_ptr<const CompressedClip> clip;
     PoseLayout layout;
+    // The segment last sampled: characters due one after the other often
+    // play the same segment, whose header is then read once.
+    ClipSamplingContext context;
   };
   struct ShareEntry {  // one sample of a tick: (clip, quantized step) → its bytes in the output
     uint64_t generation = 0;
