@@ -84,7 +84,7 @@ Status CrowdSession::Add(const Catalog& catalog, const v1::CrowdCharacter& messa
   if (roots_.size() >= static_cast<size_t>(limits_.max_crowd_characters))
     return Status::ResourceExhausted(Named(id) + "the session holds " + std::to_string(roots_.size()) +
                                      " characters, the limit --max-crowd-characters");
-  ARMATURE_ASSIGN_OR_RETURN(ResolvedCharacter resolved, ResolveCharacter(catalog, message));
+  ARMATURE_ASSIGN_OR_RETURN(ResolvedCharacter resolved, ResolveCharacter(catalog, message, motions_));
   ARMATURE_ASSIGN_OR_RETURN(resolved.numbers.clip, ClipIndexOf(resolved));
   if (!totals_->TryAddCharacter())
     return Status::ResourceExhausted(Named(id) + "the server's crowds hold " + std::to_string(totals_->characters()) +
@@ -100,7 +100,7 @@ Status CrowdSession::Add(const Catalog& catalog, const v1::CrowdCharacter& messa
 Status CrowdSession::Update(const Catalog& catalog, const v1::CrowdCharacter& message) {
   auto held = roots_.find(message.id());
   if (held == roots_.end()) return Status::NotFound(Named(message.id()) + "no such id in the crowd");
-  ARMATURE_ASSIGN_OR_RETURN(ResolvedCharacter resolved, ResolveCharacter(catalog, message));
+  ARMATURE_ASSIGN_OR_RETURN(ResolvedCharacter resolved, ResolveCharacter(catalog, message, motions_));
   ARMATURE_ASSIGN_OR_RETURN(resolved.numbers.clip, ClipIndexOf(resolved));
   ARMATURE_RETURN_IF_ERROR(ticker_->Update(resolved.numbers));
   held->second = message.root();
@@ -115,7 +115,8 @@ Status CrowdSession::Remove(uint32_t id) {
 }
 
 StatusOr<uint32_t> CrowdSession::ClipIndexOf(const ResolvedCharacter& resolved) {
-  ARMATURE_ASSIGN_OR_RETURN(uint32_t index, ticker_->AddClip(resolved.clip));
+  ARMATURE_ASSIGN_OR_RETURN(uint32_t index,
+                            resolved.motion ? ticker_->AddMotion(resolved.motion) : ticker_->AddClip(resolved.clip));
   if (index == clip_names_.size()) clip_names_.emplace_back(resolved.clip_name, resolved.skeleton_name);
   return index;
 }

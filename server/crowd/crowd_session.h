@@ -17,6 +17,7 @@
 #include "armature/v1/crowd.pb.h"
 #include "server/assets/catalog.h"
 #include "server/crowd/crowd_character.h"
+#include "server/crowd/crowd_motion_plans.h"
 #include "server/crowd/crowd_totals.h"
 #include "server/rpc/call_stop.h"
 #include "server/rpc/limits.h"
@@ -34,7 +35,7 @@ class CrowdSession {
   static constexpr size_t kMaxErrors = 256;    // refusals kept for one frame; more are counted in the last
 
   CrowdSession(CatalogSource catalog, const Limits& limits, std::shared_ptr<CrowdTotals> totals)
-      : catalog_(std::move(catalog)), limits_(limits), totals_(std::move(totals)) {}
+      : catalog_(std::move(catalog)), limits_(limits), totals_(std::move(totals)), motions_(limits) {}
   ~CrowdSession();
 
   // The first message; errors name the field ("start.fps: …") and end the call.
@@ -58,7 +59,7 @@ class CrowdSession {
   Status Add(const Catalog& catalog, const v1::CrowdCharacter& message);
   Status Update(const Catalog& catalog, const v1::CrowdCharacter& message);
   Status Remove(uint32_t id);
-  // The ticker's clip index for a resolved character; a new one gets a layout sent in the next frame.
+  // The ticker's clip (or motion) index for a resolved character; a new one gets a layout sent in the next frame.
   StatusOr<uint32_t> ClipIndexOf(const ResolvedCharacter& resolved);
   void Refuse(uint64_t number, uint32_t id, const Status& status);
   void FillLayouts(Frame* frame);
@@ -66,6 +67,7 @@ class CrowdSession {
   CatalogSource catalog_;
   const Limits& limits_;
   std::shared_ptr<CrowdTotals> totals_;
+  CrowdMotionPlans motions_;  // bound once per distinct motion
   double fps_ = 30, budget_ms_ = 0, duration_ = 0;
   std::unique_ptr<CrowdTicker> ticker_;
   std::vector<std::pair<std::string, std::string>> clip_names_;  // per ticker clip: (clip, skeleton)

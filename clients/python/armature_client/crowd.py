@@ -158,26 +158,33 @@ class CrowdSession:
                                             "crowd session: commands after close()")
         self._queue.put(self._pb.CrowdCommand(**command))
 
-    def _character(self, id, clip, skeleton, character, time_offset, speed, root, significance):
-        c = self._pb.CrowdCharacter(id=id, clip=clip, skeleton=skeleton or "", character=character or "",
+    def _character(self, id, clip, skeleton, character, motion, time_offset, speed, root, significance):
+        c = self._pb.CrowdCharacter(id=id, clip=clip or "", skeleton=skeleton or "", character=character or "",
                                     time_offset=float(time_offset), speed=float(speed),
                                     significance=float(significance))
+        if motion is not None:
+            from .client import _message  # the same motion forms as Client.evaluate_motion
+            c.motion.CopyFrom(_message(type(c.motion), motion, "motion"))
         if root is not None:
             translation, rotation = root
             c.root.translation.extend(float(v) for v in (translation if translation is not None else ()))
             c.root.rotation.extend(float(v) for v in (rotation if rotation is not None else ()))
         return c
 
-    def add(self, id, clip, skeleton=None, *, character=None, time_offset=0.0, speed=1.0, root=None,
-            significance=0.0):
+    def add(self, id, clip=None, skeleton=None, *, character=None, motion=None, time_offset=0.0, speed=1.0,
+            root=None, significance=0.0):
         """A character: `clip` looped from `time_offset` at `speed`, on `skeleton` (default: the clip's).
+        Or `motion` instead of a clip (a dict with motion.proto's JSON names, as Client.evaluate_motion
+        takes, or a Motion message), blended at motion time time_offset + speed · t.
         root: (translation (3,) or None, rotation w, x, y, z or None), kept for the client to apply."""
-        self._send(add=self._character(id, clip, skeleton, character, time_offset, speed, root, significance))
+        self._send(add=self._character(id, clip, skeleton, character, motion, time_offset, speed, root,
+                                       significance))
 
-    def update(self, id, clip, skeleton=None, *, character=None, time_offset=0.0, speed=1.0, root=None,
-               significance=0.0):
+    def update(self, id, clip=None, skeleton=None, *, character=None, motion=None, time_offset=0.0, speed=1.0,
+               root=None, significance=0.0):
         """Replaces every field of character `id`."""
-        self._send(update=self._character(id, clip, skeleton, character, time_offset, speed, root, significance))
+        self._send(update=self._character(id, clip, skeleton, character, motion, time_offset, speed, root,
+                                          significance))
 
     def remove(self, id):
         self._send(remove=id)

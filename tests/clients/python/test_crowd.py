@@ -129,6 +129,36 @@ class CrowdTest(unittest.TestCase):
         self.assertEqual(ids_seen, {1, 3})
         self.assertEqual(characters, 2)
 
+    def test_a_motion_character_poses_are_evaluate_motions(self):
+        """Two layers of CMU 0.3 / 0.7 (the second 0.6 s ahead): poses equal evaluate_motion's at
+        each motion time within the stated error (the same stored clips: no compression term);
+        a NaN weight is refused naming the character."""
+        motion = {"layers": [{"clip": "cmu", "weight": 0.3}, {"clip": "cmu", "weight": 0.7, "timeOffset": 0.6}]}
+        worst, compared, refused = np.zeros(2), 0, []
+        with self.client.crowd_session(fps=30, duration=0.3) as s:
+            for i in range(5):
+                s.add(id=i, motion=motion, time_offset=0.4 * i, speed=1 + 0.2 * i)
+            s.add(id=9, motion={"layers": [{"clip": "cmu", "weight": float("nan")}]})
+            s.close()
+            for f in s.frames():
+                refused += f.errors
+                if not len(f.ids):
+                    continue
+                stated = s._decoder.layouts[int(f.layouts[0])].max_rotation_error
+                expected = np.array([0.4 * i + (1 + 0.2 * i) * f.time for i in f.ids.tolist()])
+                np.testing.assert_allclose(f.clip_times, expected, atol=1e-9)
+                ref = self.client.evaluate_motion(motion, f.clip_times, space="local")
+                worst = np.maximum(worst, [angles(f.rotations, ref.rotations).max(),
+                                           np.abs(f.translations - ref.translations).max()])
+                compared += len(f.ids)
+        print(f"  motion: {compared} poses, worst rotation {worst[0]:.3g} rad (stated {stated:.4g}), "
+              f"translation {worst[1]:.3g}")
+        self.assertGreaterEqual(compared, 5 * 5)
+        self.assertLessEqual(worst[0], stated + 1e-5)  # float32 on both sides
+        self.assertLessEqual(worst[1], 1e-4)
+        self.assertEqual([(type(e), e.id) for e in refused], [(InvalidArgument, 9)])
+        self.assertTrue(refused[0].message.startswith("character 9: motion"), refused[0].message)
+
     def test_watch_crowd_streams_the_same_poses(self):
         characters = [{"id": i, "clip": "cmu", "timeOffset": offset_of(i), "speed": speed_of(i)} for i in range(12)]
         frames = list(self.client.watch_crowd(characters, fps=30, max_ticks=6))

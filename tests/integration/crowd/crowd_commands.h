@@ -2,6 +2,7 @@
 // the WebSocket route.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cmath>
 #include <string>
@@ -11,6 +12,19 @@
 #include "armature/v1/crowd.pb.h"
 
 namespace armature::testing {
+
+// The angle between two quaternions (w, x, y, z each), sign-blind. From the
+// chord, 4·asin(|a ∓ b| / 2), not acos of the dot, which float32 rounding
+// swamps near 0 (≈ 1e-3 rad).
+inline double Angle(const float* a, const float* b) {
+  double na = 0, nb = 0, minus = 0, plus = 0;
+  for (int k = 0; k < 4; ++k) na += double(a[k]) * a[k], nb += double(b[k]) * b[k];
+  for (int k = 0; k < 4; ++k) {
+    const double x = a[k] / std::sqrt(na), y = b[k] / std::sqrt(nb);
+    minus += (x - y) * (x - y), plus += (x + y) * (x + y);
+  }
+  return 4 * std::asin(std::min(1.0, std::sqrt(std::min(minus, plus)) / 2));
+}
 
 inline v1::CrowdCommand AddCommand(uint32_t id, const std::string& clip, double offset, double speed = 1) {
   v1::CrowdCommand c;

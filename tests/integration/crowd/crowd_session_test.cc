@@ -31,12 +31,6 @@ constexpr double kCompressionAngle = 2 * 0.01 / 3;
 
 class Crowd : public CmuAndRobotSuite {};
 
-double Angle(const float* a, const float* b) {  // w, x, y, z each
-  double dot = 0, na = 0, nb = 0;
-  for (int k = 0; k < 4; ++k) dot += a[k] * b[k], na += a[k] * a[k], nb += b[k] * b[k];
-  return 2 * std::acos(std::min(1.0, std::abs(dot) / std::sqrt(na * nb)));
-}
-
 TEST_F(Crowd, DecodedPosesAreEvaluateClipsLocalPosesWithinTheStatedError) {
   client::Client client(OptionsFor(*server_));
   auto stub = v1::CrowdService::NewStub(client.channel());

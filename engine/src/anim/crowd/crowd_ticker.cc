@@ -36,7 +36,7 @@ StatusOr<uint32_t> CrowdTicker::AddClip(std::shared_ptr<const CompressedClip> cl
   max_pose_bytes_ = std::max(max_pose_bytes_, layout.EncodedSize());
   scratch_.resize(max_joints_);
   ClipSamplingContext context(*clip);
-  clips_.push_back({std::move(clip), std::move(layout), std::move(context)});
+  clips_.push_back({std::move(clip), std::move(layout), std::move(context), nullptr});
   return static_cast<uint32_t>(clips_.size() - 1);
 }
 
@@ -147,6 +147,11 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
   for (size_t i = 0; i < count; ++i) {
     const CrowdCharacter& c = characters_[due_[i]];
     ClipEntry& entry = clips_[c.clip];
+    if (entry.motion) {  // its own path, unshared (crowd_ticker_motion.cc)
+      ARMATURE_RETURN_IF_ERROR(TickMotion(c, time, i, out, &offset));
+      ++samples;
+      continue;
+    }
     const size_t bytes = entry.layout.EncodedSize();
     int64_t step = 0;
     const double t = ClipTime(c, time, &step);

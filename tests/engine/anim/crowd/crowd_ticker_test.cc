@@ -13,19 +13,10 @@
 
 #include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/anim/crowd/crowd_ticker.h"
-#include "../../testing/shared_clips.h"
+#include "cmu_clip.h"
 
 namespace armature {
 namespace {
-
-std::shared_ptr<const CompressedClip> Cmu() {
-  static const std::shared_ptr<const CompressedClip> clip = [] {
-    for (const test_util::SharedClip& c : test_util::LoadSharedClips())
-      if (c.name == "bvh/cmu_01_01.bvh") return *CompressClip(c.clip);
-    return std::shared_ptr<const CompressedClip>();
-  }();
-  return clip;
-}
 
 #define SKIP_WITHOUT_CMU() \
   if (!Cmu()) GTEST_SKIP() << "../shared/data is absent"

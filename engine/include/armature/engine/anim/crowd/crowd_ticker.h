@@ -16,7 +16,9 @@
 #include "armature/base/status.h"
 #include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/anim/compression/compressed_clip.h"
+#include "armature/engine/anim/crowd/crowd_motion.h"
 #include "armature/engine/anim/crowd/pose_encoding.h"
+#include "armature/engine/anim/motion.h"
 
 namespace armature {
 
@@ -29,7 +31,7 @@ struct CrowdTickOptions {
 
 struct CrowdCharacter {
   uint32_t id = 0;
-  uint32_t clip = 0;  // from CrowdTicker::AddClip
+  uint32_t clip = 0;  // from CrowdTicker::AddClip or AddMotion
   double time_offset = 0;
   double speed = 1;
   double significance = 0;  // higher is updated more often (e.g. 1 / distance to the camera)
@@ -41,8 +43,8 @@ struct CrowdTick {
   uint64_t tick = 0;
   double time = 0;
   std::vector<uint32_t> ids;
-  std::vector<uint32_t> clips;  // per id: its clip
-  std::vector<double> clip_times;
+  std::vector<uint32_t> clips;     // per id: its clip (or motion)
+  std::vector<double> clip_times;  // per id: the clip time sampled (a motion's: its motion time)
   std::vector<uint8_t> poses;
   size_t deferred = 0;  // characters not updated this tick
   size_t reduced = 0;   // characters with an interval over one tick
@@ -57,8 +59,12 @@ class CrowdTicker {
 
   // A clip the characters may play; the same pointer twice is one clip.
   StatusOr<uint32_t> AddClip(std::shared_ptr<const CompressedClip> clip);
+  // A bound motion the characters may play, in the clips' numbering (its
+  // layout is LayoutOfMotion's); the same plan twice is one motion. Motion
+  // characters share no samples (crowd_ticker_motion.cc).
+  StatusOr<uint32_t> AddMotion(std::shared_ptr<const MotionPlan> plan);
   const PoseLayout& layout(uint32_t clip) const { return clips_[clip].layout; }
-  const CompressedClip& clip(uint32_t clip) const { return *clips_[clip].clip; }
+  const CompressedClip& clip(uint32_t clip) const { return *clips_[clip].clip; }  // a clip's, not a motion's
 
   // INVALID_ARGUMENT naming the character for a duplicate (Add) or unknown
   // (Update, Remove) id, an unknown clip, non-finite numbers.
@@ -78,6 +84,7 @@ class CrowdTicker {
     // The segment last sampled: characters due one after the other often
     // play the same segment, whose header is then read once.
     ClipSamplingContext context;
+    std::unique_ptr<CrowdMotion> motion;  // set for a motion (then `clip` is null)
   };
   struct ShareEntry {  // one sample of a tick: (clip, quantized step) → its bytes in the output
     uint64_t generation = 0;
@@ -87,6 +94,8 @@ class CrowdTicker {
   };
   Status Check(const CrowdCharacter& character) const;
   void Grow();
+  // A motion character's update: blends its motion at offset + speed·time and encodes it at *offset.
+  Status TickMotion(const CrowdCharacter& c, double time, size_t index, CrowdTick* out, size_t* offset);
   double ClipTime(const CrowdCharacter& c, double time, int64_t* step) const;
   // The output offset of this (clip, step)'s pose when already encoded this tick, else inserts `offset`.
   const ShareEntry* FindOrInsertShared(uint32_t clip, int64_t step, size_t offset);
