@@ -138,7 +138,7 @@ class CrowdTest(unittest.TestCase):
         with self.client.crowd_session(fps=30, duration=0.3) as s:
             for i in range(5):
                 s.add(id=i, motion=motion, time_offset=0.4 * i, speed=1 + 0.2 * i)
-            s.add(id=9, motion={"layers": [{"clip": "cmu", "weight": float("nan")}]})
+            s.add(id=9, motion={"layers": [{"clip": "cmu", "weight": "NaN"}]})  # proto3 JSON spells NaN so
             s.close()
             for f in s.frames():
                 refused += f.errors
