@@ -146,7 +146,7 @@ class CrowdTest(unittest.TestCase):
                     continue
                 stated = s._decoder.layouts[int(f.layouts[0])].max_rotation_error
                 expected = np.array([0.4 * i + (1 + 0.2 * i) * f.time for i in f.ids.tolist()])
-                np.testing.assert_allclose(f.clip_times, expected, atol=1e-9)
+                np.testing.assert_allclose(f.clip_times, expected, atol=SHARE_QUANTUM / 2 + 1e-9)
                 ref = self.client.evaluate_motion(motion, f.clip_times, space="local")
                 worst = np.maximum(worst, [angles(f.rotations, ref.rotations).max(),
                                            np.abs(f.translations - ref.translations).max()])

@@ -147,9 +147,8 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
   for (size_t i = 0; i < count; ++i) {
     const CrowdCharacter& c = characters_[due_[i]];
     ClipEntry& entry = clips_[c.clip];
-    if (entry.motion) {  // its own path, unshared (crowd_ticker_motion.cc)
-      ARMATURE_RETURN_IF_ERROR(TickMotion(c, time, i, out, &offset));
-      ++samples;
+    if (entry.motion) {  // its own path (crowd_ticker_motion.cc)
+      ARMATURE_RETURN_IF_ERROR(TickMotion(c, time, i, out, &offset, &samples));
       continue;
     }
     const size_t bytes = entry.layout.EncodedSize();

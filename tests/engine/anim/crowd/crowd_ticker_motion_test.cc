@@ -4,6 +4,7 @@
 // beside clip characters in the same tick; one plan is one layout.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -57,7 +58,7 @@ TEST(CrowdTickerMotionTest, DecodedPosesAreTheBlendAtEachCharactersMotionTime) {
       offset += layout.EncodedSize();
       if (tick.clips[i] != motion) continue;
       const uint32_t id = tick.ids[i];
-      EXPECT_DOUBLE_EQ(tick.clip_times[i], 0.3 * id + (0.5 + 0.1 * id) * time);
+      EXPECT_NEAR(tick.clip_times[i], 0.3 * id + (0.5 + 0.1 * id) * time, 0.5 / 120 + 1e-12);  // rounded to 1/120 s
       ASSERT_TRUE(DecodePose(layout, bytes, decoded).ok());
       ASSERT_TRUE(SampleCrowdMotion(blend, tick.clip_times[i], expected).ok());
       for (size_t j = 0; j < decoded.size(); ++j) {
@@ -72,6 +73,28 @@ TEST(CrowdTickerMotionTest, DecodedPosesAreTheBlendAtEachCharactersMotionTime) {
   EXPECT_GE(compared, 80u);  // 10 motion characters over 12 ticks, the first ones staggered
   EXPECT_LE(worst, MaxEncodedRotationError());
   EXPECT_GT(moved, 0.1);  // the poses move: the comparison has teeth
+}
+
+TEST(CrowdTickerMotionTest, CharactersAtOneQuantizedMotionTimeShareOneBlend) {
+  if (!Cmu()) GTEST_SKIP() << "../shared/data is absent";
+  CrowdTicker ticker({.budget_us = 1e6, .share_quantum = 0.1});
+  const uint32_t motion = *ticker.AddMotion(TwoLayers());
+  for (uint32_t id = 0; id < 8; ++id)  // two groups, each within one 0.1 s quantum
+    ASSERT_TRUE(ticker.Add({.id = id, .clip = motion, .time_offset = id < 4 ? 1.0 + 0.01 * id : 5.0}).ok());
+  CrowdTick tick;
+  size_t updated = 0, samples = 0;
+  for (uint64_t k = 0; k < 10; ++k) {
+    ASSERT_TRUE(ticker.Tick(k, k / 30.0, &tick).ok());
+    updated += tick.ids.size();
+    samples += tick.samples;
+    const size_t bytes = ticker.layout(motion).EncodedSize();
+    for (size_t i = 0; i < tick.ids.size(); ++i)
+      for (size_t o = 0; o < i; ++o)  // equal rounded times, equal bytes
+        if (tick.clip_times[i] == tick.clip_times[o])
+          EXPECT_EQ(std::memcmp(&tick.poses[i * bytes], &tick.poses[o * bytes], bytes), 0);
+  }
+  EXPECT_GE(updated, 60u);
+  EXPECT_LE(samples * 3, updated);  // about 2 blends a tick for 8 characters
 }
 
 TEST(CrowdTickerMotionTest, TheLayoutSendsTheTranslationsTheClipsAnimate) {

@@ -61,7 +61,7 @@ class CrowdTicker {
   StatusOr<uint32_t> AddClip(std::shared_ptr<const CompressedClip> clip);
   // A bound motion the characters may play, in the clips' numbering (its
   // layout is LayoutOfMotion's); the same plan twice is one motion. Motion
-  // characters share no samples (crowd_ticker_motion.cc).
+  // characters share blends per (motion, quantized motion time), as clips do.
   StatusOr<uint32_t> AddMotion(std::shared_ptr<const MotionPlan> plan);
   const PoseLayout& layout(uint32_t clip) const { return clips_[clip].layout; }
   const CompressedClip& clip(uint32_t clip) const { return *clips_[clip].clip; }  // a clip's, not a motion's
@@ -94,8 +94,10 @@ class CrowdTicker {
   };
   Status Check(const CrowdCharacter& character) const;
   void Grow();
-  // A motion character's update: blends its motion at offset + speed·time and encodes it at *offset.
-  Status TickMotion(const CrowdCharacter& c, double time, size_t index, CrowdTick* out, size_t* offset);
+  // A motion character's update: its motion at offset + speed·time (rounded when sharing), encoded at
+  // *offset; a blend taken counts in *samples.
+  Status TickMotion(const CrowdCharacter& c, double time, size_t index, CrowdTick* out, size_t* offset,
+                    size_t* samples);
   double ClipTime(const CrowdCharacter& c, double time, int64_t* step) const;
   // The output offset of this (clip, step)'s pose when already encoded this tick, else inserts `offset`.
   const ShareEntry* FindOrInsertShared(uint32_t clip, int64_t step, size_t offset);
