@@ -34,7 +34,7 @@ StatusOr<uint32_t> CrowdTicker::AddClip(std::shared_ptr<const CompressedClip> cl
   ARMATURE_ASSIGN_OR_RETURN(PoseLayout layout, LayoutOfClip(*clip));
   max_joints_ = std::max<size_t>(max_joints_, layout.joints);
   max_pose_bytes_ = std::max(max_pose_bytes_, layout.EncodedSize());
-  scratch_.resize(max_joints_);
+  scratch_.resize(10 * max_joints_);
   ClipSamplingContext context(*clip);
   clips_.push_back({std::move(clip), std::move(layout), std::move(context)});
   return static_cast<uint32_t>(clips_.size() - 1);
@@ -162,9 +162,11 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
         continue;
       }
     }
-    std::span<Trs> pose(scratch_.data(), entry.layout.joints);
-    ARMATURE_RETURN_IF_ERROR(
-        (ClipSamplingJob{entry.clip.get(), t, WrapMode::kLoop, &entry.context, pose, std::nullopt}.Run()));
+    const size_t joints = entry.layout.joints;
+    const FloatPose pose{{scratch_.data(), 4 * joints},
+                         {scratch_.data() + 4 * joints, 3 * joints},
+                         {scratch_.data() + 7 * joints, 3 * joints}};
+    ARMATURE_RETURN_IF_ERROR((ClipSamplingFloatJob{entry.clip.get(), t, WrapMode::kLoop, &entry.context, pose}.Run()));
     EncodePose(entry.layout, pose, dst);
     offset += bytes;
     ++samples;

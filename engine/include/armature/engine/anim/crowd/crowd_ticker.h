@@ -100,7 +100,7 @@ class CrowdTicker {
   std::vector<uint32_t> ranked_, due_;
   bool rank_dirty_ = false;
   size_t max_joints_ = 0, max_pose_bytes_ = 0;
-  std::vector<Trs> scratch_;
+  std::vector<float> scratch_;      // a pose as ClipSamplingFloatJob's lanes (10 floats a joint)
   std::vector<ShareEntry> shared_;  // open addressing, a power of two over twice the characters
   uint64_t generation_ = 0;
   double cost_us_ = 1.0;  // measured: a moving average of work per update
