@@ -91,6 +91,7 @@ Status CrowdTicker::Remove(uint32_t id) {
 void CrowdTicker::Grow() {
   ranked_.reserve(characters_.size());
   due_.resize(characters_.size());
+  steps_.resize(characters_.size());
   size_t want = 16;
   while (want < 2 * characters_.size()) want *= 2;
   if (shared_.size() < want) shared_.assign(want, ShareEntry{});
@@ -143,22 +144,31 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
   out->poses.resize(count * max_pose_bytes_);
   ++generation_;
   const auto start = std::chrono::steady_clock::now();
+  // Each pose's place in the output follows the schedule's order; sampling
+  // goes by clip and clip time, so characters in one segment follow one
+  // another and its header is read once (the context per clip).
+  offsets_.resize(count);
+  order_.resize(count);
   size_t offset = 0, samples = 0;
   for (size_t i = 0; i < count; ++i) {
     const CrowdCharacter& c = characters_[due_[i]];
-    ClipEntry& entry = clips_[c.clip];
-    const size_t bytes = entry.layout.EncodedSize();
-    int64_t step = 0;
-    const double t = ClipTime(c, time, &step);
     out->ids[i] = c.id;
     out->clips[i] = c.clip;
-    out->clip_times[i] = t;
-    uint8_t* dst = out->poses.data() + offset;
+    out->clip_times[i] = ClipTime(c, time, &steps_[i]);
+    offsets_[i] = offset;
+    offset += clips_[c.clip].layout.EncodedSize();
+    order_[i] = static_cast<uint32_t>(i);
+  }
+  std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
+    return out->clips[a] != out->clips[b] ? out->clips[a] < out->clips[b] : out->clip_times[a] < out->clip_times[b];
+  });
+  for (uint32_t i : order_) {
+    ClipEntry& entry = clips_[out->clips[i]];
+    uint8_t* dst = out->poses.data() + offsets_[i];
     if (options_.share_quantum > 0) {
-      const ShareEntry* shared = FindOrInsertShared(c.clip, step, offset);
-      if (shared->offset != offset) {
-        std::memcpy(dst, out->poses.data() + shared->offset, bytes);
-        offset += bytes;
+      const ShareEntry* shared = FindOrInsertShared(out->clips[i], steps_[i], offsets_[i]);
+      if (shared->offset != offsets_[i]) {
+        std::memcpy(dst, out->poses.data() + shared->offset, entry.layout.EncodedSize());
         continue;
       }
     }
@@ -166,9 +176,9 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
     const FloatPose pose{{scratch_.data(), 4 * joints},
                          {scratch_.data() + 4 * joints, 3 * joints},
                          {scratch_.data() + 7 * joints, 3 * joints}};
-    ARMATURE_RETURN_IF_ERROR((ClipSamplingFloatJob{entry.clip.get(), t, WrapMode::kLoop, &entry.context, pose}.Run()));
+    ARMATURE_RETURN_IF_ERROR(
+        (ClipSamplingFloatJob{entry.clip.get(), out->clip_times[i], WrapMode::kLoop, &entry.context, pose}.Run()));
     EncodePose(entry.layout, pose, dst);
-    offset += bytes;
     ++samples;
   }
   out->poses.resize(offset);
