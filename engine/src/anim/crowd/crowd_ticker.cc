@@ -91,7 +91,7 @@ Status CrowdTicker::Remove(uint32_t id) {
 void CrowdTicker::Grow() {
   ranked_.reserve(characters_.size());
   due_.resize(characters_.size());
-  steps_.resize(characters_.size());
+  order_.reserve(characters_.size());
   size_t want = 16;
   while (want < 2 * characters_.size()) want *= 2;
   if (shared_.size() < want) shared_.assign(want, ShareEntry{});
@@ -144,43 +144,49 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
   out->poses.resize(count * max_pose_bytes_);
   ++generation_;
   const auto start = std::chrono::steady_clock::now();
-  // Each pose's place in the output follows the schedule's order; sampling
-  // goes by clip and clip time, so characters in one segment follow one
-  // another and its header is read once (the context per clip).
+  // Each pose's place in the output follows the schedule's order. Sharing
+  // picks the poses to sample (the first of each clip and quantized time);
+  // they are sampled by clip and clip time, so characters in one segment
+  // follow one another and its header is read once (the context per clip);
+  // the others are copied from theirs afterwards.
+  constexpr size_t kSampled = static_cast<size_t>(-1);
   offsets_.resize(count);
-  order_.resize(count);
+  copy_from_.resize(count);
+  order_.clear();
   size_t offset = 0, samples = 0;
   for (size_t i = 0; i < count; ++i) {
     const CrowdCharacter& c = characters_[due_[i]];
+    int64_t step = 0;
     out->ids[i] = c.id;
     out->clips[i] = c.clip;
-    out->clip_times[i] = ClipTime(c, time, &steps_[i]);
+    out->clip_times[i] = ClipTime(c, time, &step);
     offsets_[i] = offset;
+    copy_from_[i] = kSampled;
+    if (options_.share_quantum > 0) {
+      const ShareEntry* shared = FindOrInsertShared(c.clip, step, offset);
+      if (shared->offset != offset) copy_from_[i] = shared->offset;
+    }
+    if (copy_from_[i] == kSampled) order_.push_back(static_cast<uint32_t>(i));
     offset += clips_[c.clip].layout.EncodedSize();
-    order_[i] = static_cast<uint32_t>(i);
   }
   std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
     return out->clips[a] != out->clips[b] ? out->clips[a] < out->clips[b] : out->clip_times[a] < out->clip_times[b];
   });
   for (uint32_t i : order_) {
     ClipEntry& entry = clips_[out->clips[i]];
-    uint8_t* dst = out->poses.data() + offsets_[i];
-    if (options_.share_quantum > 0) {
-      const ShareEntry* shared = FindOrInsertShared(out->clips[i], steps_[i], offsets_[i]);
-      if (shared->offset != offsets_[i]) {
-        std::memcpy(dst, out->poses.data() + shared->offset, entry.layout.EncodedSize());
-        continue;
-      }
-    }
     const size_t joints = entry.layout.joints;
     const FloatPose pose{{scratch_.data(), 4 * joints},
                          {scratch_.data() + 4 * joints, 3 * joints},
                          {scratch_.data() + 7 * joints, 3 * joints}};
     ARMATURE_RETURN_IF_ERROR(
         (ClipSamplingFloatJob{entry.clip.get(), out->clip_times[i], WrapMode::kLoop, &entry.context, pose}.Run()));
-    EncodePose(entry.layout, pose, dst);
+    EncodePose(entry.layout, pose, out->poses.data() + offsets_[i]);
     ++samples;
   }
+  for (size_t i = 0; i < count; ++i)
+    if (copy_from_[i] != kSampled)
+      std::memcpy(out->poses.data() + offsets_[i], out->poses.data() + copy_from_[i],
+                  clips_[out->clips[i]].layout.EncodedSize());
   out->poses.resize(offset);
   out->samples = samples;
   out->work_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();

@@ -101,8 +101,8 @@ class CrowdTicker {
   bool rank_dirty_ = false;
   size_t max_joints_ = 0, max_pose_bytes_ = 0;
   std::vector<size_t> offsets_;     // per due character: its pose's place in the output
-  std::vector<uint32_t> order_;     // the due characters by clip and clip time: the sampling order
-  std::vector<int64_t> steps_;      // per due character: its quantized time (sharing)
+  std::vector<size_t> copy_from_;   // per due character: the offset of the pose it shares, or -1: sampled
+  std::vector<uint32_t> order_;     // the due characters sampled, by clip and clip time: the sampling order
   std::vector<float> scratch_;      // a pose as ClipSamplingFloatJob's lanes (10 floats a joint)
   std::vector<ShareEntry> shared_;  // open addressing, a power of two over twice the characters
   uint64_t generation_ = 0;
