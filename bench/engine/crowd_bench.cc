@@ -4,6 +4,9 @@
 // without sharing (each character at its own clip time) and with sharing
 // (clip times rounded to 1/120 s: characters on 50 distinct offsets). Reports
 // ns per character-tick (`per_character`) and the samples taken a tick.
+// mixed:1 spreads the characters as armature-load does (offsets over 10 s,
+// speeds 0.8–1.2): each tick then seeks all over the clip.
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -31,7 +34,8 @@ std::shared_ptr<const CompressedClip> CrowdCmu() {
   return clip;
 }
 
-// range(0): characters; range(1): 1 = sharing on (50 distinct offsets).
+// range(0): characters; range(1): 1 = sharing on (50 distinct offsets);
+// range(2): 1 = mixed offsets and speeds (armature-load's crowd).
 void BM_CrowdTick(benchmark::State& state) {
   const auto clip = CrowdCmu();
   if (!clip) return state.SkipWithError("../shared/data/bvh/cmu_01_01.bvh is absent");
@@ -39,9 +43,11 @@ void BM_CrowdTick(benchmark::State& state) {
   CrowdTicker ticker({.budget_us = 1e9, .share_quantum = sharing ? 1.0 / 120 : 0});
   const uint32_t index = *ticker.AddClip(clip);
   const auto characters = static_cast<uint32_t>(state.range(0));
+  const bool mixed = state.range(2) != 0;
   for (uint32_t id = 0; id < characters; ++id) {
-    const double offset = sharing ? 0.41 * (id % 50) : 0.0137 * id;
-    if (!ticker.Add({.id = id, .clip = index, .time_offset = offset, .significance = double(id)}).ok())
+    double offset = sharing ? 0.41 * (id % 50) : 0.0137 * id, speed = 1;
+    if (mixed) offset = std::fmod(0.37 * id, 10.0), speed = 0.8 + 0.4 * (id % 7) / 6.0;
+    if (!ticker.Add({.id = id, .clip = index, .time_offset = offset, .speed = speed, .significance = double(id)}).ok())
       return state.SkipWithError("add failed");
   }
   CrowdTick tick;
@@ -59,8 +65,8 @@ void BM_CrowdTick(benchmark::State& state) {
   state.counters["bytes_per_joint"] = static_cast<double>(ticker.layout(index).EncodedSize()) / 31;
 }
 BENCHMARK(BM_CrowdTick)
-    ->ArgsProduct({{1000, 10000}, {0, 1}})
-    ->ArgNames({"characters", "sharing"})
+    ->ArgsProduct({{1000, 10000}, {0, 1}, {0, 1}})
+    ->ArgNames({"characters", "sharing", "mixed"})
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

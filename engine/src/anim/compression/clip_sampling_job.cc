@@ -66,10 +66,38 @@ inline bool EndsOnNext(const TrackCursor& cursor, const SegmentPosition& at, siz
   return at.shares_end && i + 1 == (at.intervals >> cursor.stride_log);
 }
 
+// Where decoded tracks go: double transforms (ClipSamplingJob)...
+struct TrsSink {
+  std::span<Trs> out;
+  compression_internal::RotationBatch rotations;
+
+  void Rotation(const float* a, const float* b, float u, int dropped, uint32_t joint) {
+    rotations.Add(a, b, u, dropped, &out[joint]);
+  }
+  void Vector(TrackKind kind, const float* v, uint32_t joint) { Store(kind, v, out[joint]); }
+  void Flush() { rotations.Flush(); }
+};
+
+// ...or float lanes (ClipSamplingFloatJob).
+struct FloatSink {
+  FloatPose out;
+  compression_internal::RotationBatchOf<float> rotations;
+
+  void Rotation(const float* a, const float* b, float u, int dropped, uint32_t joint) {
+    rotations.Add(a, b, u, dropped, &out.rotations[4 * joint]);
+  }
+  void Vector(TrackKind kind, const float* v, uint32_t joint) {
+    float* to = (kind == TrackKind::kTranslation ? out.translations : out.scales).data() + 3 * joint;
+    to[0] = v[0], to[1] = v[1], to[2] = v[2];
+  }
+  void Flush() { rotations.Flush(); }
+};
+
 // One animated track at segment position `at`: its two samples around q,
 // interpolated.
+template <class Sink>
 inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, const uint8_t* segment,
-                        const SegmentPosition& at, Trs& out, compression_internal::RotationBatch& rotations) {
+                        const SegmentPosition& at, Sink& sink) {
   using compression_internal::ReadBits;
   const size_t i = IntervalOf(cursor, at);
   const float u =
@@ -83,10 +111,10 @@ inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, c
     bit_b += cursor.bits[c];
   }
   if (EndsOnNext(cursor, at, i)) std::copy(cursor.end, cursor.end + 3, b);
-  if (track.kind == TrackKind::kRotation) return rotations.Add(a, b, u, cursor.dropped, &out);
+  if (track.kind == TrackKind::kRotation) return sink.Rotation(a, b, u, cursor.dropped, track.joint);
   float r[3];
   for (int c = 0; c < 3; ++c) r[c] = a[c] + u * (b[c] - a[c]);
-  Store(track.kind, r, out);
+  sink.Vector(track.kind, r, track.joint);
 }
 
 // Reads a segment's header one track after another into cursors (written
@@ -205,14 +233,14 @@ void StoreStill(const CompressedClip& clip, const ClipJointSubsetView* subset, s
     Store(clip.constants[i].kind, clip.constants[i].value, out[clip.constants[i].joint]);
 }
 
+// The animated tracks at `t` into `sink` (the still pose is the caller's).
+template <class Sink>
 void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, const ClipJointSubsetView* subset,
-                 std::span<Trs> out) {
-  StoreStill(clip, subset, out);
+                 Sink& sink) {
   if (clip.animated.empty()) return;
   const SegmentPosition at = Locate(clip, t);
   const size_t tracks = clip.animated.size();
   const uint8_t* segment = clip.data.data() + clip.segment_offsets[at.segment];
-  compression_internal::RotationBatch rotations;
   if (!index) {  // random access: each track's cursor, used at once
     HeaderReader reader(clip, at.segment);
     // The next segment's header is read in step, for the shared ends (the
@@ -226,19 +254,17 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, cons
       const bool needed = wanted && EndsOnNext(cursor, at, IntervalOf(cursor, at));
       next.Next(i, first, needed);
       if (needed) ReadEnd(clip.animated[i].kind, first, next.data(), cursor);
-      if (wanted) DecodeTrack(clip.animated[i], cursor, segment, at, out[clip.animated[i].joint], rotations);
+      if (wanted) DecodeTrack(clip.animated[i], cursor, segment, at, sink);
     }
-    return rotations.Flush();
+    return sink.Flush();
   }
   IndexSegment(clip, at, *index);
   if (subset) {
-    for (uint32_t i : subset->animated)
-      DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+    for (uint32_t i : subset->animated) DecodeTrack(clip.animated[i], index->tracks[i], segment, at, sink);
   } else {
-    for (size_t i = 0; i < tracks; ++i)
-      DecodeTrack(clip.animated[i], index->tracks[i], segment, at, out[clip.animated[i].joint], rotations);
+    for (size_t i = 0; i < tracks; ++i) DecodeTrack(clip.animated[i], index->tracks[i], segment, at, sink);
   }
-  rotations.Flush();
+  sink.Flush();
 }
 
 // STEP on a lossy clip: the time of the frame at or before `t` (a frame's
@@ -279,6 +305,19 @@ void ClipSamplingContext::Resize(const CompressedClip& clip) {
   index_.next_segment = static_cast<size_t>(-1);
   index_.next.assign(clip.animated.size(), TrackCursor{});
   clip_pose_.assign(clip.skeleton ? clip.skeleton->size() : 0, Trs{});
+  const size_t joints = clip_pose_.size();
+  still_.assign(10 * joints, 0.f);
+  if (!clip.skeleton) return;
+  StoreStill(clip, nullptr, clip_pose_);
+  for (size_t j = 0; j < joints; ++j) {
+    const Trs& p = clip_pose_[j];
+    const double r[4] = {p.rotation.x(), p.rotation.y(), p.rotation.z(), p.rotation.w()};
+    for (int c = 0; c < 4; ++c) still_[4 * j + c] = static_cast<float>(r[c]);
+    for (int c = 0; c < 3; ++c) {
+      still_[4 * joints + 3 * j + c] = static_cast<float>(p.translation[c]);
+      still_[7 * joints + 3 * j + c] = static_cast<float>(p.scale[c]);
+    }
+  }
 }
 
 bool ClipSamplingContext::Fits(const CompressedClip& clip) const { return clip_ == &clip && serial_ == clip.serial; }
@@ -324,8 +363,50 @@ Status ClipSamplingJob::Run() const {
   if (clip->exact()) return SampleClip(*clip->exact_keys, t, {interpolation, WrapMode::kClamp}, output);
   std::optional<ClipJointSubsetView> subset;
   if (joints) subset = ClipJointSubsetView{joints->joints_, joints->constants_, joints->animated_, joints->in_subset_};
+  StoreStill(*clip, subset ? &*subset : nullptr, output);
+  TrsSink sink{output, {}};
   SampleLossy(*clip, interpolation == Interpolation::kStep ? FrameAtOrBefore(*clip, t) : t,
-              context ? &context->index_ : nullptr, subset ? &*subset : nullptr, output);
+              context ? &context->index_ : nullptr, subset ? &*subset : nullptr, sink);
+  return Status::Ok();
+}
+
+Status ClipSamplingFloatJob::Validate() const {
+  ARMATURE_RETURN_IF_ERROR(CheckClip(clip));
+  ARMATURE_RETURN_IF_ERROR(CheckTime(time, wrap, std::nullopt));
+  if (!context || !context->Fits(*clip))
+    return Status::InvalidArgument("float sampling job: needs a context resized to the clip");
+  const size_t joints = clip->skeleton->size();
+  if (output.rotations.size() != 4 * joints || output.translations.size() != 3 * joints ||
+      output.scales.size() != 3 * joints)
+    return Status::InvalidArgument("float sampling job: output lanes of " + std::to_string(output.rotations.size()) +
+                                   ", " + std::to_string(output.translations.size()) + ", " +
+                                   std::to_string(output.scales.size()) + " floats for " + std::to_string(joints) +
+                                   " joints (4, 3, 3 a joint)");
+  return Status::Ok();
+}
+
+Status ClipSamplingFloatJob::Run() const {
+  ARMATURE_RETURN_IF_ERROR(Validate());
+  const size_t joints = clip->skeleton->size();
+  const float* still = context->still_.data();
+  if (clip->exact()) {  // sampled in double, then narrowed
+    ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{clip, time, wrap, context, context->clip_pose_, std::nullopt}.Run()));
+    for (size_t j = 0; j < joints; ++j) {
+      const Trs& p = context->clip_pose_[j];
+      const double r[4] = {p.rotation.x(), p.rotation.y(), p.rotation.z(), p.rotation.w()};
+      for (int c = 0; c < 4; ++c) output.rotations[4 * j + c] = static_cast<float>(r[c]);
+      for (int c = 0; c < 3; ++c) {
+        output.translations[3 * j + c] = static_cast<float>(p.translation[c]);
+        output.scales[3 * j + c] = static_cast<float>(p.scale[c]);
+      }
+    }
+    return Status::Ok();
+  }
+  std::copy(still, still + 4 * joints, output.rotations.begin());
+  std::copy(still + 4 * joints, still + 7 * joints, output.translations.begin());
+  std::copy(still + 7 * joints, still + 10 * joints, output.scales.begin());
+  FloatSink sink{output, {}};
+  SampleLossy(*clip, WrapTime(time, clip->duration, wrap), &context->index_, nullptr, sink);
   return Status::Ok();
 }
 

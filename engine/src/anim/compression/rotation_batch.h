@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <type_traits>
 
 #include "anim/compression/simd4.h"
 #include "armature/engine/math/transform.h"
@@ -17,9 +18,12 @@ namespace armature::compression_internal {
 // sqrt, no division) takes it to about 1e-14.
 inline void MakeUnit(Eigen::Quaterniond& q) { q.coeffs() *= 0.5 * (3.0 - q.squaredNorm()); }
 
-class RotationBatch {
+// `Out`: Trs (its rotation, made unit in double) or float (x y z w, unit in
+// float: the crowd's float32 wire needs no more).
+template <class Out>
+class RotationBatchOf {
  public:
-  void Add(const float* a, const float* b, float u, int dropped, Trs* out) {
+  void Add(const float* a, const float* b, float u, int dropped, Out* out) {
     for (int c = 0; c < 3; ++c) {
       a_[c][n_] = a[c];
       b_[c][n_] = b[c];
@@ -44,13 +48,25 @@ class RotationBatch {
     v4 r[4];
     for (int c = 0; c < 3; ++c) r[c] = ua * a_[c] + ub * b_[c];
     r[3] = ua * wa + ub * wb;
-    const v4 inv = one / Sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
+    const v4 norm2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3];
+    v4 inv;
+    if constexpr (std::is_same_v<Out, float>) {  // float lanes: an estimate and one Newton step (|q| − 1 < 1e-6)
+      const v4 e = InverseSqrtEstimate(norm2);
+      inv = e * (Splat(1.5f) - Splat(0.5f) * norm2 * e * e);
+    } else {
+      inv = one / Sqrt(norm2);
+    }
     for (int c = 0; c < 4; ++c) r[c] *= inv;
     for (size_t lane = 0; lane < n_; ++lane) {
-      double q[4];  // x y z w
-      for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped_[lane] ? r[3][lane] : r[k++][lane];
-      out_[lane]->rotation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
-      MakeUnit(out_[lane]->rotation);
+      if constexpr (std::is_same_v<Out, float>) {
+        float* q = out_[lane];  // x y z w
+        for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped_[lane] ? r[3][lane] : r[k++][lane];
+      } else {
+        double q[4];  // x y z w
+        for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped_[lane] ? r[3][lane] : r[k++][lane];
+        out_[lane]->rotation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+        MakeUnit(out_[lane]->rotation);
+      }
     }
     n_ = 0;
   }
@@ -58,8 +74,10 @@ class RotationBatch {
  private:
   v4 a_[3], b_[3], u_;
   int dropped_[4];
-  Trs* out_[4];
+  Out* out_[4];
   size_t n_ = 0;
 };
+
+using RotationBatch = RotationBatchOf<Trs>;
 
 }  // namespace armature::compression_internal

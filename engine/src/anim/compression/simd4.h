@@ -35,4 +35,13 @@ inline v4 Sqrt(v4 x) {
 #endif
 }
 
+// 1/√x to about 12 bits (a Newton step makes it about 23).
+inline v4 InverseSqrtEstimate(v4 x) {
+#if defined(__SSE__)
+  return _mm_rsqrt_ps(x);
+#else
+  return Splat(1.f) / Sqrt(x);
+#endif
+}
+
 }  // namespace armature::compression_internal

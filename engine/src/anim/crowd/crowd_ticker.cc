@@ -34,7 +34,8 @@ StatusOr<uint32_t> CrowdTicker::AddClip(std::shared_ptr<const CompressedClip> cl
   ARMATURE_ASSIGN_OR_RETURN(PoseLayout layout, LayoutOfClip(*clip));
   max_joints_ = std::max<size_t>(max_joints_, layout.joints);
   max_pose_bytes_ = std::max(max_pose_bytes_, layout.EncodedSize());
-  scratch_.resize(max_joints_);
+  scratch_.resize(10 * max_joints_);
+  motion_scratch_.resize(max_joints_);
   ClipSamplingContext context(*clip);
   clips_.push_back({std::move(clip), std::move(layout), std::move(context), nullptr});
   return static_cast<uint32_t>(clips_.size() - 1);
@@ -91,6 +92,7 @@ Status CrowdTicker::Remove(uint32_t id) {
 void CrowdTicker::Grow() {
   ranked_.reserve(characters_.size());
   due_.resize(characters_.size());
+  order_.reserve(characters_.size());
   size_t want = 16;
   while (want < 2 * characters_.size()) want *= 2;
   if (shared_.size() < want) shared_.assign(want, ShareEntry{});
@@ -143,36 +145,55 @@ Status CrowdTicker::Tick(uint64_t tick, double time, CrowdTick* out) {
   out->poses.resize(count * max_pose_bytes_);
   ++generation_;
   const auto start = std::chrono::steady_clock::now();
+  // Each pose's place in the output follows the schedule's order. Sharing
+  // picks the poses to sample (the first of each clip and quantized time);
+  // they are sampled by clip and clip time, so characters in one segment
+  // follow one another and its header is read once (the context per clip);
+  // the others are copied from theirs afterwards.
+  constexpr size_t kSampled = static_cast<size_t>(-1), kWritten = static_cast<size_t>(-2);
+  offsets_.resize(count);
+  copy_from_.resize(count);
+  order_.clear();
   size_t offset = 0, samples = 0;
   for (size_t i = 0; i < count; ++i) {
     const CrowdCharacter& c = characters_[due_[i]];
-    ClipEntry& entry = clips_[c.clip];
-    if (entry.motion) {  // its own path (crowd_ticker_motion.cc)
+    if (clips_[c.clip].motion) {  // its own path (crowd_ticker_motion.cc), written at once
+      offsets_[i] = offset;
+      copy_from_[i] = kWritten;
       ARMATURE_RETURN_IF_ERROR(TickMotion(c, time, i, out, &offset, &samples));
       continue;
     }
-    const size_t bytes = entry.layout.EncodedSize();
     int64_t step = 0;
-    const double t = ClipTime(c, time, &step);
     out->ids[i] = c.id;
     out->clips[i] = c.clip;
-    out->clip_times[i] = t;
-    uint8_t* dst = out->poses.data() + offset;
+    out->clip_times[i] = ClipTime(c, time, &step);
+    offsets_[i] = offset;
+    copy_from_[i] = kSampled;
     if (options_.share_quantum > 0) {
       const ShareEntry* shared = FindOrInsertShared(c.clip, step, offset);
-      if (shared->offset != offset) {
-        std::memcpy(dst, out->poses.data() + shared->offset, bytes);
-        offset += bytes;
-        continue;
-      }
+      if (shared->offset != offset) copy_from_[i] = shared->offset;
     }
-    std::span<Trs> pose(scratch_.data(), entry.layout.joints);
+    if (copy_from_[i] == kSampled) order_.push_back(static_cast<uint32_t>(i));
+    offset += clips_[c.clip].layout.EncodedSize();
+  }
+  std::sort(order_.begin(), order_.end(), [&](uint32_t a, uint32_t b) {
+    return out->clips[a] != out->clips[b] ? out->clips[a] < out->clips[b] : out->clip_times[a] < out->clip_times[b];
+  });
+  for (uint32_t i : order_) {
+    ClipEntry& entry = clips_[out->clips[i]];
+    const size_t joints = entry.layout.joints;
+    const FloatPose pose{{scratch_.data(), 4 * joints},
+                         {scratch_.data() + 4 * joints, 3 * joints},
+                         {scratch_.data() + 7 * joints, 3 * joints}};
     ARMATURE_RETURN_IF_ERROR(
-        (ClipSamplingJob{entry.clip.get(), t, WrapMode::kLoop, &entry.context, pose, std::nullopt}.Run()));
-    EncodePose(entry.layout, pose, dst);
-    offset += bytes;
+        (ClipSamplingFloatJob{entry.clip.get(), out->clip_times[i], WrapMode::kLoop, &entry.context, pose}.Run()));
+    EncodePose(entry.layout, pose, out->poses.data() + offsets_[i]);
     ++samples;
   }
+  for (size_t i = 0; i < count; ++i)
+    if (copy_from_[i] < kWritten)
+      std::memcpy(out->poses.data() + offsets_[i], out->poses.data() + copy_from_[i],
+                  clips_[out->clips[i]].layout.EncodedSize());
   out->poses.resize(offset);
   out->samples = samples;
   out->work_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();

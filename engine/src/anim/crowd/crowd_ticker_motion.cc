@@ -22,7 +22,8 @@ StatusOr<uint32_t> CrowdTicker::AddMotion(std::shared_ptr<const MotionPlan> plan
   motion->plan = std::move(plan);
   max_joints_ = std::max<size_t>(max_joints_, layout.joints);
   max_pose_bytes_ = std::max(max_pose_bytes_, layout.EncodedSize());
-  scratch_.resize(max_joints_);
+  scratch_.resize(10 * max_joints_);
+  motion_scratch_.resize(max_joints_);
   clips_.push_back({nullptr, std::move(layout), ClipSamplingContext(), std::move(motion)});
   return static_cast<uint32_t>(clips_.size() - 1);
 }
@@ -48,7 +49,7 @@ Status CrowdTicker::TickMotion(const CrowdCharacter& c, double time, size_t inde
       return Status::Ok();
     }
   }
-  std::span<Trs> pose(scratch_.data(), entry.layout.joints);
+  std::span<Trs> pose(motion_scratch_.data(), entry.layout.joints);
   ARMATURE_RETURN_IF_ERROR(SampleCrowdMotion(*entry.motion, t, pose));
   EncodePose(entry.layout, pose, dst);
   *offset += bytes;

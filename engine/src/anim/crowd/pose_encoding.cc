@@ -10,6 +10,7 @@
 // rotation angle, twice that: 4·asin(√3·e) ≈ 1.495e-4 rad (0.0086°).
 #include "armature/engine/anim/crowd/pose_encoding.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -23,14 +24,36 @@ constexpr int kComponentBits = 15;
 constexpr uint32_t kComponentMax = (1u << kComponentBits) - 1;  // 32767 steps over the span
 const double kHalfSpan = std::sqrt(0.5);
 
-uint32_t Quantize(double v) {
-  const double unit = (v + kHalfSpan) / (2 * kHalfSpan);  // [0, 1]
-  const double clamped = unit < 0 ? 0 : unit > 1 ? 1 : unit;
-  // std::lround for x ≥ 0 without the libm call (the crowd's hot path):
-  // the integer part, plus one from a fraction of a half or more (exact).
-  const double x = clamped * kComponentMax;
-  const auto whole = static_cast<uint32_t>(x);
-  return whole + (x - static_cast<double>(whole) >= 0.5 ? 1u : 0u);
+const double kQuantumsPerUnit = kComponentMax / (2 * kHalfSpan);
+
+// Rounds v ∈ [-1/√2, 1/√2] to its step: no branches (max, min, and the
+// integer part of x + 0.5, which rounds half up for x ≥ 0) and no division,
+// for the crowd's hot path.
+inline uint32_t Quantize(double v) {
+  double x = (v + kHalfSpan) * kQuantumsPerUnit;
+  x = x > 0.0 ? x : 0.0;
+  x = x < kComponentMax ? x : static_cast<double>(kComponentMax);
+  return static_cast<uint32_t>(x + 0.5);
+}
+
+// The kept components of smallest-three, by the index of the dropped one.
+constexpr uint8_t kKept[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+
+// Smallest-three of x y z w floats (the float path: the same bits as the
+// double one for the same values).
+inline uint64_t EncodeFloatRotation(const float* xyzw) {
+  int largest = 0;
+  float most = std::abs(xyzw[0]);
+  for (int i = 1; i < 4; ++i) {  // selects, no branches
+    const float a = std::abs(xyzw[i]);
+    largest = a > most ? i : largest;
+    most = a > most ? a : most;
+  }
+  const double sign = xyzw[largest] < 0 ? -1.0 : 1.0;
+  const uint8_t* kept = kKept[largest];
+  return static_cast<uint64_t>(largest) | static_cast<uint64_t>(Quantize(sign * xyzw[kept[0]])) << 2 |
+         static_cast<uint64_t>(Quantize(sign * xyzw[kept[1]])) << (2 + kComponentBits) |
+         static_cast<uint64_t>(Quantize(sign * xyzw[kept[2]])) << (2 + 2 * kComponentBits);
 }
 
 double Dequantize(uint32_t q) { return static_cast<double>(q) / kComponentMax * (2 * kHalfSpan) - kHalfSpan; }
@@ -48,6 +71,11 @@ uint64_t LoadBytes(const uint8_t* in, size_t count) {
 uint8_t* StoreVector(const Eigen::Vector3d& v, uint8_t* out) {
   const float f[3] = {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
   std::memcpy(out, f, sizeof f);  // little-endian hosts only, as the rest of the wire
+  return out + kEncodedTranslationBytes;
+}
+
+uint8_t* StoreFloats(const float* v, uint8_t* out) {
+  std::memcpy(out, v, kEncodedTranslationBytes);
   return out + kEncodedTranslationBytes;
 }
 
@@ -113,6 +141,8 @@ uint64_t EncodeRotation(const Eigen::Quaterniond& q) {
   return bits;
 }
 
+uint64_t EncodeRotation(const float* xyzw) { return EncodeFloatRotation(xyzw); }
+
 Eigen::Quaterniond DecodeRotation(uint64_t bits) {
   const int largest = static_cast<int>(bits & 3);
   double c[4];
@@ -135,6 +165,18 @@ void EncodePose(const PoseLayout& layout, std::span<const Trs> pose, uint8_t* ou
     StoreBytes(EncodeRotation(pose[j].rotation), kEncodedRotationBytes, out);
   for (uint16_t j : layout.translated) out = StoreVector(pose[j].translation, out);
   for (uint16_t j : layout.scaled) out = StoreVector(pose[j].scale, out);
+}
+
+void EncodePose(const PoseLayout& layout, const FloatPose& pose, uint8_t* out) {
+  for (uint32_t j = 0; j < layout.joints; ++j, out += kEncodedRotationBytes) {
+    const uint64_t bits = EncodeFloatRotation(&pose.rotations[4 * j]);
+    const auto low = static_cast<uint32_t>(bits);
+    const auto high = static_cast<uint16_t>(bits >> 32);
+    std::memcpy(out, &low, 4);  // little-endian hosts only, as the rest of the wire
+    std::memcpy(out + 4, &high, 2);
+  }
+  for (uint16_t j : layout.translated) out = StoreFloats(&pose.translations[3 * j], out);
+  for (uint16_t j : layout.scaled) out = StoreFloats(&pose.scales[3 * j], out);
 }
 
 Status DecodePose(const PoseLayout& layout, std::span<const uint8_t> bytes, std::span<Trs> pose) {

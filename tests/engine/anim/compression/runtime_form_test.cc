@@ -142,5 +142,48 @@ TEST(RuntimeForm, AJointSubsetSamplesItsJointsAsTheWholePose) {
             StatusCode::kInvalidArgument);
 }
 
+// The crowd's float path: the same pose as the double job, within float
+// rounding (rotations unit in float, no Newton step), playing in order
+// through segment ends and wrapping around.
+TEST(RuntimeForm, TheFloatJobIsTheDoubleJobInFloat) {
+  if (!Cmu()) GTEST_SKIP() << "../shared/data is absent";
+  auto lossy = CompressClip(Cmu());
+  ASSERT_TRUE(lossy.ok());
+  const CompressedClip& z = **lossy;
+  ASSERT_FALSE(z.exact());
+  const size_t n = z.skeleton->size();
+  ClipSamplingContext context(z);
+  std::vector<float> lanes(10 * n);
+  const FloatPose pose{{lanes.data(), 4 * n}, {lanes.data() + 4 * n, 3 * n}, {lanes.data() + 7 * n, 3 * n}};
+  std::vector<Trs> expected(n);
+  double worst_angle = 0, worst_unit = 0, worst_vector = 0;
+  int samples = 0;
+  for (double t = 0; t < 1.3 * z.duration; t += 0.0137, ++samples) {
+    ASSERT_TRUE((ClipSamplingFloatJob{&z, t, WrapMode::kLoop, &context, pose}.Run().ok()));
+    ASSERT_TRUE((ClipSamplingJob{&z, t, WrapMode::kLoop, nullptr, expected, {}}.Run().ok()));
+    for (size_t j = 0; j < n; ++j) {
+      const float* r = &lanes[4 * j];
+      const Eigen::Quaterniond q(r[3], r[0], r[1], r[2]);
+      worst_unit = std::max(worst_unit, std::abs(q.norm() - 1));
+      const double dot = std::min(1.0, std::abs(q.normalized().dot(expected[j].rotation)));
+      worst_angle = std::max(worst_angle, 2 * std::acos(dot));
+      for (int c = 0; c < 3; ++c) {
+        const double span = std::max(1.0, expected[j].translation.norm());
+        worst_vector =
+            std::max(worst_vector, std::abs(pose.translations[3 * j + c] - expected[j].translation[c]) / span);
+        worst_vector = std::max(worst_vector, std::abs(pose.scales[3 * j + c] - expected[j].scale[c]));
+      }
+    }
+  }
+  EXPECT_GT(samples, 300);
+  EXPECT_LE(worst_unit, 1e-6);
+  EXPECT_LE(worst_angle, 2e-6);  // float rounding, far below the crowd encoding's 1.5e-4
+  EXPECT_LE(worst_vector, 1e-6);
+  EXPECT_EQ((ClipSamplingFloatJob{&z, 0, WrapMode::kLoop, nullptr, pose}.Run().code()), StatusCode::kInvalidArgument);
+  const FloatPose short_pose{pose.rotations.first(4 * n - 1), pose.translations, pose.scales};
+  EXPECT_EQ((ClipSamplingFloatJob{&z, 0, WrapMode::kLoop, &context, short_pose}.Run().code()),
+            StatusCode::kInvalidArgument);
+}
+
 }  // namespace
 }  // namespace armature

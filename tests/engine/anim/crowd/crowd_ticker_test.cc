@@ -65,7 +65,8 @@ TEST(CrowdTickerTest, DecodedPosesAreTheClipAtEachCharactersTime) {
 }
 
 // Characters due one after the other in one segment reuse its header (the
-// ticker's context per clip): their bytes are those of a pose sampled alone.
+// ticker's context per clip): their bytes are those of a pose sampled alone
+// (the float job with a fresh context, no header carried over).
 TEST(CrowdTickerTest, CharactersCloseInTimeEncodeTheirOwnSamples) {
   SKIP_WITHOUT_CMU();
   CrowdTicker ticker({.budget_us = 1e6});
@@ -73,15 +74,17 @@ TEST(CrowdTickerTest, CharactersCloseInTimeEncodeTheirOwnSamples) {
   for (uint32_t id = 0; id < 40; ++id)
     ASSERT_TRUE(ticker.Add({.id = id, .clip = clip, .time_offset = 0.0137 * id}).ok());
   const PoseLayout& layout = ticker.layout(clip);
-  std::vector<Trs> alone(layout.joints);
+  const size_t n = layout.joints;
+  std::vector<float> lanes(10 * n);
+  const FloatPose alone{{lanes.data(), 4 * n}, {lanes.data() + 4 * n, 3 * n}, {lanes.data() + 7 * n, 3 * n}};
   std::vector<uint8_t> bytes(layout.EncodedSize());
   CrowdTick tick;
   for (uint64_t k = 0; k < 6; ++k) {
     ASSERT_TRUE(ticker.Tick(k, static_cast<double>(k) / 30, &tick).ok());
     ASSERT_EQ(tick.ids.size(), 40u);
     for (size_t i = 0; i < tick.ids.size(); ++i) {
-      ASSERT_TRUE(
-          (ClipSamplingJob{Cmu().get(), tick.clip_times[i], WrapMode::kLoop, nullptr, alone, std::nullopt}.Run().ok()));
+      ClipSamplingContext fresh(*Cmu());
+      ASSERT_TRUE((ClipSamplingFloatJob{Cmu().get(), tick.clip_times[i], WrapMode::kLoop, &fresh, alone}.Run().ok()));
       EncodePose(layout, alone, bytes.data());
       EXPECT_TRUE(std::equal(bytes.begin(), bytes.end(), tick.poses.begin() + i * bytes.size())) << k << " " << i;
     }

@@ -47,6 +47,23 @@ TEST(PoseEncodingTest, RandomRotationsRoundTripWithinTheBound) {
   EXPECT_GT(worst, 0.25 * MaxEncodedRotationError());  // the bound is not loose by more than 4×
 }
 
+// The crowd's float path quantizes as the double one: the same bits for
+// the same (float) rotation, q and −q alike.
+TEST(PoseEncodingTest, FloatRotationsEncodeAsTheirDoubleValues) {
+  std::mt19937_64 rng(37);
+  std::normal_distribution<double> n;
+  for (int i = 0; i < 200000; ++i) {
+    Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
+    q.normalize();
+    const float f[4] = {static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()),
+                        static_cast<float>(q.w())};
+    const Eigen::Quaterniond same(f[3], f[0], f[1], f[2]);
+    ASSERT_EQ(EncodeRotation(f), EncodeRotation(same)) << i;
+  }
+  const float edge[4] = {0.5f, -0.5f, 0.5f, -0.5f};  // ties: the first largest, as the double path
+  EXPECT_EQ(EncodeRotation(edge), EncodeRotation(Eigen::Quaterniond(-0.5, 0.5, -0.5, 0.5)));
+}
+
 TEST(PoseEncodingTest, TheWorstCaseRotationsStayWithinTheBound) {
   // Largest component 1/2 with the other three at a half step off the grid.
   const double step = std::sqrt(2.0) / 32767, half = step / 2;

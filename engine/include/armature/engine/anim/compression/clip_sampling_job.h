@@ -59,10 +59,12 @@ class ClipSamplingContext {
  private:
   friend struct ClipSamplingJob;
   friend struct ClipSamplingOntoJob;
+  friend struct ClipSamplingFloatJob;
   const CompressedClip* clip_ = nullptr;
   uint64_t serial_ = 0;
   SegmentIndex index_;
   std::vector<Trs> clip_pose_;  // for ClipSamplingOntoJob
+  std::vector<float> still_;    // for ClipSamplingFloatJob: rest and constants as its lanes (4, 3, 3 a joint)
 };
 
 // A subset of a clip's joints to sample, resolved once (allocates) into the
@@ -104,6 +106,28 @@ struct ClipSamplingJob {
 
   Status Validate() const;
   Status Run() const;  // Validate(), then samples
+};
+
+// A local pose in float lanes: per joint x y z w (rotations), x y z
+// (translations, scales).
+struct FloatPose {
+  std::span<float> rotations, translations, scales;
+};
+
+// ClipSamplingJob's LINEAR sampling into float lanes, for callers that want
+// float32 anyway (the crowd's wire): no double transforms, rotations nlerped
+// and made unit in float (no Newton step; |q| − 1 stays near 1e-7). An exact
+// clip is sampled in double and narrowed. Needs a context (it holds the
+// still pose, rest and constant tracks, as lanes). No allocation in Run.
+struct ClipSamplingFloatJob {
+  const CompressedClip* clip = nullptr;
+  double time = 0;
+  WrapMode wrap = WrapMode::kClamp;
+  ClipSamplingContext* context = nullptr;
+  FloatPose output;
+
+  Status Validate() const;
+  Status Run() const;
 };
 
 // The same on `target`, through `map` (MapJointsByName(target,

@@ -111,8 +111,12 @@ class CrowdTicker {
   std::vector<uint32_t> ranked_, due_;
   bool rank_dirty_ = false;
   size_t max_joints_ = 0, max_pose_bytes_ = 0;
-  std::vector<Trs> scratch_;
-  std::vector<ShareEntry> shared_;  // open addressing, a power of two over twice the characters
+  std::vector<size_t> offsets_;      // per due character: its pose's place in the output
+  std::vector<size_t> copy_from_;    // per due character: the offset of the pose it shares, or -1: sampled, -2: written
+  std::vector<uint32_t> order_;      // the due characters sampled, by clip and clip time: the sampling order
+  std::vector<float> scratch_;       // a pose as ClipSamplingFloatJob's lanes (10 floats a joint)
+  std::vector<Trs> motion_scratch_;  // a motion's blended pose
+  std::vector<ShareEntry> shared_;   // open addressing, a power of two over twice the characters
   uint64_t generation_ = 0;
   double cost_us_ = 1.0;  // measured: a moving average of work per update
 };

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "armature/base/status.h"
+#include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/math/transform.h"
 
@@ -44,10 +45,14 @@ StatusOr<PoseLayout> LayoutOfClip(const CompressedClip& clip);
 // 48 bits of smallest-three, and back (a unit quaternion; q and −q alike).
 uint64_t EncodeRotation(const Eigen::Quaterniond& q);
 Eigen::Quaterniond DecodeRotation(uint64_t bits);
+// The same from a float rotation (x y z w; ClipSamplingFloatJob's lanes).
+uint64_t EncodeRotation(const float* xyzw);
 
 // Writes layout.EncodedSize() bytes of `pose` (size layout.joints) to `out`.
 // No allocation.
 void EncodePose(const PoseLayout& layout, std::span<const Trs> pose, uint8_t* out);
+// The same from float lanes (ClipSamplingFloatJob's, sized to the layout).
+void EncodePose(const PoseLayout& layout, const FloatPose& pose, uint8_t* out);
 // Reads one pose; INVALID_ARGUMENT when the sizes disagree.
 Status DecodePose(const PoseLayout& layout, std::span<const uint8_t> bytes, std::span<Trs> pose);
 
