@@ -72,8 +72,15 @@ async function playLbs(page, screenshot) {
   check(lbsMin < 0.5 * R && lbsMin >= LBS_RADIUS * 0.99,
         `playing LBS, the middle ring shrinks as the tube twists (smallest mean radius ${fmt(lbsMin)}, ` +
         `bound ${fmt(LBS_RADIUS)})`);
-  const playingShot = await page.screenshot({ path: screenshot });
-  const drawn = await colourStats(page, playingShot, 'mesh');
+  // The tube twists as it plays, and a loaded machine can catch it at its
+  // thinnest: the best of a few screenshots a quarter second apart.
+  let drawn = { count: 0, height: 0 };
+  for (let i = 0; i < 5 && !(drawn.count > 5000 && drawn.height > 200); ++i) {
+    if (i > 0) await page.waitForTimeout(250);
+    const playingShot = await page.screenshot({ path: screenshot });
+    const stats = await colourStats(page, playingShot, 'mesh');
+    if (stats.count > drawn.count) drawn = stats;
+  }
   check(drawn.count > 5000 && drawn.height > 200,
         `the mesh is drawn (${drawn.count} mesh-coloured pixels, ${drawn.width}×${drawn.height} px)`);
 }
