@@ -15,11 +15,9 @@ import os
 import sys
 import unittest
 
-if os.environ.get("ARMATURE_CLIENT_TEST_PYTHON") != sys.argv[1]:
-    if not os.path.exists(sys.argv[1]):
-        sys.exit(f"FAIL: {sys.argv[1]} is missing (python_client.install_offline makes it)")
-    os.environ["ARMATURE_CLIENT_TEST_PYTHON"] = sys.argv[1]
-    os.execv(sys.argv[1], [sys.argv[1], *sys.argv])
+from client_python import run_in_client_python  # noqa: E402
+
+run_in_client_python()
 
 import numpy as np  # noqa: E402
 
