@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "armature/engine/anim/compression/clip_keys.h"
+#include "armature/engine/anim/compression/error_bound.h"
 #include "armature/engine/anim/cubic_tangents.h"
 #include "server/assets/asset_convert.h"
 #include "server/authoring/clip_bake.h"
@@ -68,6 +69,7 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
                       v1::CreateClipResponse* response) {
   ARMATURE_RETURN_IF_ERROR(ValidateRequired(request.name(), "name"));
   ARMATURE_RETURN_IF_ERROR(ValidateAssetName(request.name()));
+  ARMATURE_RETURN_IF_ERROR(ParseClipPrecision(request.precision(), "precision").status());
   const std::shared_ptr<const Catalog> catalog = store.Snapshot();
   if (request.has_bake() && request.merge())
     return Status::InvalidArgument("bake: not with merge (bake makes every joint's track anew)");
@@ -133,10 +135,13 @@ Status CreateClipOnce(AssetStore& store, const Limits& limits, const v1::CreateC
   options.skeleton = own_copy ? "" : skeleton_name;
   options.replace = request.replace() || request.merge();
   if (stored) options.replace_only = stored->asset;
-  options.precision = "exact";  // the keys as given, tangents too: a later merge carries them over as they are
+  // Authored keys stay as given, tangents too, so a later merge carries them
+  // over as they are; a bake is motion the server made, held like an import.
+  options.precision = !request.precision().empty() ? request.precision() : request.has_bake() ? "" : "exact";
   ARMATURE_ASSIGN_OR_RETURN(auto derived, StoreDerivedClip(store, clip, options, limits));
   *response->mutable_clip() = ClipInfoOf(*derived.asset, *derived.clip, true);
   *response->mutable_asset() = AssetInfoOf(*derived.asset);
+  for (const std::string& w : derived.asset->contents.warnings) response->add_warnings(w);  // e.g. "kept exact"
   return Status::Ok();
 }
 

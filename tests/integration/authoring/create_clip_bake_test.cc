@@ -13,9 +13,9 @@
 namespace armature::testing {
 namespace {
 
-// The demo clips held exact: bakes are checked against the motion to 1e-5
-// rad, finer than the default bound (0.01 cm at 3 cm, ~3e-3 rad), within
-// which a compressed clip's segments may meet with a small step.
+// The demo clips held exact, so the bake itself is checked against the
+// motion to 1e-5 rad, finer than the default bound (0.01 cm at 3 cm, ~3e-3
+// rad). create_clip_bake_bound_test checks a bake at the default bound.
 class CreateClipBake : public ServerSuite {
  protected:
   static void SetUpTestSuite() {

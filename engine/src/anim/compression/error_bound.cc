@@ -12,6 +12,7 @@ namespace armature {
 
 double UnitsPerCentimetre(const Skeleton& skeleton) {
   constexpr double kCentimetreSpan = 10;  // see the header: no human-sized rig spans 10 m, or under 10 cm
+  if (skeleton.units_per_centimetre > 0) return skeleton.units_per_centimetre;
   const bool bvh = std::any_of(skeleton.channels.begin(), skeleton.channels.end(),
                                [](const std::vector<Channel>& c) { return !c.empty(); });
   if (!bvh) return 0.01;  // glTF: metres

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "armature/base/utf8.h"
+#include "armature/engine/io/gltf/gltf_writer.h"
 #include "armature/engine/math/rotation.h"
 #include "gltf_importer.h"
 
@@ -124,10 +125,22 @@ Status Importer::BuildSkeleton() {
   }
   skeleton->channels.resize(n);
   skeleton->end_sites.resize(n);
+  skeleton->units_per_centimetre = UnitsFromExtras();
   ARMATURE_RETURN_IF_ERROR(skeleton->Validate());
   skeleton_ = skeleton;
   contents_.skeletons.push_back({name_, skeleton_});
   return Status::Ok();
+}
+
+double Importer::UnitsFromExtras() {
+  const tinygltf::Value& extras = model_.asset.extras;
+  if (!extras.IsObject() || !extras.Has(kUnitsPerCentimetreExtra)) return 0;
+  const tinygltf::Value& value = extras.Get(kUnitsPerCentimetreExtra);
+  const double units = value.IsNumber() ? value.GetNumberAsDouble() : 0;
+  if (units == 1 || units == 0.01) return units;  // centimetres or metres: the two the unit rule knows
+  warnings_.push_back(std::string("asset.extras.") + kUnitsPerCentimetreExtra +
+                      ": not 1 or 0.01, ignored (glTF's metres assumed)");
+  return 0;
 }
 
 StatusOr<Trs> Importer::NodeTrs(const tinygltf::Node& node, const std::string& where) {

@@ -57,6 +57,7 @@ class Importer {
   };
   Status BuildSkeleton();
   StatusOr<Trs> NodeTrs(const tinygltf::Node& node, const std::string& where);
+  double UnitsFromExtras();  // Skeleton::units_per_centimetre from asset.extras, or 0
   StatusOr<SkinBinding> ReadSkin(int s);
   Status ImportMesh(size_t m);
   // What a mesh's primitives gather while appended, for ImportMesh to finish.

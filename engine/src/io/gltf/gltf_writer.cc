@@ -9,6 +9,7 @@
 #include <sstream>
 #include <utility>
 
+#include "armature/engine/anim/compression/error_bound.h"
 #include "armature/engine/mesh/mesh.h"
 #include "gltf_export.h"
 
@@ -134,6 +135,13 @@ StatusOr<std::string> ExportGltf(const Clip& clip, std::span<const Mesh* const> 
 
   ModelBuilder builder(std::min<uint64_t>(estimate, options.max_bytes));
   AddSkeletonNodes(skeleton, builder.model());
+  // glTF means metres; a skeleton in other units (a BVH one in centimetres)
+  // says so, so that a clip stored as this file keeps its error bound's scale.
+  if (const double units = UnitsPerCentimetre(skeleton); units != 0.01) {
+    tinygltf::Value::Object extras;
+    extras.emplace(kUnitsPerCentimetreExtra, tinygltf::Value(units));
+    builder.model().asset.extras = tinygltf::Value(std::move(extras));
+  }
   ARMATURE_ASSIGN_OR_RETURN(auto mesh_nodes, AddMeshes(meshes, skeleton, builder));
   std::map<std::string, int> node_of_mesh;
   for (size_t m = 0; m < meshes.size(); ++m) node_of_mesh.emplace(meshes[m]->name, mesh_nodes[m]);

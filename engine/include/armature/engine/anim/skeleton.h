@@ -30,6 +30,9 @@ struct Skeleton {
   std::vector<std::vector<Channel>> channels;
   // End Site offsets in the joint's frame, so bones can be drawn to their tips.
   std::vector<std::optional<Eigen::Vector3d>> end_sites;
+  // Skeleton units per centimetre when the file says (a glTF Armature wrote
+  // from a skeleton not in metres); 0: UnitsPerCentimetre's rule decides.
+  double units_per_centimetre = 0;
 
   size_t size() const { return names.size(); }
   // Index of the joint named `name`, or -1.

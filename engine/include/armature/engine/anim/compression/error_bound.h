@@ -29,7 +29,8 @@ struct ErrorBound {
   double shell_distance = 0;  // virtual points' distance from their joint
 };
 
-// Skeleton units per centimetre. The rule: a skeleton without BVH channels
+// Skeleton units per centimetre: Skeleton::units_per_centimetre when set
+// (a glTF file Armature wrote says so), else the rule: a skeleton without BVH channels
 // (glTF) is in metres (0.01), as glTF 2.0 says. A BVH skeleton, which has no
 // unit, is in centimetres (1) when its rest pose (joints and end sites, in
 // world space) spans 10 units or more along some axis, else in metres: a

@@ -31,6 +31,9 @@ struct Mesh;  // engine/include/armature/engine/mesh/mesh.h
 // The largest export the writer builds by default (the server passes its
 // reply limit).
 inline constexpr uint64_t kMaxGltfExportBytes = uint64_t{1} << 30;
+// asset.extras key of a written file's skeleton units per centimetre, when
+// they are not glTF's metres (a BVH skeleton in centimetres: 1); read back at import.
+inline constexpr const char* kUnitsPerCentimetreExtra = "armatureUnitsPerCentimetre";
 
 struct GltfExportOptions {
   bool binary = true;                        // .glb (one BIN chunk), else .gltf with the buffer as a data: URI
