@@ -7,7 +7,9 @@
 // (cylinder_rig.h, 16,384 vertices, 4 influences, normals): our LBS against
 // ozz's SkinningJob. Pairs are BM_VsOzz_<what>_Armature / _Ozz (and
 // RandomSeek_OzzIframes, ozz built with an iframe every 0.1 s; Fk, the
-// hierarchy alone: our ComputeWorld against ozz's LocalToModelJob);
+// hierarchy alone: our ComputeWorld, its AVX2 kernel on a CPU that has AVX2,
+// against ozz's LocalToModelJob; Fk_ArmatureScalar, unpaired, is the scalar
+// loop that runs without AVX2, with the same matrices bit for bit);
 // scripts/bench_ratios.py prints each pair's ratio after `make bench`.
 //
 // ozz is built only with -DARMATURE_BENCH_OZZ=ON (make bench) and the tarball
@@ -125,6 +127,7 @@ struct ArmaturePose {
     return ClipSamplingJob{&compressed, t, WrapMode::kClamp, &context, local, {}}.Run().ok();
   }
   void Fk() { ComputeWorld(*clip.skeleton, local, world); }
+  void FkScalar() { ComputeWorldScalar(*clip.skeleton, local, world); }
   const Clip& clip;
   const CompressedClip& compressed;
   ClipSamplingContext context;
@@ -151,14 +154,18 @@ void BM_VsOzz_SampleFk_Armature(benchmark::State& state, bool sequential) {
   SetJoints(state, pose.world.size());
 }
 
-// The hierarchy alone: one pose (sampled once, at a third of the clip) to world.
-void BM_VsOzz_Fk_Armature(benchmark::State& state) {
+// The hierarchy alone: one pose (sampled once, at a third of the clip) to
+// world, by ComputeWorld or (`scalar`) by the loop that runs without AVX2.
+void BM_VsOzz_Fk_Armature(benchmark::State& state, bool scalar) {
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
   ArmaturePose pose(cmu.clip);
   if (!pose.Sample(cmu.clip->duration / 3)) return state.SkipWithError("sampling failed");
   for (auto _ : state) {
-    pose.Fk();
+    if (scalar)
+      pose.FkScalar();
+    else
+      pose.Fk();
     benchmark::DoNotOptimize(pose.world.data());
     benchmark::ClobberMemory();
   }
@@ -481,8 +488,9 @@ BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Armature, RandomSeek, false)->Name("BM_VsOzz
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeek, false, false)->Name("BM_VsOzz_SampleFk_RandomSeek_Ozz");
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeekIframes, false, true)
     ->Name("BM_VsOzz_SampleFk_RandomSeek_OzzIframes");
-BENCHMARK(BM_VsOzz_Fk_Armature);
+BENCHMARK_CAPTURE(BM_VsOzz_Fk_Armature, Fk, false)->Name("BM_VsOzz_Fk_Armature");
 BENCHMARK(BM_VsOzz_Fk_Ozz);
+BENCHMARK_CAPTURE(BM_VsOzz_Fk_Armature, FkScalar, true)->Name("BM_VsOzz_Fk_ArmatureScalar");
 BENCHMARK(BM_VsOzz_Skin_Armature);
 BENCHMARK(BM_VsOzz_Skin_Ozz);
 
