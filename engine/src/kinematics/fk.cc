@@ -42,12 +42,10 @@ size_t OffsetIn(const Trs& t, const double* member) {
   return static_cast<size_t>(reinterpret_cast<const char*>(member) - reinterpret_cast<const char*>(&t));
 }
 
-}  // namespace
-
-void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world) {
+// The kernels' view of a pose (world rotations aside).
+fk_internal::FkInput KernelInput(const Skeleton& skeleton, std::span<const Trs> local,
+                                 std::span<Eigen::Affine3d> world) {
   static_assert(sizeof(Eigen::Affine3d) == 16 * sizeof(double), "the kernel writes 16 doubles a joint");
-  static const bool use_avx2 = fk_internal::avx2::Available();
-  if (!use_avx2 || skeleton.size() == 0) return ComputeWorldScalar(skeleton, local, world);
   static const Trs layout;
   fk_internal::FkInput in;
   in.joints = skeleton.size();
@@ -58,16 +56,50 @@ void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::spa
   in.rotation_offset = OffsetIn(layout, layout.rotation.coeffs().data());
   in.scale_offset = OffsetIn(layout, layout.scale.data());
   in.world = world.data()->matrix().data();
-  fk_internal::avx2::ComputeWorld(in);
+  return in;
+}
+
+// a·b summed by b's components, ((bw·a + bx·a1) + by·a2) + bz·a3 with a1..a3
+// signed permutations of a: the order the AVX2 kernel keeps (Eigen's own
+// product sums in another, a last-bit difference).
+Eigen::Quaterniond QuaternionProduct(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+  const double ax = a.x(), ay = a.y(), az = a.z(), aw = a.w();
+  const double bx = b.x(), by = b.y(), bz = b.z(), bw = b.w();
+  return Eigen::Quaterniond(((bw * aw + bx * -ax) + by * -ay) + bz * -az,  // w
+                            ((bw * ax + bx * aw) + by * -az) + bz * ay,    // x
+                            ((bw * ay + bx * az) + by * aw) + bz * -ax,    // y
+                            ((bw * az + bx * -ay) + by * ax) + bz * aw);   // z
+}
+
+bool UseAvx2() {
+  static const bool use_avx2 = fk_internal::avx2::Available();
+  return use_avx2;
+}
+
+}  // namespace
+
+void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world) {
+  if (!UseAvx2() || skeleton.size() == 0) return ComputeWorldScalar(skeleton, local, world);
+  fk_internal::avx2::ComputeWorld(KernelInput(skeleton, local, world));
+}
+
+void ComputeWorldScalar(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world,
+                        std::span<Eigen::Quaterniond> world_rotation) {
+  ComputeWorldScalar(skeleton, local, world);
+  for (size_t i = 0; i < skeleton.size(); ++i) {
+    const int p = skeleton.parents[i];
+    world_rotation[i] =
+        p < 0 ? local[i].rotation : QuaternionProduct(world_rotation[static_cast<size_t>(p)], local[i].rotation);
+  }
 }
 
 void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world,
                   std::span<Eigen::Quaterniond> world_rotation) {
-  ComputeWorld(skeleton, local, world);
-  for (size_t i = 0; i < skeleton.size(); ++i) {
-    const int p = skeleton.parents[i];
-    world_rotation[i] = p < 0 ? local[i].rotation : world_rotation[static_cast<size_t>(p)] * local[i].rotation;
-  }
+  static_assert(sizeof(Eigen::Quaterniond) == 4 * sizeof(double), "the kernel writes 4 doubles a joint");
+  if (!UseAvx2() || skeleton.size() == 0) return ComputeWorldScalar(skeleton, local, world, world_rotation);
+  const fk_internal::FkInput in = KernelInput(skeleton, local, world);
+  fk_internal::avx2::ComputeWorld(in);
+  fk_internal::avx2::ComputeWorldRotations(in, world_rotation.data()->coeffs().data());
 }
 
 Status PoseFromArrays(const Skeleton& skeleton, std::span<const float> rotations, std::span<const float> translations,

@@ -24,6 +24,9 @@ namespace avx2 {
 bool Available();  // compiled in and supported by this CPU
 // world[i] = world[parent] · T·R·S, bit for bit as fk.cc's scalar loop.
 void ComputeWorld(const FkInput& in);
+// world_rotation[i] (x y z w, 4 doubles a joint) = world_rotation[parent] ·
+// the local rotation, bit for bit as fk.cc's QuaternionProduct.
+void ComputeWorldRotations(const FkInput& in, double* world_rotation);
 }  // namespace avx2
 
 }  // namespace armature::fk_internal

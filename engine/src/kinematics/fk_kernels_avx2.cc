@@ -112,6 +112,21 @@ inline void RootWorld(const double* e, const double* t, double* out) {
   out[12] = t[0], out[13] = t[1], out[14] = t[2], out[15] = 1;
 }
 
+// a·b for the quaternion a in a register (x y z w) and b's components
+// broadcast from memory: ((bw·a + bx·a1) + by·a2) + bz·a3, a1..a3 signed
+// permutations of a, as fk.cc's QuaternionProduct sums them.
+inline __m256d Product(__m256d a, const double* b) {
+  const __m256d a1 = _mm256_xor_pd(_mm256_permute4x64_pd(a, _MM_SHUFFLE(0, 1, 2, 3)),  // aw az -ay -ax
+                                   _mm256_set_pd(-0.0, -0.0, 0.0, 0.0));
+  const __m256d a2 = _mm256_xor_pd(_mm256_permute4x64_pd(a, _MM_SHUFFLE(1, 0, 3, 2)),  // -az aw ax -ay
+                                   _mm256_set_pd(-0.0, 0.0, 0.0, -0.0));
+  const __m256d a3 = _mm256_xor_pd(_mm256_permute4x64_pd(a, _MM_SHUFFLE(2, 3, 0, 1)),  // ay -ax aw -az
+                                   _mm256_set_pd(-0.0, 0.0, -0.0, 0.0));
+  __m256d q = _mm256_add_pd(_mm256_mul_pd(_mm256_broadcast_sd(b + 3), a), _mm256_mul_pd(_mm256_broadcast_sd(b), a1));
+  q = _mm256_add_pd(q, _mm256_mul_pd(_mm256_broadcast_sd(b + 1), a2));
+  return _mm256_add_pd(q, _mm256_mul_pd(_mm256_broadcast_sd(b + 2), a3));
+}
+
 }  // namespace
 
 bool Available() { return __builtin_cpu_supports("avx2"); }
@@ -141,6 +156,22 @@ void ComputeWorld(const FkInput& in) {
   }
 }
 
+void ComputeWorldRotations(const FkInput& in, double* world_rotation) {
+  __m256d previous = _mm256_setzero_pd();  // the joint before, as in ComputeWorld
+  for (size_t i = 0; i < in.joints; ++i) {
+    const double* local = reinterpret_cast<const double*>(in.local + i * in.local_stride + in.rotation_offset);
+    const int parent = in.parents[i];
+    if (parent < 0)
+      previous = _mm256_loadu_pd(local);
+    else
+      previous = Product(static_cast<size_t>(parent) + 1 == i
+                             ? previous
+                             : _mm256_loadu_pd(world_rotation + 4 * static_cast<size_t>(parent)),
+                         local);
+    _mm256_storeu_pd(world_rotation + 4 * i, previous);
+  }
+}
+
 }  // namespace armature::fk_internal::avx2
 
 #else  // no AVX2 build on this target: fk.cc's scalar loop runs
@@ -148,6 +179,7 @@ void ComputeWorld(const FkInput& in) {
 namespace armature::fk_internal::avx2 {
 bool Available() { return false; }
 void ComputeWorld(const FkInput&) {}
+void ComputeWorldRotations(const FkInput&, double*) {}
 }  // namespace armature::fk_internal::avx2
 
 #endif

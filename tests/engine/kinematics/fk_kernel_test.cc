@@ -1,5 +1,5 @@
-// ComputeWorld's vector kernel against the scalar loop (bit for bit) and
-// against Eigen's own affine products (within 1e-12 of the pose's size), on
+// ComputeWorld's vector kernels against the scalar loops (bit for bit) and
+// against Eigen's own affine and quaternion products (within 1e-12), on
 // every frame of every real clip in ../shared/data and on small skeletons
 // whose joint counts leave a partial block of four.
 #include <algorithm>
@@ -31,6 +31,15 @@ int FirstBitDifference(const std::vector<Eigen::Affine3d>& a, const std::vector<
   return -1;
 }
 
+// The first joint whose world rotations differ, bitwise, or -1.
+int FirstBitDifference(const std::vector<Eigen::Quaterniond>& a, const std::vector<Eigen::Quaterniond>& b) {
+  for (size_t i = 0; i < a.size(); ++i)
+    for (int e = 0; e < 4; ++e)
+      if (std::bit_cast<uint64_t>(a[i].coeffs()[e]) != std::bit_cast<uint64_t>(b[i].coeffs()[e]))
+        return static_cast<int>(i);
+  return -1;
+}
+
 // world[i] = world[parent] · local[i].ToAffine(), with Eigen's 4×4 product.
 std::vector<Eigen::Affine3d> AffineChain(const Skeleton& s, const std::vector<Trs>& local) {
   std::vector<Eigen::Affine3d> world(s.size());
@@ -57,10 +66,14 @@ TEST(FkKernel, EveryFrameOfEverySharedClipIsTheScalarLoopsBitForBit) {
   size_t poses = 0;
   for (const test_util::SharedClip& c : Clips()) {
     const Skeleton& s = *c.clip->skeleton;
-    std::vector<Eigen::Affine3d> fast(s.size()), scalar(s.size());
+    std::vector<Eigen::Affine3d> fast(s.size()), scalar(s.size()), with_rotations(s.size());
+    std::vector<Eigen::Quaterniond> fast_rotation(s.size()), scalar_rotation(s.size());
     ForEachFrame(*c.clip, [&](double t, const std::vector<Trs>& local) {
       ComputeWorld(s, local, fast);
-      ComputeWorldScalar(s, local, scalar);
+      ComputeWorld(s, local, with_rotations, fast_rotation);
+      ComputeWorldScalar(s, local, scalar, scalar_rotation);
+      ASSERT_EQ(FirstBitDifference(fast_rotation, scalar_rotation), -1) << c.name << " at t=" << t;
+      ASSERT_EQ(FirstBitDifference(with_rotations, scalar), -1) << c.name << " at t=" << t;
       const int at = FirstBitDifference(fast, scalar);
       ASSERT_EQ(at, -1) << c.name << " at t=" << t << ": joint " << at / 16 << ", entry " << at % 16 << ": "
                         << fast[static_cast<size_t>(at / 16)].matrix().data()[at % 16] << " against "
@@ -77,16 +90,23 @@ TEST(FkKernel, EveryFrameOfEverySharedClipIsEigensAffineChain) {
   for (const test_util::SharedClip& c : Clips()) {
     const Skeleton& s = *c.clip->skeleton;
     std::vector<Eigen::Affine3d> world(s.size());
-    double worst = 0;
+    std::vector<Eigen::Quaterniond> rotation(s.size()), eigen_rotation(s.size());
+    double worst = 0, worst_rotation = 0;
     ForEachFrame(*c.clip, [&](double, const std::vector<Trs>& local) {
-      ComputeWorld(s, local, world);
+      ComputeWorld(s, local, world, rotation);
       const std::vector<Eigen::Affine3d> chain = AffineChain(s, local);
       double size = 1;
       for (const Eigen::Affine3d& w : chain) size = std::max(size, w.translation().cwiseAbs().maxCoeff());
-      for (size_t i = 0; i < s.size(); ++i)
+      for (size_t i = 0; i < s.size(); ++i) {
         worst = std::max(worst, (world[i].matrix() - chain[i].matrix()).cwiseAbs().maxCoeff() / size);
+        const int p = s.parents[i];
+        eigen_rotation[i] = p < 0 ? local[i].rotation : eigen_rotation[static_cast<size_t>(p)] * local[i].rotation;
+        worst_rotation =
+            std::max(worst_rotation, (rotation[i].coeffs() - eigen_rotation[i].coeffs()).cwiseAbs().maxCoeff());
+      }
     });
     EXPECT_LE(worst, kTolerance) << c.name;
+    EXPECT_LE(worst_rotation, kTolerance) << c.name << ": world rotations against Eigen's quaternion product";
   }
 }
 
@@ -107,9 +127,17 @@ TEST(FkKernel, PartialBlocksSecondRootsAndScalesAreTheScalarLoopsBitForBit) {
       if (i % 2 == 1) local[i].scale = {u(rng), u(rng), u(rng)};
     }
     std::vector<Eigen::Affine3d> fast(n), scalar(n);
-    ComputeWorld(s, local, fast);
-    ComputeWorldScalar(s, local, scalar);
+    std::vector<Eigen::Quaterniond> fast_rotation(n), scalar_rotation(n);
+    ComputeWorld(s, local, fast, fast_rotation);
+    ComputeWorldScalar(s, local, scalar, scalar_rotation);
     EXPECT_EQ(FirstBitDifference(fast, scalar), -1) << n << " joints";
+    EXPECT_EQ(FirstBitDifference(fast_rotation, scalar_rotation), -1) << n << " joints";
+    for (size_t i = 0; i < n; ++i) {
+      const int p = s.parents[i];
+      const Eigen::Quaterniond eigen =
+          p < 0 ? local[i].rotation : scalar_rotation[static_cast<size_t>(p)] * local[i].rotation;
+      EXPECT_TRUE(scalar_rotation[i].coeffs().isApprox(eigen.coeffs(), 1e-12)) << n << ": " << i;
+    }
     const std::vector<Eigen::Affine3d> chain = AffineChain(s, local);
     for (size_t i = 0; i < n; ++i) EXPECT_TRUE(fast[i].matrix().isApprox(chain[i].matrix(), 1e-12)) << n << ": " << i;
   }

@@ -22,9 +22,12 @@ void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::spa
 void ComputeWorldScalar(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world);
 
 // Same, but also the world rotation of each joint as a quaternion (the
-// product of local rotations; scale is ignored for it).
+// product of local rotations; scale is ignored for it), likewise bit for bit
+// the scalar overload's.
 void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world,
                   std::span<Eigen::Quaterniond> world_rotation);
+void ComputeWorldScalar(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world,
+                        std::span<Eigen::Quaterniond> world_rotation);
 
 // A local pose from the rest pose with rotations and translations a client
 // supplies: `rotations` has 4 per joint (w,x,y,z); `translations` is empty
