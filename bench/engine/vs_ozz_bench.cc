@@ -7,7 +7,11 @@
 // (cylinder_rig.h, 16,384 vertices, 4 influences, normals): our LBS against
 // ozz's SkinningJob. Pairs are BM_VsOzz_<what>_Armature / _Ozz (and
 // RandomSeek_OzzIframes, ozz built with an iframe every 0.1 s; Fk, the
-// hierarchy alone: our ComputeWorld against ozz's LocalToModelJob);
+// hierarchy alone: our ComputeWorld, its AVX2 kernel on a CPU that has AVX2,
+// against ozz's LocalToModelJob; Fk_ArmatureScalar, unpaired, is the scalar
+// loop that runs without AVX2, with the same matrices bit for bit, and
+// FkRotations_Armature{,Scalar} the same with world rotations, as
+// EvaluateClip's world space asks);
 // scripts/bench_ratios.py prints each pair's ratio after `make bench`.
 //
 // ozz is built only with -DARMATURE_BENCH_OZZ=ON (make bench) and the tarball
@@ -120,16 +124,25 @@ struct ArmaturePose {
         compressed(CompressedCmu(c)),
         context(compressed),
         local(c->skeleton->size()),
-        world(c->skeleton->size()) {}
+        world(c->skeleton->size()),
+        world_rotation(c->skeleton->size()) {}
   bool Sample(double t) {  // as the server samples: the job, sequential playback through its context
     return ClipSamplingJob{&compressed, t, WrapMode::kClamp, &context, local, {}}.Run().ok();
   }
   void Fk() { ComputeWorld(*clip.skeleton, local, world); }
+  void FkScalar() { ComputeWorldScalar(*clip.skeleton, local, world); }
+  void FkRotations(bool scalar) {
+    if (scalar)
+      ComputeWorldScalar(*clip.skeleton, local, world, world_rotation);
+    else
+      ComputeWorld(*clip.skeleton, local, world, world_rotation);
+  }
   const Clip& clip;
   const CompressedClip& compressed;
   ClipSamplingContext context;
   std::vector<Trs> local;
   std::vector<Eigen::Affine3d> world;
+  std::vector<Eigen::Quaterniond> world_rotation;
 };
 
 // Our sampling + FK: one pose per iteration, at t += kStep (sequential) or
@@ -151,14 +164,21 @@ void BM_VsOzz_SampleFk_Armature(benchmark::State& state, bool sequential) {
   SetJoints(state, pose.world.size());
 }
 
-// The hierarchy alone: one pose (sampled once, at a third of the clip) to world.
-void BM_VsOzz_Fk_Armature(benchmark::State& state) {
+// The hierarchy alone: one pose (sampled once, at a third of the clip) to
+// world, by ComputeWorld or (`scalar`) by the loop that runs without AVX2;
+// with `rotations`, world rotations too.
+void BM_VsOzz_Fk_Armature(benchmark::State& state, bool scalar, bool rotations) {
   const Cmu& cmu = LoadCmu();
   if (!cmu.clip) return state.SkipWithError(cmu.absent.c_str());
   ArmaturePose pose(cmu.clip);
   if (!pose.Sample(cmu.clip->duration / 3)) return state.SkipWithError("sampling failed");
   for (auto _ : state) {
-    pose.Fk();
+    if (rotations)
+      pose.FkRotations(scalar);
+    else if (scalar)
+      pose.FkScalar();
+    else
+      pose.Fk();
     benchmark::DoNotOptimize(pose.world.data());
     benchmark::ClobberMemory();
   }
@@ -481,8 +501,11 @@ BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Armature, RandomSeek, false)->Name("BM_VsOzz
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeek, false, false)->Name("BM_VsOzz_SampleFk_RandomSeek_Ozz");
 BENCHMARK_CAPTURE(BM_VsOzz_SampleFk_Ozz, RandomSeekIframes, false, true)
     ->Name("BM_VsOzz_SampleFk_RandomSeek_OzzIframes");
-BENCHMARK(BM_VsOzz_Fk_Armature);
+BENCHMARK_CAPTURE(BM_VsOzz_Fk_Armature, Fk, false, false)->Name("BM_VsOzz_Fk_Armature");
 BENCHMARK(BM_VsOzz_Fk_Ozz);
+BENCHMARK_CAPTURE(BM_VsOzz_Fk_Armature, FkScalar, true, false)->Name("BM_VsOzz_Fk_ArmatureScalar");
+BENCHMARK_CAPTURE(BM_VsOzz_Fk_Armature, FkRotations, false, true)->Name("BM_VsOzz_FkRotations_Armature");
+BENCHMARK_CAPTURE(BM_VsOzz_Fk_Armature, FkRotationsScalar, true, true)->Name("BM_VsOzz_FkRotations_ArmatureScalar");
 BENCHMARK(BM_VsOzz_Skin_Armature);
 BENCHMARK(BM_VsOzz_Skin_Ozz);
 

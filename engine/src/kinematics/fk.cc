@@ -3,12 +3,17 @@
 #include <cmath>
 #include <string>
 
+#include "kinematics/fk_kernels.h"
+
 namespace armature {
 
-void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world) {
-  // Trs::ToAffine and the affine product written out on the 3×4 part: no
-  // identity fill, no temporary, and no scale product for unscaled joints
-  // (BVH joints, most glTF joints).
+// Trs::ToAffine and the affine product written out on the 3×4 part: no
+// identity fill, no temporary, and no scale product for unscaled joints
+// (BVH joints, most glTF joints). Each world column is the parent's columns
+// weighted by the local column, summed left to right ((c0·a + c1·b) + c2·c),
+// the order the AVX2 kernel keeps; Eigen's 3×3 product sums its third row
+// in another order, so the two would differ in the last bit.
+void ComputeWorldScalar(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world) {
   const size_t n = skeleton.size();
   for (size_t i = 0; i < n; ++i) {
     const Trs& l = local[i];
@@ -21,20 +26,80 @@ void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::spa
       w.topRightCorner<3, 1>() = l.translation;
     } else {
       const Eigen::Matrix4d& pw = world[static_cast<size_t>(p)].matrix();
-      w.topLeftCorner<3, 3>().noalias() = pw.topLeftCorner<3, 3>() * r;
-      w.topRightCorner<3, 1>().noalias() = pw.topLeftCorner<3, 3>() * l.translation + pw.topRightCorner<3, 1>();
+      const auto c0 = pw.col(0).head<3>(), c1 = pw.col(1).head<3>(), c2 = pw.col(2).head<3>();
+      for (int j = 0; j < 3; ++j) w.col(j).head<3>() = c0 * r(0, j) + c1 * r(1, j) + c2 * r(2, j);
+      const Eigen::Vector3d& t = l.translation;
+      w.col(3).head<3>() = c0 * t.x() + c1 * t.y() + c2 * t.z() + pw.col(3).head<3>();
     }
     w.row(3) << 0, 0, 0, 1;
   }
 }
 
-void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world,
-                  std::span<Eigen::Quaterniond> world_rotation) {
-  ComputeWorld(skeleton, local, world);
+namespace {
+
+// Byte offset of a member inside the Trs `t`.
+size_t OffsetIn(const Trs& t, const double* member) {
+  return static_cast<size_t>(reinterpret_cast<const char*>(member) - reinterpret_cast<const char*>(&t));
+}
+
+// The kernels' view of a pose (world rotations aside).
+fk_internal::FkInput KernelInput(const Skeleton& skeleton, std::span<const Trs> local,
+                                 std::span<Eigen::Affine3d> world) {
+  static_assert(sizeof(Eigen::Affine3d) == 16 * sizeof(double), "the kernel writes 16 doubles a joint");
+  static const Trs layout;
+  fk_internal::FkInput in;
+  in.joints = skeleton.size();
+  in.parents = skeleton.parents.data();
+  in.local = reinterpret_cast<const char*>(local.data());
+  in.local_stride = sizeof(Trs);
+  in.translation_offset = OffsetIn(layout, layout.translation.data());
+  in.rotation_offset = OffsetIn(layout, layout.rotation.coeffs().data());
+  in.scale_offset = OffsetIn(layout, layout.scale.data());
+  in.world = world.data()->matrix().data();
+  return in;
+}
+
+// a·b summed by b's components, ((bw·a + bx·a1) + by·a2) + bz·a3 with a1..a3
+// signed permutations of a: the order the AVX2 kernel keeps (Eigen's own
+// product sums in another, a last-bit difference).
+Eigen::Quaterniond QuaternionProduct(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+  const double ax = a.x(), ay = a.y(), az = a.z(), aw = a.w();
+  const double bx = b.x(), by = b.y(), bz = b.z(), bw = b.w();
+  return Eigen::Quaterniond(((bw * aw + bx * -ax) + by * -ay) + bz * -az,  // w
+                            ((bw * ax + bx * aw) + by * -az) + bz * ay,    // x
+                            ((bw * ay + bx * az) + by * aw) + bz * -ax,    // y
+                            ((bw * az + bx * -ay) + by * ax) + bz * aw);   // z
+}
+
+bool UseAvx2() {
+  static const bool use_avx2 = fk_internal::avx2::Available();
+  return use_avx2;
+}
+
+}  // namespace
+
+void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world) {
+  if (!UseAvx2() || skeleton.size() == 0) return ComputeWorldScalar(skeleton, local, world);
+  fk_internal::avx2::ComputeWorld(KernelInput(skeleton, local, world));
+}
+
+void ComputeWorldScalar(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world,
+                        std::span<Eigen::Quaterniond> world_rotation) {
+  ComputeWorldScalar(skeleton, local, world);
   for (size_t i = 0; i < skeleton.size(); ++i) {
     const int p = skeleton.parents[i];
-    world_rotation[i] = p < 0 ? local[i].rotation : world_rotation[static_cast<size_t>(p)] * local[i].rotation;
+    world_rotation[i] =
+        p < 0 ? local[i].rotation : QuaternionProduct(world_rotation[static_cast<size_t>(p)], local[i].rotation);
   }
+}
+
+void ComputeWorld(const Skeleton& skeleton, std::span<const Trs> local, std::span<Eigen::Affine3d> world,
+                  std::span<Eigen::Quaterniond> world_rotation) {
+  static_assert(sizeof(Eigen::Quaterniond) == 4 * sizeof(double), "the kernel writes 4 doubles a joint");
+  if (!UseAvx2() || skeleton.size() == 0) return ComputeWorldScalar(skeleton, local, world, world_rotation);
+  const fk_internal::FkInput in = KernelInput(skeleton, local, world);
+  fk_internal::avx2::ComputeWorld(in);
+  fk_internal::avx2::ComputeWorldRotations(in, world_rotation.data()->coeffs().data());
 }
 
 Status PoseFromArrays(const Skeleton& skeleton, std::span<const float> rotations, std::span<const float> translations,
