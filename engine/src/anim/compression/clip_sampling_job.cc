@@ -6,6 +6,7 @@
 
 #include "anim/compression/packed_track.h"
 #include "anim/compression/rotation_batch.h"
+#include "anim/compression/sample_reader.h"
 
 namespace armature {
 namespace {
@@ -14,6 +15,7 @@ using compression_internal::kCodes;
 using compression_internal::kRangeBytes;
 using compression_internal::kSegmentFrames;
 using compression_internal::TrackCode;
+using compression_internal::v4;
 
 // A ClipJointSubset's parts, as the sampler reads them.
 struct ClipJointSubsetView {
@@ -71,10 +73,10 @@ struct TrsSink {
   std::span<Trs> out;
   compression_internal::RotationBatch rotations;
 
-  void Rotation(const float* a, const float* b, float u, int dropped, uint32_t joint) {
-    rotations.Add(a, b, u, dropped, &out[joint]);
+  void Rotation(v4 a, v4 b, float u, int dropped, uint32_t joint) { rotations.Add(a, b, u, dropped, &out[joint]); }
+  void Vector(TrackKind kind, v4 v, uint32_t joint) {
+    (kind == TrackKind::kTranslation ? out[joint].translation : out[joint].scale) = Eigen::Vector3d(v[0], v[1], v[2]);
   }
-  void Vector(TrackKind kind, const float* v, uint32_t joint) { Store(kind, v, out[joint]); }
   void Flush() { rotations.Flush(); }
 };
 
@@ -83,10 +85,10 @@ struct FloatSink {
   FloatPose out;
   compression_internal::RotationBatchOf<float> rotations;
 
-  void Rotation(const float* a, const float* b, float u, int dropped, uint32_t joint) {
+  void Rotation(v4 a, v4 b, float u, int dropped, uint32_t joint) {
     rotations.Add(a, b, u, dropped, &out.rotations[4 * joint]);
   }
-  void Vector(TrackKind kind, const float* v, uint32_t joint) {
+  void Vector(TrackKind kind, v4 v, uint32_t joint) {
     float* to = (kind == TrackKind::kTranslation ? out.translations : out.scales).data() + 3 * joint;
     to[0] = v[0], to[1] = v[1], to[2] = v[2];
   }
@@ -98,23 +100,18 @@ struct FloatSink {
 template <class Sink>
 inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, const uint8_t* segment,
                         const SegmentPosition& at, Sink& sink) {
-  using compression_internal::ReadBits;
+  using compression_internal::ReadKept;
   const size_t i = IntervalOf(cursor, at);
   const float u =
       (at.q - static_cast<float>(i << cursor.stride_log)) * compression_internal::kInverseStride[cursor.stride_log];
-  float a[3], b[3];
-  size_t bit_a = cursor.bit + i * cursor.total, bit_b = bit_a + cursor.total;
-  for (int c = 0; c < 3; ++c) {
-    a[c] = cursor.offset[c] + cursor.scale[c] * static_cast<float>(ReadBits(segment, bit_a, cursor.bits[c]));
-    b[c] = cursor.offset[c] + cursor.scale[c] * static_cast<float>(ReadBits(segment, bit_b, cursor.bits[c]));
-    bit_a += cursor.bits[c];
-    bit_b += cursor.bits[c];
-  }
-  if (EndsOnNext(cursor, at, i)) std::copy(cursor.end, cursor.end + 3, b);
+  const size_t bit_a = cursor.bit + i * cursor.total;
+  const v4 a = ReadKept(segment, bit_a, cursor);
+  // The data is padded (kReadPadding), so the read past a segment's last
+  // sample is harmless; its shared end replaces it.
+  const v4 b = EndsOnNext(cursor, at, i) ? compression_internal::Load4(cursor.end)
+                                         : ReadKept(segment, bit_a + cursor.total, cursor);
   if (track.kind == TrackKind::kRotation) return sink.Rotation(a, b, u, cursor.dropped, track.joint);
-  float r[3];
-  for (int c = 0; c < 3; ++c) r[c] = a[c] + u * (b[c] - a[c]);
-  sink.Vector(track.kind, r, track.joint);
+  sink.Vector(track.kind, a + compression_internal::Splat(u) * (b - a), track.joint);
 }
 
 // Reads a segment's header one track after another into cursors (written

@@ -22,14 +22,16 @@ namespace armature {
 // rotation rebuilds, and value = offset + scale · q per component; `end`:
 // the segment's last frame, the next segment's first sample as it decodes
 // it, in this segment's kept components (when the segment has a next).
+// The float triples have a fourth lane, kept 0, so the job reads each as a
+// vector.
 struct TrackCursor {
   uint32_t bit = 0;
   uint8_t bits[3] = {};
   uint8_t total = 0;
   uint8_t stride_log = 0;
   uint8_t dropped = 3;
-  float offset[3] = {}, scale[3] = {};
-  float end[3] = {};
+  float offset[4] = {}, scale[4] = {};
+  float end[4] = {};
 };
 
 // Every animated track's cursor in one segment.
