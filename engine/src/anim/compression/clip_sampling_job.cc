@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "anim/compression/header_reader.h"
 #include "anim/compression/packed_track.h"
 #include "anim/compression/rotation_batch.h"
 #include "anim/compression/sample_reader.h"
@@ -11,10 +12,8 @@
 namespace armature {
 namespace {
 
-using compression_internal::kCodes;
-using compression_internal::kRangeBytes;
+using compression_internal::HeaderReader;
 using compression_internal::kSegmentFrames;
-using compression_internal::TrackCode;
 using compression_internal::v4;
 
 // A ClipJointSubset's parts, as the sampler reads them.
@@ -34,9 +33,11 @@ struct SegmentPosition {
 SegmentPosition Locate(const CompressedClip& clip, double t) {
   const size_t last = clip.frames.count - 1;
   double p = clip.frames.frame_time > 0 ? t / clip.frames.frame_time : 0;
-  const double nearest = std::round(p);  // a frame's own time lands on its frame, not just before it
-  if (std::abs(p - nearest) < 1e-9 * std::max(1.0, p)) p = nearest;
   p = std::clamp(p, 0.0, static_cast<double>(last));
+  // A frame's own time lands on its frame, not just before it (p ≥ 0: a
+  // truncation rounds it, without libm's round).
+  const double nearest = static_cast<double>(static_cast<size_t>(p + 0.5));
+  if (std::abs(p - nearest) < 1e-9 * std::max(1.0, p)) p = nearest;
   SegmentPosition at;
   at.segment = std::min(static_cast<size_t>(p) / kSegmentFrames, clip.segment_offsets.size() - 1);
   const size_t start = at.segment * kSegmentFrames;
@@ -113,45 +114,6 @@ inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, c
   if (track.kind == TrackKind::kRotation) return sink.Rotation(a, b, u, cursor.dropped, track.joint);
   sink.Vector(track.kind, a + compression_internal::Splat(u) * (b - a), track.joint);
 }
-
-// Reads a segment's header one track after another into cursors (written
-// in place: a cursor built aside and copied stalls on store forwarding).
-class HeaderReader {
- public:
-  HeaderReader(const CompressedClip& clip, size_t segment) : clip_(clip) {
-    const size_t segments = clip.segment_offsets.size();
-    data_ = clip.data.data() + clip.segment_offsets[segment];
-    back_ = clip.data.data() + (segment + 1 < segments ? clip.segment_offsets[segment + 1]
-                                                       : clip.data.size() - compression_internal::kReadPadding);
-    const size_t start = segment * kSegmentFrames;
-    intervals_ = std::min(kSegmentFrames, clip.frames.count - 1 - start);
-    shares_end_ = segment + 1 < segments;
-    bit_ = clip.animated.size() * 8;
-  }
-
-  const uint8_t* data() const { return data_; }
-
-  // Track `t`'s cursor (tracks in order, each once); its dequantizer only when `full`.
-  void Next(size_t t, TrackCursor& cursor, bool full = true) {
-    using namespace compression_internal;
-    const AnimatedTrack& track = clip_.animated[t];
-    const TrackCode code = kCodes[data_[t]];
-    cursor.dropped = track.dropped == kDroppedPerSegment ? *--back_ : track.dropped;
-    const uint8_t* range = code.ranged ? (back_ -= kRangeBytes) : nullptr;
-    cursor.total = FillLayout(code.bits, track.extent, range, cursor.bits);
-    if (full) FillDequantizer(track.min, track.extent, range, cursor.bits, cursor.offset, cursor.scale);
-    cursor.bit = static_cast<uint32_t>(bit_);
-    cursor.stride_log = code.stride_log;
-    bit_ += static_cast<size_t>(cursor.total) * StoredSamples(code.stride_log, intervals_, shares_end_);
-  }
-
- private:
-  const CompressedClip& clip_;
-  const uint8_t* data_;
-  const uint8_t* back_;
-  size_t intervals_ = 0, bit_ = 0;
-  bool shares_end_ = false;
-};
 
 // `cursor.end` from the next segment's first sample of the track (its
 // cursor `first`), in `cursor`'s kept components.
@@ -302,12 +264,13 @@ void ClipSamplingContext::Resize(const CompressedClip& clip) {
   index_.next_segment = static_cast<size_t>(-1);
   index_.next.assign(clip.animated.size(), TrackCursor{});
   clip_pose_.assign(clip.skeleton ? clip.skeleton->size() : 0, Trs{});
+  still_pose_ = clip_pose_;
   const size_t joints = clip_pose_.size();
   still_.assign(10 * joints, 0.f);
   if (!clip.skeleton) return;
-  StoreStill(clip, nullptr, clip_pose_);
+  StoreStill(clip, nullptr, still_pose_);
   for (size_t j = 0; j < joints; ++j) {
-    const Trs& p = clip_pose_[j];
+    const Trs& p = still_pose_[j];
     const double r[4] = {p.rotation.x(), p.rotation.y(), p.rotation.z(), p.rotation.w()};
     for (int c = 0; c < 4; ++c) still_[4 * j + c] = static_cast<float>(r[c]);
     for (int c = 0; c < 3; ++c) {
@@ -360,7 +323,11 @@ Status ClipSamplingJob::Run() const {
   if (clip->exact()) return SampleClip(*clip->exact_keys, t, {interpolation, WrapMode::kClamp}, output);
   std::optional<ClipJointSubsetView> subset;
   if (joints) subset = ClipJointSubsetView{joints->joints_, joints->constants_, joints->animated_, joints->in_subset_};
-  StoreStill(*clip, subset ? &*subset : nullptr, output);
+  if (context && !subset) {  // built once: constant rotations are made unit on Resize, not on every call
+    std::copy(context->still_pose_.begin(), context->still_pose_.end(), output.begin());
+  } else {
+    StoreStill(*clip, subset ? &*subset : nullptr, output);
+  }
   TrsSink sink{output, {}};
   SampleLossy(*clip, interpolation == Interpolation::kStep ? FrameAtOrBefore(*clip, t) : t,
               context ? &context->index_ : nullptr, subset ? &*subset : nullptr, sink);

@@ -27,9 +27,9 @@ class RotationBatchOf {
  public:
   // `a`, `b`: the kept components in lanes 0–2 (lane 3 is ignored).
   void Add(v4 a, v4 b, float u, int dropped, Out* out) {
+    a[3] = u;  // rides in the free lane: transposed with the samples, no scalar store to reload
     a_[n_] = a;
     b_[n_] = b;
-    u_[n_] = u;
     dropped_[n_] = dropped;
     out_[n_] = out;
     if (++n_ == 4) Flush();
@@ -40,13 +40,10 @@ class RotationBatchOf {
 
   void Flush() {
     if (n_ == 0) return;
-    for (size_t lane = n_; lane < 4; ++lane) {  // unused lanes: identity
-      a_[lane] = b_[lane] = Splat(0.f);
-      u_[lane] = 0.f;
-    }
+    for (size_t lane = n_; lane < 4; ++lane) a_[lane] = b_[lane] = Splat(0.f);  // unused lanes: identity
     Transpose(a_);
     Transpose(b_);
-    const v4 zero = Splat(0.f), one = Splat(1.f), u = Load4(u_);
+    const v4 zero = Splat(0.f), one = Splat(1.f), u = a_[3];
     const v4 wa = Sqrt(Max(one - a_[0] * a_[0] - a_[1] * a_[1] - a_[2] * a_[2], zero));
     const v4 wb = Sqrt(Max(one - b_[0] * b_[0] - b_[1] * b_[1] - b_[2] * b_[2], zero));
     const v4 d = a_[0] * b_[0] + a_[1] * b_[1] + a_[2] * b_[2] + wa * wb;
@@ -79,8 +76,7 @@ class RotationBatchOf {
   }
 
  private:
-  v4 a_[4], b_[4];
-  float u_[4];
+  v4 a_[4], b_[4];  // rows, then (after Transpose) components; a_'s fourth: the parameters
   int dropped_[4];
   Out* out_[4];
   size_t n_ = 0;

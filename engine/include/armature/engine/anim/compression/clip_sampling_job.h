@@ -65,8 +65,9 @@ class ClipSamplingContext {
   const CompressedClip* clip_ = nullptr;
   uint64_t serial_ = 0;
   SegmentIndex index_;
-  std::vector<Trs> clip_pose_;  // for ClipSamplingOntoJob
-  std::vector<float> still_;    // for ClipSamplingFloatJob: rest and constants as its lanes (4, 3, 3 a joint)
+  std::vector<Trs> clip_pose_;   // for ClipSamplingOntoJob
+  std::vector<Trs> still_pose_;  // rest and constant tracks, every joint (ClipSamplingJob)
+  std::vector<float> still_;     // for ClipSamplingFloatJob: rest and constants as its lanes (4, 3, 3 a joint)
 };
 
 // A subset of a clip's joints to sample, resolved once (allocates) into the
