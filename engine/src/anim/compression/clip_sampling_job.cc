@@ -119,16 +119,11 @@ inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, c
 // cursor `first`), in `cursor`'s kept components.
 void ReadEnd(TrackKind kind, const TrackCursor& first, const uint8_t* next, TrackCursor& cursor) {
   using namespace compression_internal;
-  float v[3];
-  size_t bit = first.bit;
-  for (int c = 0; c < 3; bit += first.bits[c], ++c)
-    v[c] = first.offset[c] + first.scale[c] * static_cast<float>(ReadBits(next, bit, first.bits[c]));
-  if (kind != TrackKind::kRotation || first.dropped == cursor.dropped) {
-    std::copy(v, v + 3, cursor.end);
-    return;
-  }
+  const v4 v = ReadKept(next, first.bit, first);  // lane 3 is 0, as `end`'s fourth stays
+  if (kind != TrackKind::kRotation || first.dropped == cursor.dropped) return Store4(cursor.end, v);
+  const float kept[3] = {v[0], v[1], v[2]};
   float q[4];
-  ExpandRotation(v, first.dropped, q);
+  ExpandRotation(kept, first.dropped, q);
   ReduceRotation(q, cursor.dropped, cursor.end);
 }
 
