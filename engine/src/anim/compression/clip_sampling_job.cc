@@ -4,16 +4,17 @@
 #include <cmath>
 #include <string>
 
+#include "anim/compression/header_reader.h"
 #include "anim/compression/packed_track.h"
 #include "anim/compression/rotation_batch.h"
+#include "anim/compression/sample_reader.h"
 
 namespace armature {
 namespace {
 
-using compression_internal::kCodes;
-using compression_internal::kRangeBytes;
+using compression_internal::HeaderReader;
 using compression_internal::kSegmentFrames;
-using compression_internal::TrackCode;
+using compression_internal::v4;
 
 // A ClipJointSubset's parts, as the sampler reads them.
 struct ClipJointSubsetView {
@@ -32,9 +33,11 @@ struct SegmentPosition {
 SegmentPosition Locate(const CompressedClip& clip, double t) {
   const size_t last = clip.frames.count - 1;
   double p = clip.frames.frame_time > 0 ? t / clip.frames.frame_time : 0;
-  const double nearest = std::round(p);  // a frame's own time lands on its frame, not just before it
-  if (std::abs(p - nearest) < 1e-9 * std::max(1.0, p)) p = nearest;
   p = std::clamp(p, 0.0, static_cast<double>(last));
+  // A frame's own time lands on its frame, not just before it (p ≥ 0: a
+  // truncation rounds it, without libm's round).
+  const double nearest = static_cast<double>(static_cast<size_t>(p + 0.5));
+  if (std::abs(p - nearest) < 1e-9 * std::max(1.0, p)) p = nearest;
   SegmentPosition at;
   at.segment = std::min(static_cast<size_t>(p) / kSegmentFrames, clip.segment_offsets.size() - 1);
   const size_t start = at.segment * kSegmentFrames;
@@ -71,10 +74,10 @@ struct TrsSink {
   std::span<Trs> out;
   compression_internal::RotationBatch rotations;
 
-  void Rotation(const float* a, const float* b, float u, int dropped, uint32_t joint) {
-    rotations.Add(a, b, u, dropped, &out[joint]);
+  void Rotation(v4 a, v4 b, float u, int dropped, uint32_t joint) { rotations.Add(a, b, u, dropped, &out[joint]); }
+  void Vector(TrackKind kind, v4 v, uint32_t joint) {
+    (kind == TrackKind::kTranslation ? out[joint].translation : out[joint].scale) = Eigen::Vector3d(v[0], v[1], v[2]);
   }
-  void Vector(TrackKind kind, const float* v, uint32_t joint) { Store(kind, v, out[joint]); }
   void Flush() { rotations.Flush(); }
 };
 
@@ -83,10 +86,10 @@ struct FloatSink {
   FloatPose out;
   compression_internal::RotationBatchOf<float> rotations;
 
-  void Rotation(const float* a, const float* b, float u, int dropped, uint32_t joint) {
+  void Rotation(v4 a, v4 b, float u, int dropped, uint32_t joint) {
     rotations.Add(a, b, u, dropped, &out.rotations[4 * joint]);
   }
-  void Vector(TrackKind kind, const float* v, uint32_t joint) {
+  void Vector(TrackKind kind, v4 v, uint32_t joint) {
     float* to = (kind == TrackKind::kTranslation ? out.translations : out.scales).data() + 3 * joint;
     to[0] = v[0], to[1] = v[1], to[2] = v[2];
   }
@@ -98,78 +101,29 @@ struct FloatSink {
 template <class Sink>
 inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, const uint8_t* segment,
                         const SegmentPosition& at, Sink& sink) {
-  using compression_internal::ReadBits;
+  using compression_internal::ReadKept;
   const size_t i = IntervalOf(cursor, at);
   const float u =
       (at.q - static_cast<float>(i << cursor.stride_log)) * compression_internal::kInverseStride[cursor.stride_log];
-  float a[3], b[3];
-  size_t bit_a = cursor.bit + i * cursor.total, bit_b = bit_a + cursor.total;
-  for (int c = 0; c < 3; ++c) {
-    a[c] = cursor.offset[c] + cursor.scale[c] * static_cast<float>(ReadBits(segment, bit_a, cursor.bits[c]));
-    b[c] = cursor.offset[c] + cursor.scale[c] * static_cast<float>(ReadBits(segment, bit_b, cursor.bits[c]));
-    bit_a += cursor.bits[c];
-    bit_b += cursor.bits[c];
-  }
-  if (EndsOnNext(cursor, at, i)) std::copy(cursor.end, cursor.end + 3, b);
+  const size_t bit_a = cursor.bit + i * cursor.total;
+  const v4 a = ReadKept(segment, bit_a, cursor);
+  // The data is padded (kReadPadding), so the read past a segment's last
+  // sample is harmless; its shared end replaces it.
+  const v4 b = EndsOnNext(cursor, at, i) ? compression_internal::Load4(cursor.end)
+                                         : ReadKept(segment, bit_a + cursor.total, cursor);
   if (track.kind == TrackKind::kRotation) return sink.Rotation(a, b, u, cursor.dropped, track.joint);
-  float r[3];
-  for (int c = 0; c < 3; ++c) r[c] = a[c] + u * (b[c] - a[c]);
-  sink.Vector(track.kind, r, track.joint);
+  sink.Vector(track.kind, a + compression_internal::Splat(u) * (b - a), track.joint);
 }
-
-// Reads a segment's header one track after another into cursors (written
-// in place: a cursor built aside and copied stalls on store forwarding).
-class HeaderReader {
- public:
-  HeaderReader(const CompressedClip& clip, size_t segment) : clip_(clip) {
-    const size_t segments = clip.segment_offsets.size();
-    data_ = clip.data.data() + clip.segment_offsets[segment];
-    back_ = clip.data.data() + (segment + 1 < segments ? clip.segment_offsets[segment + 1]
-                                                       : clip.data.size() - compression_internal::kReadPadding);
-    const size_t start = segment * kSegmentFrames;
-    intervals_ = std::min(kSegmentFrames, clip.frames.count - 1 - start);
-    shares_end_ = segment + 1 < segments;
-    bit_ = clip.animated.size() * 8;
-  }
-
-  const uint8_t* data() const { return data_; }
-
-  // Track `t`'s cursor (tracks in order, each once); its dequantizer only when `full`.
-  void Next(size_t t, TrackCursor& cursor, bool full = true) {
-    using namespace compression_internal;
-    const AnimatedTrack& track = clip_.animated[t];
-    const TrackCode code = kCodes[data_[t]];
-    cursor.dropped = track.dropped == kDroppedPerSegment ? *--back_ : track.dropped;
-    const uint8_t* range = code.ranged ? (back_ -= kRangeBytes) : nullptr;
-    cursor.total = FillLayout(code.bits, track.extent, range, cursor.bits);
-    if (full) FillDequantizer(track.min, track.extent, range, cursor.bits, cursor.offset, cursor.scale);
-    cursor.bit = static_cast<uint32_t>(bit_);
-    cursor.stride_log = code.stride_log;
-    bit_ += static_cast<size_t>(cursor.total) * StoredSamples(code.stride_log, intervals_, shares_end_);
-  }
-
- private:
-  const CompressedClip& clip_;
-  const uint8_t* data_;
-  const uint8_t* back_;
-  size_t intervals_ = 0, bit_ = 0;
-  bool shares_end_ = false;
-};
 
 // `cursor.end` from the next segment's first sample of the track (its
 // cursor `first`), in `cursor`'s kept components.
 void ReadEnd(TrackKind kind, const TrackCursor& first, const uint8_t* next, TrackCursor& cursor) {
   using namespace compression_internal;
-  float v[3];
-  size_t bit = first.bit;
-  for (int c = 0; c < 3; bit += first.bits[c], ++c)
-    v[c] = first.offset[c] + first.scale[c] * static_cast<float>(ReadBits(next, bit, first.bits[c]));
-  if (kind != TrackKind::kRotation || first.dropped == cursor.dropped) {
-    std::copy(v, v + 3, cursor.end);
-    return;
-  }
+  const v4 v = ReadKept(next, first.bit, first);  // lane 3 is 0, as `end`'s fourth stays
+  if (kind != TrackKind::kRotation || first.dropped == cursor.dropped) return Store4(cursor.end, v);
+  const float kept[3] = {v[0], v[1], v[2]};
   float q[4];
-  ExpandRotation(v, first.dropped, q);
+  ExpandRotation(kept, first.dropped, q);
   ReduceRotation(q, cursor.dropped, cursor.end);
 }
 
@@ -305,12 +259,13 @@ void ClipSamplingContext::Resize(const CompressedClip& clip) {
   index_.next_segment = static_cast<size_t>(-1);
   index_.next.assign(clip.animated.size(), TrackCursor{});
   clip_pose_.assign(clip.skeleton ? clip.skeleton->size() : 0, Trs{});
+  still_pose_ = clip_pose_;
   const size_t joints = clip_pose_.size();
   still_.assign(10 * joints, 0.f);
   if (!clip.skeleton) return;
-  StoreStill(clip, nullptr, clip_pose_);
+  StoreStill(clip, nullptr, still_pose_);
   for (size_t j = 0; j < joints; ++j) {
-    const Trs& p = clip_pose_[j];
+    const Trs& p = still_pose_[j];
     const double r[4] = {p.rotation.x(), p.rotation.y(), p.rotation.z(), p.rotation.w()};
     for (int c = 0; c < 4; ++c) still_[4 * j + c] = static_cast<float>(r[c]);
     for (int c = 0; c < 3; ++c) {
@@ -363,7 +318,11 @@ Status ClipSamplingJob::Run() const {
   if (clip->exact()) return SampleClip(*clip->exact_keys, t, {interpolation, WrapMode::kClamp}, output);
   std::optional<ClipJointSubsetView> subset;
   if (joints) subset = ClipJointSubsetView{joints->joints_, joints->constants_, joints->animated_, joints->in_subset_};
-  StoreStill(*clip, subset ? &*subset : nullptr, output);
+  if (context && !subset) {  // built once: constant rotations are made unit on Resize, not on every call
+    std::copy(context->still_pose_.begin(), context->still_pose_.end(), output.begin());
+  } else {
+    StoreStill(*clip, subset ? &*subset : nullptr, output);
+  }
   TrsSink sink{output, {}};
   SampleLossy(*clip, interpolation == Interpolation::kStep ? FrameAtOrBefore(*clip, t) : t,
               context ? &context->index_ : nullptr, subset ? &*subset : nullptr, sink);

@@ -2,6 +2,8 @@
 // holds a track's two samples as kept (three components, the fourth rebuilt
 // as √(1 − a² − b² − c²)) and its parameter; nlerp is the same in any
 // component order, so the rebuilt one is put back in its place on store.
+// Samples arrive as rows (x y z of one track) and are transposed in
+// registers: scalar stores read back as a vector stall on store forwarding.
 #pragma once
 
 #include <cstddef>
@@ -23,28 +25,29 @@ inline void MakeUnit(Eigen::Quaterniond& q) { q.coeffs() *= 0.5 * (3.0 - q.squar
 template <class Out>
 class RotationBatchOf {
  public:
-  void Add(const float* a, const float* b, float u, int dropped, Out* out) {
-    for (int c = 0; c < 3; ++c) {
-      a_[c][n_] = a[c];
-      b_[c][n_] = b[c];
-    }
-    u_[n_] = u;
+  // `a`, `b`: the kept components in lanes 0–2 (lane 3 is ignored).
+  void Add(v4 a, v4 b, float u, int dropped, Out* out) {
+    a[3] = u;  // rides in the free lane: transposed with the samples, no scalar store to reload
+    a_[n_] = a;
+    b_[n_] = b;
     dropped_[n_] = dropped;
     out_[n_] = out;
     if (++n_ == 4) Flush();
   }
+  void Add(const float* a, const float* b, float u, int dropped, Out* out) {
+    Add(v4{a[0], a[1], a[2], 0.f}, v4{b[0], b[1], b[2], 0.f}, u, dropped, out);
+  }
 
   void Flush() {
     if (n_ == 0) return;
-    for (size_t lane = n_; lane < 4; ++lane) {  // unused lanes: identity
-      for (int c = 0; c < 3; ++c) a_[c][lane] = b_[c][lane] = 0.f;
-      u_[lane] = 0.f;
-    }
-    const v4 zero = Splat(0.f), one = Splat(1.f);
+    for (size_t lane = n_; lane < 4; ++lane) a_[lane] = b_[lane] = Splat(0.f);  // unused lanes: identity
+    Transpose(a_);
+    Transpose(b_);
+    const v4 zero = Splat(0.f), one = Splat(1.f), u = a_[3];
     const v4 wa = Sqrt(Max(one - a_[0] * a_[0] - a_[1] * a_[1] - a_[2] * a_[2], zero));
     const v4 wb = Sqrt(Max(one - b_[0] * b_[0] - b_[1] * b_[1] - b_[2] * b_[2], zero));
     const v4 d = a_[0] * b_[0] + a_[1] * b_[1] + a_[2] * b_[2] + wa * wb;
-    const v4 ub = Select(d < zero, -u_, u_), ua = one - u_;
+    const v4 ub = Select(d < zero, -u, u), ua = one - u;
     v4 r[4];
     for (int c = 0; c < 3; ++c) r[c] = ua * a_[c] + ub * b_[c];
     r[3] = ua * wa + ub * wb;
@@ -57,22 +60,23 @@ class RotationBatchOf {
       inv = one / Sqrt(norm2);
     }
     for (int c = 0; c < 4; ++c) r[c] *= inv;
+    Transpose(r);  // r[lane]: kept components, then the rebuilt one
     for (size_t lane = 0; lane < n_; ++lane) {
+      v4 q = r[lane];
+      if (dropped_[lane] != 3) {  // put the rebuilt component back in its place
+        for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped_[lane] ? r[lane][3] : r[lane][k++];
+      }
       if constexpr (std::is_same_v<Out, float>) {
-        float* q = out_[lane];  // x y z w
-        for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped_[lane] ? r[3][lane] : r[k++][lane];
+        Store4(out_[lane], q);
       } else {
-        double q[4];  // x y z w
-        for (int c = 0, k = 0; c < 4; ++c) q[c] = c == dropped_[lane] ? r[3][lane] : r[k++][lane];
-        out_[lane]->rotation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
-        MakeUnit(out_[lane]->rotation);
+        StoreUnitDouble(q, out_[lane]->rotation.coeffs().data());
       }
     }
     n_ = 0;
   }
 
  private:
-  v4 a_[3], b_[3], u_;
+  v4 a_[4], b_[4];  // rows, then (after Transpose) components; a_'s fourth: the parameters
   int dropped_[4];
   Out* out_[4];
   size_t n_ = 0;

@@ -22,14 +22,16 @@ namespace armature {
 // rotation rebuilds, and value = offset + scale · q per component; `end`:
 // the segment's last frame, the next segment's first sample as it decodes
 // it, in this segment's kept components (when the segment has a next).
+// The float triples have a fourth lane, kept 0, so the job reads each as a
+// vector.
 struct TrackCursor {
   uint32_t bit = 0;
   uint8_t bits[3] = {};
   uint8_t total = 0;
   uint8_t stride_log = 0;
   uint8_t dropped = 3;
-  float offset[3] = {}, scale[3] = {};
-  float end[3] = {};
+  float offset[4] = {}, scale[4] = {};
+  float end[4] = {};
 };
 
 // Every animated track's cursor in one segment.
@@ -63,8 +65,9 @@ class ClipSamplingContext {
   const CompressedClip* clip_ = nullptr;
   uint64_t serial_ = 0;
   SegmentIndex index_;
-  std::vector<Trs> clip_pose_;  // for ClipSamplingOntoJob
-  std::vector<float> still_;    // for ClipSamplingFloatJob: rest and constants as its lanes (4, 3, 3 a joint)
+  std::vector<Trs> clip_pose_;   // for ClipSamplingOntoJob
+  std::vector<Trs> still_pose_;  // rest and constant tracks, every joint (ClipSamplingJob)
+  std::vector<float> still_;     // for ClipSamplingFloatJob: rest and constants as its lanes (4, 3, 3 a joint)
 };
 
 // A subset of a clip's joints to sample, resolved once (allocates) into the
