@@ -198,8 +198,6 @@ Compared Compare(const test_util::SharedClip& shared) {
   c.ours_ms = CpuMilliseconds() - start;
   if (!ours.ok()) Fail(c.name + ": CompressClip failed: " + ours.status().message());
   c.ours = *ours;
-          c.ours->constants.size(), c.ours->animated.size(), c.ours->segment_offsets.size(), c.ours->data.size(),
-          c.ours->ByteSize(), c.ours->weights.size());
   c.units_per_cm = UnitsPerCentimetre(*shared.clip->skeleton);
   c.rest_world_scale = RestWorldScale(*shared.clip->skeleton);
   for (const Trs& rest : shared.clip->skeleton->rest) c.rest.push_back(acl_baseline::ToQvv(rest));
