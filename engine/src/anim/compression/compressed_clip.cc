@@ -252,6 +252,21 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
   return true;
 }
 
+// Every morph weights track within WeightBound, or false (and a reason).
+bool CompressMorphWeights(const Clip& clip, CompressedClip& out, std::string& why) {
+  for (const WeightsTrack& track : clip.weights) {
+    double worst = 0;
+    std::optional<CompressedWeights> w = CompressWeights(track, out.frames, WeightBound(out.bound), worst);
+    if (!w) {
+      why = "the morph weights of " + track.mesh + " cannot meet the weight bound";
+      return false;
+    }
+    out.weights.push_back(std::move(*w));
+    out.weight_error = std::max(out.weight_error, worst);
+  }
+  return true;
+}
+
 }  // namespace
 
 size_t CompressedClip::ByteSize() const {
@@ -263,9 +278,28 @@ size_t CompressedClip::ByteSize() const {
     return bytes;
   }
   size_t weight_bytes = 0;
-  for (const WeightsTrack& w : weights) weight_bytes += (w.times.size() + w.values.size()) * sizeof(double);
+  for (const CompressedWeights& w : weights) weight_bytes += w.ByteSize();
   return constants.size() * sizeof(ConstantTrack) + animated.size() * sizeof(AnimatedTrack) +
          segment_offsets.size() * sizeof(uint32_t) + data.size() + weight_bytes;
+}
+
+bool CompressedClip::SampleMorphWeights(std::string_view mesh, size_t targets, double time,
+                                        const std::optional<Interpolation>& interpolation,
+                                        std::span<double> out) const {
+  if (exact_keys) {
+    for (const WeightsTrack& track : exact_keys->weights) {
+      if (track.mesh != mesh || track.targets != targets) continue;
+      SampleWeights(track, time, {interpolation, WrapMode::kClamp}, out);
+      return true;
+    }
+    return false;
+  }
+  for (const CompressedWeights& w : weights) {
+    if (w.mesh != mesh || w.targets.size() != targets) continue;
+    SampleCompressedWeights(w, frames, time, interpolation, out);
+    return true;
+  }
+  return false;
 }
 
 double CompressedClip::BytesPerJointSample() const {
@@ -310,15 +344,15 @@ StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<con
   if (!precision.exact) {
     ARMATURE_ASSIGN_OR_RETURN(const ClipReference reference, SampleReference(*clip, out->frames, bound.shell_distance));
     std::string why;
-    if (CompressLossy(*clip, reference, *out, why)) {
-      out->weights = clip->weights;
+    if (CompressLossy(*clip, reference, *out, why) && CompressMorphWeights(*clip, *out, why))
       return std::shared_ptr<const CompressedClip>(std::move(out));
-    }
     out->warning = "clip kept exact: " + why + " (" + std::to_string(precision.centimetres) + " cm)";
     out->constants.clear();
     out->animated.clear();
     out->segment_offsets.clear();
     out->data.clear();
+    out->weights.clear();
+    out->weight_error = 0;
     out->precision.exact = true;
   }
   out->exact_keys = clip;
