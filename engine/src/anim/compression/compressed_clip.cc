@@ -44,8 +44,10 @@ size_t LeadBytes(const AnimatedTrack& track) { return track.dropped == kDroppedP
 // Lays the choices out as the sampling job reads them (packed_track.h).
 void Pack(const std::vector<TrackState>& states, CompressedClip& out) {
   const size_t segments = SegmentCount(out.frames.count), tracks = states.size();
-  out.segment_offsets.assign(segments, 0);
   out.data.clear();
+  out.segment_offsets.clear();
+  if (tracks == 0) return;  // constants only: no segments to keep (the sampling job reads none)
+  out.segment_offsets.assign(segments, 0);
   for (size_t s = 0; s < segments; ++s) {
     out.segment_offsets[s] = static_cast<uint32_t>(out.data.size());
     size_t tail = 0, bits = 0;
@@ -132,7 +134,7 @@ bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t s
 std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReference& reference, size_t segment,
                                    ShellErrorMeter& meter, std::vector<Trs>& pose, std::vector<double>& errors) {
   const size_t n = reference.joints, start = segment * kSegmentFrames;
-  const size_t end = segment + 1 == clip.segment_offsets.size() ? clip.frames.count : start + kSegmentFrames;
+  const size_t end = segment + 1 == SegmentCount(clip.frames.count) ? clip.frames.count : start + kSegmentFrames;
   std::vector<size_t> over;
   for (size_t f = start; f < end; ++f) {
     ClipSamplingJob job{&clip, clip.frames.Time(f), WrapMode::kClamp, nullptr, pose, {}};
@@ -165,6 +167,7 @@ struct Refiner {
   const ClipReference& reference;
   CompressedClip& out;
   std::vector<TrackState>& states;
+  const size_t segments = SegmentCount(out.frames.count);
   ShellErrorMeter meter{skeleton, out.bound.shell_distance};
   std::vector<Trs> pose = std::vector<Trs>(reference.joints);
   std::vector<double> errors = std::vector<double>(out.frames.count * reference.joints, 0.0);
@@ -174,7 +177,7 @@ struct Refiner {
   // is over the bound, with a margin, between kTighten and kTightenLeast.
   double TightenFactor(size_t segment) const {
     const size_t n = reference.joints, start = segment * kSegmentFrames;
-    const size_t end = segment + 1 == out.segment_offsets.size() ? out.frames.count : start + kSegmentFrames;
+    const size_t end = segment + 1 == segments ? out.frames.count : start + kSegmentFrames;
     double worst = 0;
     for (size_t i = start * n; i < end * n; ++i) worst = std::max(worst, errors[i]);
     return std::clamp(kTightenMargin * out.bound.precision / worst, kTighten, kTightenLeast);
@@ -202,7 +205,7 @@ struct Refiner {
         }
         // The next segment's first samples are this one's last frame: tightened too.
         const double factor = TightenFactor(s);
-        for (size_t k = s; k <= std::min(s + 1, out.segment_offsets.size() - 1); ++k) {
+        for (size_t k = s; k <= std::min(s + 1, segments - 1); ++k) {
           Tighten(states, skeleton, over, k, factor);
           next.push_back(k);
         }
