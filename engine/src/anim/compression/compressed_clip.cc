@@ -29,10 +29,11 @@ constexpr double kConstantShare = 0.05;
 // offending joints' chains and choose again.
 constexpr double kFirstShare = 1.0;
 constexpr int kRefinements = 24;
-// A segment over the bound tightens its chains by the share its worst
-// frame is over, with a margin, kept within [kTighten, kTightenLeast]:
-// a fixed 0.7 overshot most segments (2.135 B/js on CMU 01_01, against
-// 2.108 now), a fixed 0.85 took 1.6× the time.
+// A segment over the bound tightens each over joint's chain by the share
+// that joint's worst frame is over, with a margin, kept within [kTighten,
+// kTightenLeast]: a fixed 0.7 for every chain overshot most segments
+// (2.135 B/js on CMU 01_01, against 2.094 now); a fixed 0.85 took 1.6×
+// the time.
 constexpr double kTighten = 0.7, kTightenLeast = 0.9, kTightenMargin = 0.95;
 // (Loosening, after, the targets of tracks whose subtree stays under the
 // bound gained 1% on CMU for 40% more time: not done.)
@@ -130,9 +131,12 @@ bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t s
 }
 
 // Measures `segment`'s frames through the sampling job into `errors`
-// (frames × joints); the joints over the bound come back.
+// (frames × joints); the joints over the bound come back, and `late` says
+// whether one is over in the segment's last quarter, near the shared end.
 std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReference& reference, size_t segment,
-                                   ShellErrorMeter& meter, std::vector<Trs>& pose, std::vector<double>& errors) {
+                                   ShellErrorMeter& meter, std::vector<Trs>& pose, std::vector<double>& errors,
+                                   bool& late) {
+  late = false;
   const size_t n = reference.joints, start = segment * kSegmentFrames;
   const size_t end = segment + 1 == SegmentCount(clip.frames.count) ? clip.frames.count : start + kSegmentFrames;
   std::vector<size_t> over;
@@ -142,19 +146,17 @@ std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReferen
     std::span<double> per_joint(errors.data() + f * n, n);
     meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data() + f * n, n), pose, per_joint);
     for (size_t j = 0; j < n; ++j)
-      if (per_joint[j] > clip.bound.precision) over.push_back(j);
+      if (per_joint[j] > clip.bound.precision) {
+        over.push_back(j);
+        late = late || f + kSegmentFrames / 4 >= end;
+      }
   }
   return over;
 }
 
-// Tightens the targets of every track on the chains of `joints` in `segment`.
-void Tighten(std::vector<TrackState>& states, const Skeleton& skeleton, const std::vector<size_t>& joints,
-             size_t segment, double factor) {
-  std::vector<bool> chain(skeleton.size(), false);
-  for (size_t j : joints)
-    for (int k = static_cast<int>(j); k >= 0 && !chain[k]; k = skeleton.parents[k]) chain[k] = true;
-  for (TrackState& s : states)
-    if (chain[s.values.joint]) s.target[segment] *= factor;
+// Multiplies each track's target in `segment` by its joint's factor.
+void Tighten(std::vector<TrackState>& states, const std::vector<double>& factors, size_t segment) {
+  for (TrackState& s : states) s.target[segment] *= factors[s.values.joint];
 }
 
 // The compressor's working state after the first choices: it measures
@@ -173,14 +175,21 @@ struct Refiner {
   std::vector<double> errors = std::vector<double>(out.frames.count * reference.joints, 0.0);
   std::string why;
 
-  // How much to tighten `segment`'s chains: by the share its worst frame
-  // is over the bound, with a margin, between kTighten and kTightenLeast.
-  double TightenFactor(size_t segment) const {
+  // Per joint, how much to tighten its tracks in `segment`: each joint over
+  // the bound asks its chain for the share its worst frame is over, with a
+  // margin, within [kTighten, kTightenLeast]; a track takes the least asked.
+  std::vector<double> ChainFactors(size_t segment) const {
     const size_t n = reference.joints, start = segment * kSegmentFrames;
     const size_t end = segment + 1 == segments ? out.frames.count : start + kSegmentFrames;
-    double worst = 0;
-    for (size_t i = start * n; i < end * n; ++i) worst = std::max(worst, errors[i]);
-    return std::clamp(kTightenMargin * out.bound.precision / worst, kTighten, kTightenLeast);
+    std::vector<double> worst(n, 0.0), factors(n, 1.0);
+    for (size_t f = start; f < end; ++f)
+      for (size_t j = 0; j < n; ++j) worst[j] = std::max(worst[j], errors[f * n + j]);
+    for (size_t j = 0; j < n; ++j) {
+      if (worst[j] <= out.bound.precision) continue;
+      const double factor = std::clamp(kTightenMargin * out.bound.precision / worst[j], kTighten, kTightenLeast);
+      for (int k = static_cast<int>(j); k >= 0; k = skeleton.parents[k]) factors[k] = std::min(factors[k], factor);
+    }
+    return factors;
   }
 
   bool ChooseOrExplain(size_t segment) {
@@ -193,20 +202,24 @@ struct Refiner {
   // over it. A segment chosen again changes its first samples, so the one
   // before it (which ends on them) is chosen again after it.
   bool MeetBound(std::vector<size_t> dirty) {
+    std::vector<int> overs(segments, 0);  // rounds each segment was over
     for (int round = 0; round <= kRefinements; ++round) {
       Pack(states, out);
       std::vector<size_t> next;
       for (size_t s : dirty) {
-        const std::vector<size_t> over = MeasureSegment(out, reference, s, meter, pose, errors);
+        bool late = false;
+        const std::vector<size_t> over = MeasureSegment(out, reference, s, meter, pose, errors, late);
         if (over.empty()) continue;
         if (round == kRefinements) {
           why = "the bound is not met after " + std::to_string(kRefinements) + " refinements";
           return false;
         }
-        // The next segment's first samples are this one's last frame: tightened too.
-        const double factor = TightenFactor(s);
-        for (size_t k = s; k <= std::min(s + 1, segments - 1); ++k) {
-          Tighten(states, skeleton, over, k, factor);
+        // The next segment's first samples are this one's last frame: tightened
+        // too when a frame near it is over, or when this segment is over again.
+        const std::vector<double> factors = ChainFactors(s);
+        const size_t last = late || overs[s]++ > 0 ? std::min(s + 1, segments - 1) : s;
+        for (size_t k = s; k <= last; ++k) {
+          Tighten(states, factors, k);
           next.push_back(k);
         }
         if (s > 0) next.push_back(s - 1);
