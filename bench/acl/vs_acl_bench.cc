@@ -66,7 +66,13 @@ struct AclRun {
 // whether a track is constant or default in the joint's local space, so
 // under a scaled armature root (RobotExpressive's bones are 0.002-0.014
 // units long under a root scaled by about 100) it drops tracks that move
-// the world by up to ~100x its precision.
+// the world by up to ~100x its precision. Where no precision meets the bound
+// (AnimatedMorphCube; RobotExpressive's Death, Jump, Punch, Running, Walking,
+// WalkJump) the worst is a rotation ~2^-11 rad off where its w is near 0
+// (the cube's rest, the feet): ACL always drops w and rebuilds it in float
+// as sqrt(1 - x^2 - y^2 - z^2), which near 0 is the square root of a
+// rounding error, and the scale of 100 makes that 0.15-0.2 cm. (Our
+// encoder drops the component farthest from 0: packed_track.h.)
 struct Compared {
   std::string name;
   std::shared_ptr<const Clip> clip;
