@@ -9,7 +9,8 @@ the other library's: above 1 Armature is slower. With
 run over the other's i-th run) and min and median are printed. Pairs with a
 skipped half are listed as skipped. BM_VsAcl_Size/<clip> runs print as a
 table: each clip's bytes per joint-sample, errors (cm) and compression times
-for both. Several JSON files may be given (armature-bench's, armature-bench-acl's).
+for both, then ACL at the largest precision whose worst error on our
+metric is within the bound (acl_fair_*). Several JSON files may be given (armature-bench's, armature-bench-acl's).
 """
 import json
 import re
@@ -63,6 +64,19 @@ def print_sizes(runs):
               (clip[-58:], r["joints"], r["frames"], r["armature_bpjs"], r["acl_bpjs"],
                r["armature_bpjs"] / r["acl_bpjs"] if r["acl_bpjs"] else float("nan"), r["armature_p99_cm"],
                r["armature_worst_cm"], r["acl_p99_cm"], r["acl_worst_cm"], r["armature_ms"], r["acl_ms"]))
+    fair = [r for r in rows if "acl_fair_bpjs" in r]
+    if not fair:
+        return
+    print("\nACL 2.1 at the largest precision whose worst error on our metric is within the bound")
+    print("  %-58s %7s %7s %6s %9s %9s %10s %8s %8s %6s" %
+          ("clip", "ours", "ACL", "ratio", "ACL p99", "ACL worst", "ACL prec", "ours ms", "ACL ms", "scale"))
+    for r in fair:
+        clip = re.sub(r"/iterations:\d+$", "", r.get("run_name", r["name"])[len("BM_VsAcl_Size/"):])
+        print("  %-58s %7.3f %7.3f %5.2fx %9.5f %9.5f %10.6f %8.1f %8.1f %6.1f" %
+              (clip[-58:], r["armature_bpjs"], r["acl_fair_bpjs"],
+               r["armature_bpjs"] / r["acl_fair_bpjs"] if r["acl_fair_bpjs"] else float("nan"), r["acl_fair_p99_cm"],
+               r["acl_fair_worst_cm"], r["acl_fair_precision_cm"], r["armature_ms"], r["acl_fair_ms"],
+               r["rest_world_scale"]) + ("" if r.get("acl_fair_met", 1) else "  (bound not met)"))
 
 
 def main(paths):

@@ -11,7 +11,12 @@
 // frame where ACL keeps its own bound (ACL's bound is nearly guaranteed, and
 // on CMU its worst error is above it), so a ratio never compares different
 // work; acl_over_bound counts the joint-frames that check lets through.
+// Where ACL's worst error on our metric is over the bound (RobotExpressive:
+// ~100x, see Compared), BM_VsAcl_Size also reports ACL at the largest
+// precision, found by bisection, whose worst error is within it (acl_fair_*):
+// the sizes to compare at the same error.
 #include <algorithm>
+#include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <cstdlib>
@@ -32,6 +37,7 @@ namespace {
 
 constexpr double kStep = 1.0 / 60;   // sequential playback
 constexpr size_t kSeekTimes = 1024;  // random seek: a fixed pseudo-random sequence
+constexpr int kAclSearchSteps = 8;   // ACL's precision within the bound: 1 + 7 bisections
 
 void Fail(const std::string& what) {
   std::fprintf(stderr, "vs_acl_bench: %s\n", what.c_str());
@@ -45,15 +51,38 @@ double CpuMilliseconds() {
   return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
 }
 
-// One clip compressed by both libraries, measured.
+// ACL's compressed tracks at one precision, with their errors on our metric.
+struct AclRun {
+  acl_baseline::CompressedTracks tracks;
+  double precision = 0;  // in the skeleton's units
+  double ms = 0;
+  ClipError error;
+};
+
+// One clip compressed by both libraries, measured. `acl` is ACL at our bound
+// as its precision (its own contract, and what the timings use); `acl_fair`
+// is ACL at the largest precision found whose worst error on our metric is
+// within the bound (the same as `acl` where that already holds): ACL tests
+// whether a track is constant or default in the joint's local space, so
+// under a scaled armature root (RobotExpressive's bones are 0.002-0.014
+// units long under a root scaled by about 100) it drops tracks that move
+// the world by up to ~100x its precision. Where no precision meets the bound
+// (AnimatedMorphCube; RobotExpressive's Death, Jump, Punch, Running, Walking,
+// WalkJump) the worst is a rotation ~2^-11 rad off where its w is near 0
+// (the cube's rest, the feet): ACL always drops w and rebuilds it in float
+// as sqrt(1 - x^2 - y^2 - z^2), which near 0 is the square root of a
+// rounding error, and the scale of 100 makes that 0.15-0.2 cm. (Our
+// encoder drops the component farthest from 0: packed_track.h.)
 struct Compared {
   std::string name;
   std::shared_ptr<const Clip> clip;
   std::shared_ptr<const CompressedClip> ours;
-  acl_baseline::CompressedTracks acl;
+  AclRun acl, acl_fair;
+  bool fair_is_default = true;
+  bool acl_fair_met = true;  // false: no precision tried met the bound (acl_fair: the least error)
   std::vector<rtm::qvvf> rest;
-  double ours_ms = 0, acl_ms = 0, units_per_cm = 1;
-  ClipError ours_error, acl_error;
+  double ours_ms = 0, units_per_cm = 1, rest_world_scale = 1;
+  ClipError ours_error;
   size_t acl_over_bound = 0;  // joint-frames apart by over 2× the bound where ACL is over its bound
 };
 
@@ -65,26 +94,73 @@ void SampleAcl(const Compared& c, acl_baseline::Context& context, double t, std:
   context.decompress_tracks(writer);
 }
 
-// Both errors over every frame, and the check that both libraries agree.
-void Measure(Compared& c) {
+PoseSampler AclSampler(const Compared& c, const acl::compressed_tracks& tracks, acl_baseline::Context& context,
+                       std::vector<rtm::qvvf>& pose) {
+  context.initialize(tracks);
+  return [&c, &context, &pose](double t, std::span<Trs> out) {
+    SampleAcl(c, context, t, pose);
+    for (size_t j = 0; j < out.size(); ++j) out[j] = acl_baseline::ToTrs(pose[j]);
+    return Status::Ok();
+  };
+}
+
+ClipError MeasureAcl(const Compared& c, const acl::compressed_tracks& tracks) {
+  acl_baseline::Context context;
+  std::vector<rtm::qvvf> pose(c.clip->skeleton->size());
+  StatusOr<ClipError> error =
+      MeasureClipError(*c.clip, c.ours->frames, c.ours->bound.shell_distance, AclSampler(c, tracks, context, pose));
+  if (!error.ok()) Fail(c.name + ": ACL's errors not measured");
+  return *error;
+}
+
+// ACL compressed at `precision` (skeleton units) and measured on our metric.
+AclRun CompressAcl(const Compared& c, double precision) {
+  ErrorBound bound = c.ours->bound;
+  bound.precision = precision;
+  const acl::track_array_qvvf raw = acl_baseline::RawTracks(*c.clip, c.ours->frames, bound);
+  AclRun run;
+  run.precision = precision;
+  std::string error;
+  const double start = CpuMilliseconds();
+  run.tracks = acl_baseline::Compress(raw, error);
+  run.ms = CpuMilliseconds() - start;
+  if (!run.tracks) Fail(c.name + ": ACL's compression failed: " + error);
+  run.error = MeasureAcl(c, *run.tracks);
+  return run;
+}
+
+// ACL at the largest precision (found by bisection in log scale, from the
+// share it is over) whose worst error on our metric is within the bound.
+void FindAclWithinBound(Compared& c) {
+  const double bound = c.ours->bound.precision;
+  if (c.acl.error.worst <= bound) return;
+  c.fair_is_default = false;
+  double meets = 0, fails = bound, precision = 0.9 * bound * bound / c.acl.error.worst;
+  for (int step = 0; step < kAclSearchSteps; ++step) {
+    AclRun run = CompressAcl(c, precision);
+    const bool met = run.error.worst <= bound;
+    // Kept: the largest precision that meets the bound, else the least error.
+    if (met || (meets == 0 && (!c.acl_fair.tracks || run.error.worst < c.acl_fair.error.worst)))
+      c.acl_fair = std::move(run);
+    (met ? meets : fails) = precision;
+    precision = meets > 0 ? std::sqrt(meets * fails) : precision * 0.5;
+  }
+  c.acl_fair_met = meets > 0;
+}
+
+// The check that both libraries agree (ACL at our bound, as timed).
+void CheckAgreement(Compared& c) {
   const CompressedClip& z = *c.ours;
   const size_t n = c.clip->skeleton->size();
   acl_baseline::Context context;
-  context.initialize(*c.acl);
   std::vector<rtm::qvvf> acl_pose(n);
-  const PoseSampler acl_sampler = [&](double t, std::span<Trs> out) {
-    SampleAcl(c, context, t, acl_pose);
-    for (size_t j = 0; j < n; ++j) out[j] = acl_baseline::ToTrs(acl_pose[j]);
-    return Status::Ok();
-  };
+  const PoseSampler acl_sampler = AclSampler(c, *c.acl.tracks, context, acl_pose);
   const PoseSampler ours_sampler = [&](double t, std::span<Trs> out) {
     return ClipSamplingJob{&z, t, WrapMode::kClamp, nullptr, out, {}}.Run();
   };
   StatusOr<ClipError> ours = MeasureClipError(*c.clip, z.frames, z.bound.shell_distance, ours_sampler);
-  StatusOr<ClipError> acl = MeasureClipError(*c.clip, z.frames, z.bound.shell_distance, acl_sampler);
-  if (!ours.ok() || !acl.ok()) Fail(c.name + ": errors not measured");
+  if (!ours.ok()) Fail(c.name + ": errors not measured");
   c.ours_error = *ours;
-  c.acl_error = *acl;
   // Agreement: within twice the bound wherever ACL keeps its own bound (ACL
   // nearly guarantees it: on CMU its worst is above, as in its own figures).
   ShellErrorMeter meter(*c.clip->skeleton, z.bound.shell_distance);
@@ -110,24 +186,30 @@ void Measure(Compared& c) {
   }
 }
 
+// The largest world scale component of the rest pose.
+double RestWorldScale(const Skeleton& skeleton) {
+  std::vector<WorldQvv> world(skeleton.size());
+  ComposeWorldQvv(skeleton, skeleton.rest, world);
+  double largest = 0;
+  for (const WorldQvv& w : world) largest = std::max(largest, w.scale.cwiseAbs().maxCoeff());
+  return largest;
+}
+
 Compared Compare(const test_util::SharedClip& shared) {
   Compared c;
   c.name = shared.name;
   c.clip = shared.clip;
-  double start = CpuMilliseconds();
+  const double start = CpuMilliseconds();
   StatusOr<std::shared_ptr<const CompressedClip>> ours = CompressClip(shared.clip);
   c.ours_ms = CpuMilliseconds() - start;
   if (!ours.ok()) Fail(c.name + ": CompressClip failed: " + ours.status().message());
   c.ours = *ours;
   c.units_per_cm = UnitsPerCentimetre(*shared.clip->skeleton);
-  const acl::track_array_qvvf raw = acl_baseline::RawTracks(*shared.clip, c.ours->frames, c.ours->bound);
-  std::string error;
-  start = CpuMilliseconds();
-  c.acl = acl_baseline::Compress(raw, error);
-  c.acl_ms = CpuMilliseconds() - start;
-  if (!c.acl) Fail(c.name + ": ACL's compression failed: " + error);
+  c.rest_world_scale = RestWorldScale(*shared.clip->skeleton);
   for (const Trs& rest : shared.clip->skeleton->rest) c.rest.push_back(acl_baseline::ToQvv(rest));
-  Measure(c);
+  c.acl = CompressAcl(c, c.ours->bound.precision);
+  FindAclWithinBound(c);
+  CheckAgreement(c);
   return c;
 }
 
@@ -146,13 +228,14 @@ const Compared* Cmu() {
   return nullptr;
 }
 
-double AclBytesPerJointSample(const Compared& c) {
-  return static_cast<double>(c.acl->get_size()) / static_cast<double>(c.clip->skeleton->size() * c.ours->frames.count);
+double AclBytesPerJointSample(const Compared& c, const AclRun& run) {
+  return static_cast<double>(run.tracks->get_size()) /
+         static_cast<double>(c.clip->skeleton->size() * c.ours->frames.count);
 }
 
 void SetCounters(benchmark::State& state, const Compared& c, bool ours) {
-  state.counters["bytes_per_joint_sample"] = ours ? c.ours->BytesPerJointSample() : AclBytesPerJointSample(c);
-  state.counters["max_error_cm"] = (ours ? c.ours_error.worst : c.acl_error.worst) / c.units_per_cm;
+  state.counters["bytes_per_joint_sample"] = ours ? c.ours->BytesPerJointSample() : AclBytesPerJointSample(c, c.acl);
+  state.counters["max_error_cm"] = (ours ? c.ours_error.worst : c.acl.error.worst) / c.units_per_cm;
   state.counters["joints"] = static_cast<double>(c.clip->skeleton->size());
 }
 
@@ -208,7 +291,7 @@ void DecompressAcl(benchmark::State& state) {
   if (!c) return state.SkipWithError("shared data bvh/cmu_01_01.bvh is absent");
   std::vector<rtm::qvvf> pose(c->clip->skeleton->size());
   acl_baseline::Context context;
-  context.initialize(*c->acl);
+  context.initialize(*c->acl.tracks);
   PlaybackTimes times(c->ours->duration);
   for (auto _ : state) {
     const double t = times.Next(kRandom);
@@ -256,13 +339,22 @@ void RegisterSizes() {
       state.counters["joints"] = static_cast<double>(c.clip->skeleton->size());
       state.counters["frames"] = static_cast<double>(c.ours->frames.count);
       state.counters["armature_bpjs"] = c.ours->BytesPerJointSample();
-      state.counters["acl_bpjs"] = AclBytesPerJointSample(c);
+      state.counters["acl_bpjs"] = AclBytesPerJointSample(c, c.acl);
       state.counters["armature_p99_cm"] = c.ours_error.p99 / c.units_per_cm;
       state.counters["armature_worst_cm"] = c.ours_error.worst / c.units_per_cm;
-      state.counters["acl_p99_cm"] = c.acl_error.p99 / c.units_per_cm;
-      state.counters["acl_worst_cm"] = c.acl_error.worst / c.units_per_cm;
+      state.counters["acl_p99_cm"] = c.acl.error.p99 / c.units_per_cm;
+      state.counters["acl_worst_cm"] = c.acl.error.worst / c.units_per_cm;
       state.counters["armature_ms"] = c.ours_ms;
-      state.counters["acl_ms"] = c.acl_ms;
+      state.counters["acl_ms"] = c.acl.ms;
+      // ACL within the bound on our metric (the same run as above where it already is).
+      const AclRun& fair = c.fair_is_default ? c.acl : c.acl_fair;
+      state.counters["acl_fair_bpjs"] = AclBytesPerJointSample(c, fair);
+      state.counters["acl_fair_p99_cm"] = fair.error.p99 / c.units_per_cm;
+      state.counters["acl_fair_worst_cm"] = fair.error.worst / c.units_per_cm;
+      state.counters["acl_fair_ms"] = fair.ms;
+      state.counters["acl_fair_precision_cm"] = fair.precision / c.units_per_cm;
+      state.counters["acl_fair_met"] = c.acl_fair_met ? 1 : 0;
+      state.counters["rest_world_scale"] = c.rest_world_scale;
       state.counters["exact"] = c.ours->exact() ? 1 : 0;
       state.counters["acl_over_bound"] = static_cast<double>(c.acl_over_bound);
     })->Iterations(1);

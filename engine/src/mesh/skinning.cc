@@ -58,18 +58,15 @@ SkinningOptions WithClipWeights(const Mesh& mesh, const CompressedClip& clip, do
                                 SkinningWorkspace& workspace) {
   SkinningOptions effective = options;
   if (!options.morph_weights.empty() || mesh.targets.empty()) return effective;
-  for (const WeightsTrack& track : clip.MorphWeights()) {
-    if (track.mesh != mesh.name || track.targets != mesh.targets.size()) continue;
-    Grow(workspace.sampled_weights, track.targets);
-    Grow(workspace.morph_weights, track.targets);
-    // Wrap by the clip's duration, as the joints are, then sample the track clamped.
-    SampleWeights(track, WrapTime(time, clip.duration, wrap), {interpolation, WrapMode::kClamp},
-                  std::span<double>(workspace.sampled_weights.data(), track.targets));
-    for (size_t i = 0; i < track.targets; ++i)
-      workspace.morph_weights[i] = static_cast<float>(workspace.sampled_weights[i]);
-    effective.morph_weights = std::span<const float>(workspace.morph_weights.data(), track.targets);
-    break;
-  }
+  const size_t targets = mesh.targets.size();
+  Grow(workspace.sampled_weights, targets);
+  Grow(workspace.morph_weights, targets);
+  // Wrap by the clip's duration, as the joints are, then sample the track clamped.
+  if (!clip.SampleMorphWeights(mesh.name, targets, WrapTime(time, clip.duration, wrap), interpolation,
+                               std::span<double>(workspace.sampled_weights.data(), targets)))
+    return effective;
+  for (size_t i = 0; i < targets; ++i) workspace.morph_weights[i] = static_cast<float>(workspace.sampled_weights[i]);
+  effective.morph_weights = std::span<const float>(workspace.morph_weights.data(), targets);
   return effective;
 }
 

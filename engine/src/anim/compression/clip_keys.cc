@@ -13,7 +13,7 @@ StatusOr<std::shared_ptr<const Clip>> ClipKeysOf(const CompressedClip& clip) {
   auto keys = std::make_shared<Clip>();
   keys->skeleton = clip.skeleton;
   keys->joints.resize(joints);
-  keys->weights = clip.weights;
+  for (const CompressedWeights& w : clip.weights) keys->weights.push_back(WeightsKeysOf(w, clip.frames, clip.duration));
   keys->duration = clip.duration;
   keys->frame_time = clip.frames.frame_time;
   keys->frame_count = frames;

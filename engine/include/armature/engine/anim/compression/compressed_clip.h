@@ -11,11 +11,15 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "armature/base/status.h"
 #include "armature/engine/anim/clip.h"
+#include "armature/engine/anim/compression/compressed_weights.h"
 #include "armature/engine/anim/compression/error_bound.h"
 #include "armature/engine/anim/compression/shell_error.h"
 #include "armature/engine/anim/skeleton.h"
@@ -69,11 +73,16 @@ struct CompressedClip {
   std::vector<uint32_t> segment_offsets;  // byte offset of each segment in `data`
   std::vector<uint8_t> data;              // per segment: codes, ranges, then samples (packed_track.h)
 
-  // lossy: the morph weights as stored (not compressed; exact: in exact_keys).
-  std::vector<WeightsTrack> weights;
+  // lossy: the morph weights, per mesh, within WeightBound(bound)
+  // (compressed_weights.h; exact: as stored, in exact_keys).
+  std::vector<CompressedWeights> weights;
+  double weight_error = 0;  // lossy: the largest weight error measured over the frames
 
   bool exact() const { return exact_keys != nullptr; }
-  const std::vector<WeightsTrack>& MorphWeights() const { return exact_keys ? exact_keys->weights : weights; }
+  // The morph weights of `mesh` (`targets` of them) at clip time `time`
+  // (already wrapped) into `out`; false when the clip has none for it.
+  bool SampleMorphWeights(std::string_view mesh, size_t targets, double time,
+                          const std::optional<Interpolation>& interpolation, std::span<double> out) const;
   // Bytes of the runtime form (stored keys for exact, in their double form).
   size_t ByteSize() const;
   // ByteSize over joints × frames.
