@@ -3,8 +3,10 @@
 // Wave masked to the right arm) against sampling one clip, per pose and per
 // joint, in the same run. BM_MotionBlendRatio times both alternately in one
 // loop and reports their ratio (the goal: 3 layers at most 2.5x one clip).
-// Both sample the clips' runtime form (CompressClip at the default bound,
-// ClipSamplingJob with a context), as the server does.
+// Both sample the clips' runtime form (CompressClip at the default bound, with
+// a context) and write a double local pose, as the server does: one clip by
+// ClipSamplingJob, the blend its override layers by ClipSamplingFloatJob
+// into float lanes (the float-lane blend, FloatBlendPlan in motion.h).
 #include <ctime>
 #include <fstream>
 #include <iterator>
@@ -86,6 +88,27 @@ void BM_SampleOneClip(benchmark::State& state) {
   SetJoints(state, out.size());
 }
 BENCHMARK(BM_SampleOneClip);
+
+// One clip into float lanes (ClipSamplingFloatJob, as the blend samples its
+// override layers): no double transforms, for comparison with BM_SampleOneClip.
+void BM_SampleOneClipFloat(benchmark::State& state) {
+  const Robot& r = LoadRobot();
+  if (!r.ok) return state.SkipWithError("shared data gltf/RobotExpressive/RobotExpressive.glb is absent");
+  const size_t n = r.walking->skeleton->size();
+  std::vector<float> lanes(10 * n);
+  FloatPose pose{std::span<float>(lanes).subspan(0, 4 * n), std::span<float>(lanes).subspan(4 * n, 3 * n),
+                 std::span<float>(lanes).subspan(7 * n, 3 * n)};
+  ClipSamplingContext context(*r.walking);
+  double t = 0;
+  for (auto _ : state) {
+    if (!ClipSamplingFloatJob{r.walking.get(), t, WrapMode::kLoop, &context, pose}.Run().ok())
+      return state.SkipWithError("sampling failed");
+    benchmark::DoNotOptimize(lanes.data());
+    t += kStep;
+  }
+  SetJoints(state, n);
+}
+BENCHMARK(BM_SampleOneClipFloat);
 
 void BM_BlendThreeLayers(benchmark::State& state) {
   const Robot& r = LoadRobot();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "anim/motion_float_blend.h"
 #include "armature/engine/anim/joint_map.h"
 #include "armature/engine/anim/motion.h"
 
@@ -131,19 +132,40 @@ void IndexJointLayers(MotionPlan& plan) {
     }
   }
   plan.joint_begin[n] = static_cast<uint32_t>(plan.joint_layers.size());
-  std::vector<std::vector<uint32_t>> read(plan.layers.size());
-  for (const JointLayer& e : plan.joint_layers) read[e.layer].push_back(e.joint);
+}
+
+std::vector<uint32_t> SortedUnique(std::vector<uint32_t> v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
+}
+
+// Each layer's clip joints the blend reads: in float lanes (float joints)
+// or as double transforms (the other joints), so its jobs sample only those;
+// and the joints blended in double.
+void ChooseSampledJoints(MotionPlan& plan) {
+  const std::vector<uint8_t>& float_joint = plan.float_blend.float_joint;
+  std::vector<std::vector<uint32_t>> lanes(plan.layers.size()), doubles(plan.layers.size());
+  for (size_t j = 0; j + 1 < plan.joint_begin.size(); ++j)
+    for (uint32_t e = plan.joint_begin[j]; e < plan.joint_begin[j + 1]; ++e) {
+      const JointLayer& entry = plan.joint_layers[e];
+      (!float_joint.empty() && float_joint[j] ? lanes : doubles)[entry.layer].push_back(entry.joint);
+    }
   for (size_t i = 0; i < plan.layers.size(); ++i) {
     BoundLayer& l = plan.layers[i];
-    std::sort(read[i].begin(), read[i].end());
-    read[i].erase(std::unique(read[i].begin(), read[i].end()), read[i].end());
-    if (read[i].size() < l.clip->skeleton->size()) l.sampled.emplace(*l.clip, read[i]);
+    const std::vector<uint32_t> read = SortedUnique(l.float_lanes ? lanes[i] : doubles[i]);
+    if (read.size() < l.clip->skeleton->size()) l.sampled.emplace(*l.clip, read);
+    if (l.float_lanes && !doubles[i].empty()) l.doubles.emplace(*l.clip, SortedUnique(doubles[i]));
   }
+  plan.double_joints.clear();
+  for (uint32_t j = 0; j + 1 < plan.joint_begin.size(); ++j)
+    if (plan.joint_begin[j] != plan.joint_begin[j + 1] && (float_joint.empty() || !float_joint[j]))
+      plan.double_joints.push_back(j);
 }
 
 }  // namespace
 
-StatusOr<MotionPlan> BindMotion(const Motion& motion) {
+StatusOr<MotionPlan> BindMotion(const Motion& motion, BlendPath path) {
   if (motion.layers.empty()) return Status::InvalidArgument("layers: the motion is empty (give at least one layer)");
   if (motion.sync != TimeSync::kNone && motion.sync != TimeSync::kPhase)
     return Status::InvalidArgument("sync: " + std::to_string(static_cast<int>(motion.sync)) + " is not NONE or PHASE");
@@ -190,6 +212,8 @@ StatusOr<MotionPlan> BindMotion(const Motion& motion) {
     return Status::InvalidArgument("sync: PHASE needs an OVERRIDE layer to drive the phase");
   if (rm != RootMotion::kKeep) ARMATURE_RETURN_IF_ERROR(BindRoot(motion, plan));
   IndexJointLayers(plan);
+  if (path == BlendPath::kFloatLanes) motion_internal::BindFloatBlend(plan);
+  ChooseSampledJoints(plan);
   return plan;
 }
 

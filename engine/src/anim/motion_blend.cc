@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "anim/motion_float_blend.h"
 #include "armature/engine/anim/motion.h"
 #include "armature/engine/math/rotation.h"
 
@@ -163,9 +164,12 @@ void BlendJoint(const MotionPlan& plan, const MotionWorkspace& ws, size_t j, Roo
 void MotionWorkspace::Resize(const MotionPlan& plan) {
   layer_times.resize(plan.layers.size());
   layer_poses.resize(plan.layers.size());
+  layer_lanes.resize(plan.layers.size());
   contexts.resize(plan.layers.size());
   for (size_t i = 0; i < plan.layers.size(); ++i) {
-    layer_poses[i].resize(plan.layers[i].clip->skeleton->size());
+    const size_t joints = plan.layers[i].clip->skeleton->size();
+    layer_poses[i].resize(joints);
+    layer_lanes[i].resize(plan.layers[i].float_lanes ? 10 * joints + 1 : 0);  // padded: four floats load from the last
     if (!contexts[i].Fits(*plan.layers[i].clip)) contexts[i].Resize(*plan.layers[i].clip);
   }
 }
@@ -188,9 +192,14 @@ Status BlendMotionJob::Validate() const {
   if (!workspace || workspace->layer_times.size() != plan->layers.size() ||
       workspace->contexts.size() != plan->layers.size())
     return Status::InvalidArgument("blend job: the workspace is not sized for this motion (call Resize)");
-  for (size_t i = 0; i < plan->layers.size(); ++i)
-    if (!workspace->contexts[i].Fits(*plan->layers[i].clip))
+  if (workspace->layer_lanes.size() != plan->layers.size())
+    return Status::InvalidArgument("blend job: the workspace is not sized for this motion (call Resize)");
+  for (size_t i = 0; i < plan->layers.size(); ++i) {
+    const BoundLayer& l = plan->layers[i];
+    if (!workspace->contexts[i].Fits(*l.clip) ||
+        workspace->layer_lanes[i].size() != (l.float_lanes ? 10 * l.clip->skeleton->size() + 1 : 0))
       return Status::InvalidArgument("blend job: the workspace is not sized for this motion (call Resize)");
+  }
   if (plan->joint_begin.size() != plan->skeleton->size() + 1)
     return Status::InvalidArgument("blend job: the motion plan is not bound (use BindMotion)");
   if (output.size() != plan->skeleton->size())
@@ -201,26 +210,41 @@ Status BlendMotionJob::Validate() const {
   return Status::Ok();
 }
 
+namespace {
+
+// Layer `i`'s clip at `time` (already wrapped), only at the joints the blend
+// reads: as float lanes and double transforms for a float_lanes layer, as
+// double transforms for the others.
+Status SampleLayer(const BoundLayer& l, double time, MotionWorkspace& ws, size_t i) {
+  const ClipJointSubset* sampled = l.sampled ? &*l.sampled : nullptr;
+  if (!l.float_lanes)
+    return ClipSamplingJob{l.clip, time, WrapMode::kClamp, &ws.contexts[i], ws.layer_poses[i], {}, sampled}.Run();
+  const size_t n = l.clip->skeleton->size();
+  const std::span<float> lanes(ws.layer_lanes[i]);
+  const FloatPose pose{lanes.subspan(0, 4 * n), lanes.subspan(4 * n, 3 * n), lanes.subspan(7 * n, 3 * n)};
+  ARMATURE_RETURN_IF_ERROR(
+      (ClipSamplingFloatJob{l.clip, time, WrapMode::kClamp, &ws.contexts[i], pose, sampled}.Run()));
+  if (!l.doubles) return Status::Ok();
+  return ClipSamplingJob{l.clip, time, WrapMode::kClamp, &ws.contexts[i], ws.layer_poses[i], {}, &*l.doubles}.Run();
+}
+
+}  // namespace
+
 Status BlendMotionJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
   const MotionPlan& p = *plan;
   std::span<LayerTime> times(workspace->layer_times);
   for (size_t i = 0; i < p.layers.size(); ++i) {
     times[i] = LayerTimeAt(p, i, time);
-    // Each layer's clip once, only at the joints the blend reads; times are already wrapped.
-    const BoundLayer& l = p.layers[i];
-    ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{l.clip,
-                                              times[i].time,
-                                              WrapMode::kClamp,
-                                              &workspace->contexts[i],
-                                              workspace->layer_poses[i],
-                                              {},
-                                              l.sampled ? &*l.sampled : nullptr}
-                                  .Run()));
+    ARMATURE_RETURN_IF_ERROR(SampleLayer(p.layers[i], times[i].time, *workspace, i));
   }
   const bool extract = p.root_motion == RootMotion::kExtract;
   const RootMotion mode = extract ? RootMotion::kInPlace : p.root_motion;
-  for (size_t j = 0; j < output.size(); ++j) BlendJoint(p, *workspace, j, mode, output[j]);
+  // The rest pose first: joints without layers keep it, and float joints
+  // the properties no layer animates; then the blends.
+  std::copy(p.skeleton->rest.begin(), p.skeleton->rest.end(), output.begin());
+  for (uint32_t j : p.double_joints) BlendJoint(p, *workspace, j, mode, output[j]);
+  motion_internal::BlendFloatJoints(p, *workspace, output);
   if (extract && root_delta) {
     Trs accumulated;
     BlendJoint(p, *workspace, static_cast<size_t>(p.root), RootMotion::kAccumulate, accumulated);

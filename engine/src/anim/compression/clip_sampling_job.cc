@@ -187,6 +187,25 @@ void StoreStill(const CompressedClip& clip, const ClipJointSubsetView* subset, s
     Store(clip.constants[i].kind, clip.constants[i].value, out[clip.constants[i].joint]);
 }
 
+// The same as float lanes, from the context's (`still`, 10 floats a joint).
+void StoreStillLanes(std::span<const float> still, const ClipJointSubsetView* subset, const FloatPose& out) {
+  const size_t joints = out.scales.size() / 3;
+  const float *rotations = still.data(), *translations = rotations + 4 * joints, *scales = rotations + 7 * joints;
+  if (!subset) {
+    std::copy(rotations, rotations + 4 * joints, out.rotations.begin());
+    std::copy(translations, translations + 3 * joints, out.translations.begin());
+    std::copy(scales, scales + 3 * joints, out.scales.begin());
+    return;
+  }
+  for (uint32_t j : subset->joints) {  // loops, not std::copy: a library call per 12 bytes costs more than the copy
+    for (int c = 0; c < 4; ++c) out.rotations[4 * j + c] = rotations[4 * j + c];
+    for (int c = 0; c < 3; ++c) {
+      out.translations[3 * j + c] = translations[3 * j + c];
+      out.scales[3 * j + c] = scales[3 * j + c];
+    }
+  }
+}
+
 // The animated tracks at `t` into `sink` (the still pose is the caller's).
 template <class Sink>
 void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, const ClipJointSubsetView* subset,
@@ -334,23 +353,24 @@ Status ClipSamplingFloatJob::Validate() const {
   ARMATURE_RETURN_IF_ERROR(CheckTime(time, wrap, std::nullopt));
   if (!context || !context->Fits(*clip))
     return Status::InvalidArgument("float sampling job: needs a context resized to the clip");
-  const size_t joints = clip->skeleton->size();
-  if (output.rotations.size() != 4 * joints || output.translations.size() != 3 * joints ||
-      output.scales.size() != 3 * joints)
+  const size_t count = clip->skeleton->size();
+  if (output.rotations.size() != 4 * count || output.translations.size() != 3 * count ||
+      output.scales.size() != 3 * count)
     return Status::InvalidArgument("float sampling job: output lanes of " + std::to_string(output.rotations.size()) +
                                    ", " + std::to_string(output.translations.size()) + ", " +
-                                   std::to_string(output.scales.size()) + " floats for " + std::to_string(joints) +
+                                   std::to_string(output.scales.size()) + " floats for " + std::to_string(count) +
                                    " joints (4, 3, 3 a joint)");
+  if (joints && !joints->Fits(*clip))
+    return Status::InvalidArgument("float sampling job: the joint subset was not built for this clip");
   return Status::Ok();
 }
 
 Status ClipSamplingFloatJob::Run() const {
   ARMATURE_RETURN_IF_ERROR(Validate());
-  const size_t joints = clip->skeleton->size();
-  const float* still = context->still_.data();
+  const size_t count = clip->skeleton->size();
   if (clip->exact()) {  // sampled in double, then narrowed
     ARMATURE_RETURN_IF_ERROR((ClipSamplingJob{clip, time, wrap, context, context->clip_pose_, std::nullopt}.Run()));
-    for (size_t j = 0; j < joints; ++j) {
+    for (size_t j = 0; j < count; ++j) {
       const Trs& p = context->clip_pose_[j];
       const double r[4] = {p.rotation.x(), p.rotation.y(), p.rotation.z(), p.rotation.w()};
       for (int c = 0; c < 4; ++c) output.rotations[4 * j + c] = static_cast<float>(r[c]);
@@ -361,11 +381,11 @@ Status ClipSamplingFloatJob::Run() const {
     }
     return Status::Ok();
   }
-  std::copy(still, still + 4 * joints, output.rotations.begin());
-  std::copy(still + 4 * joints, still + 7 * joints, output.translations.begin());
-  std::copy(still + 7 * joints, still + 10 * joints, output.scales.begin());
+  std::optional<ClipJointSubsetView> subset;
+  if (joints) subset = ClipJointSubsetView{joints->joints_, joints->constants_, joints->animated_, joints->in_subset_};
+  StoreStillLanes(context->still_, subset ? &*subset : nullptr, output);
   FloatSink sink{output, {}};
-  SampleLossy(*clip, WrapTime(time, clip->duration, wrap), &context->index_, nullptr, sink);
+  SampleLossy(*clip, WrapTime(time, clip->duration, wrap), &context->index_, subset ? &*subset : nullptr, sink);
   return Status::Ok();
 }
 

@@ -71,6 +71,12 @@ struct BoundLayer {
   // The clip joints the blend reads (those of its joint_layers entries), when
   // not all: the job samples only these (a masked layer's few joints).
   std::optional<ClipJointSubset> sampled;
+  // An override layer of a lossy clip that a float-lane joint reads (see
+  // FloatBlendPlan): sampled into float lanes (ClipSamplingFloatJob) at
+  // `sampled`'s joints, and as double transforms only at `doubles`' (the
+  // joints the double path reads from it, when any).
+  bool float_lanes = false;
+  std::optional<ClipJointSubset> doubles;
   // Root motion (override layers). IN_PLACE: the root's translation in the
   // clip's first frame. ACCUMULATE: one loop moves the root, in world
   // directions, by x ↦ R(yaw)·(x − loop_origin) + loop_origin + loop_shift.
@@ -85,6 +91,41 @@ struct JointLayer {
   bool additive = false;
   uint8_t parts = 0;   // what the clip animates there (CompressedClip::animated_parts)
   uint32_t joint = 0;  // the clip's joint
+};
+
+// The float-lane blend (issue 30). A joint other than the root-motion joint
+// on which every layer acting is an override layer of a lossy clip blends
+// from its layers' float lanes, four joints per vector (three.js's
+// accumulation in float, slerpFlat by a series; no libm call), and its
+// transform is written in double once, rotations made unit in double.
+// Additive layers, exact clips and the root-motion joint keep the double
+// path. A source: one layer's value of one joint property, `offset` floats
+// into that layer's lanes.
+struct FloatBlendSource {
+  uint32_t layer = 0;
+  uint32_t offset = 0;
+};
+
+// One property of four joints, each with `steps` layers acting: step k of
+// lane i reads sources[first + 4k + i]. Lanes from `lanes` on repeat the
+// last joint (blended, not written).
+struct FloatBlendGroup {
+  uint32_t joints[4] = {};
+  uint32_t lanes = 0, steps = 0, first = 0;
+};
+
+struct FloatBlendPlan {
+  std::vector<uint8_t> float_joint;  // per joint: 1 when it blends in float lanes
+  // Per property, the groups of float joints a layer animates; a float
+  // joint's other properties keep the rest pose. A property whose layers
+  // all hold the rest value still (no track, rest or constant at rest) takes
+  // the rest pose as well: the mixer would return it (slerpFlat of equal
+  // quaternions is the first).
+  std::vector<FloatBlendGroup> rotations, translations, scales;
+  std::vector<FloatBlendSource> sources;
+  // The skeleton's rest pose as lanes (4, 3, 3 floats a joint, padded by
+  // one), the value a total weight below 1 is filled with.
+  std::vector<float> rest;
 };
 
 struct MotionPlan {
@@ -109,7 +150,16 @@ struct MotionPlan {
   Eigen::Quaterniond parent_rotation = Eigen::Quaterniond::Identity();
   Eigen::Vector3d up_world = Eigen::Vector3d::UnitY();
   Eigen::Matrix3d horizontal = Eigen::Matrix3d::Identity();
+  FloatBlendPlan float_blend;
+  // The joints with layers acting that are not float joints: BlendMotionJob
+  // blends these in double; every other joint starts at the rest pose.
+  std::vector<uint32_t> double_joints;
 };
+
+// kFloatLanes blends what it can in float lanes (FloatBlendPlan); kDouble
+// blends every joint in double (the reference the float lanes are tested
+// against).
+enum class BlendPath { kFloatLanes, kDouble };
 
 // Validates `motion` and resolves it. Errors are INVALID_ARGUMENT (or
 // NOT_FOUND for an unknown mask or root joint) naming the layer ("layer 1
@@ -118,7 +168,7 @@ struct MotionPlan {
 // the motion's; joints only it has are ignored.
 // The root-motion joint, unless named, is the joint with a translation track
 // in the first override layer's clip that has the most descendants (the hips).
-StatusOr<MotionPlan> BindMotion(const Motion& motion);
+StatusOr<MotionPlan> BindMotion(const Motion& motion, BlendPath path = BlendPath::kFloatLanes);
 
 // Where each layer plays at a motion time: the wrapped clip time and the
 // number of completed loops (for ACCUMULATE).
@@ -128,10 +178,14 @@ struct LayerTime {
 };
 
 // Scratch space reused across evaluations (sized by Resize, never in Run):
-// per layer its time, its clip's pose and the sampling job's context.
+// per layer its time, its clip's pose (as double transforms, and as float
+// lanes for a float_lanes layer: 4, 3, 3 floats a joint and one of padding,
+// as the blend loads four floats at a time) and the sampling
+// job's context.
 struct MotionWorkspace {
   std::vector<LayerTime> layer_times;
   std::vector<std::vector<Trs>> layer_poses;
+  std::vector<std::vector<float>> layer_lanes;
   std::vector<ClipSamplingContext> contexts;
   void Resize(const MotionPlan& plan);
 };

@@ -82,6 +82,7 @@ class ClipJointSubset {
 
  private:
   friend struct ClipSamplingJob;
+  friend struct ClipSamplingFloatJob;
   const CompressedClip* clip_ = nullptr;
   uint64_t serial_ = 0;
   std::vector<uint32_t> joints_;     // ascending, unique
@@ -122,12 +123,15 @@ struct FloatPose {
 // and made unit in float (no Newton step; |q| − 1 stays near 1e-7). An exact
 // clip is sampled in double and narrowed. Needs a context (it holds the
 // still pose, rest and constant tracks, as lanes). No allocation in Run.
+// `joints`, as ClipSamplingJob's: only those joints' lanes are written (a
+// motion's float-lane blend samples each layer at the joints it reads).
 struct ClipSamplingFloatJob {
   const CompressedClip* clip = nullptr;
   double time = 0;
   WrapMode wrap = WrapMode::kClamp;
   ClipSamplingContext* context = nullptr;
   FloatPose output;
+  const ClipJointSubset* joints = nullptr;  // optional: built for this clip
 
   Status Validate() const;
   Status Run() const;
