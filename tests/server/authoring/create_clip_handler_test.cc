@@ -148,6 +148,7 @@ TEST(CreateClipHandler, ABakeIsStoredAndItsTracksMayBeDeleted) {
   request.mutable_bake()->set_fps(10);
   request.mutable_bake()->set_duration(0.5);
   request.add_tracks()->set_joint("Head");  // no times: the baked Head track goes
+  request.set_precision("exact");           // the keys to 1e-5 rad; create_clip_bake_bound_test does the default
   v1::CreateClipResponse response;
   const Status st = CreateClip(*store, Limits{}, request, &response);
   ASSERT_TRUE(st.ok()) << st.message();
