@@ -2,6 +2,7 @@
 // skeleton, clips and meshes hold, the units report, format detection, limits
 // and clear errors.
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <vector>
 #include <string>
@@ -144,6 +145,63 @@ TEST(FbxImport, LimitsAreTheOtherFormats) {
   c = ParseAsset(AssetFormat::kFbx, bytes, "arm", {}, limits);
   ASSERT_EQ(c.status().code(), StatusCode::kResourceExhausted);
   EXPECT_NE(c.status().message().find("max_clip_keys = 10"), std::string::npos) << c.status().message();
+}
+
+// A cycle in the object connections sent assimp's node conversion into
+// endless recursion until the stack overflowed (fuzz.engine_fbx_fuzz, from
+// pivots.fbx with one connection added; tests/fuzz/regressions keeps it).
+TEST(FbxImport, ConnectionCyclesAreRefusedBeforeAssimpFollowsThem) {
+  const auto bytes = ReadFileBytes(fs::path(ARMATURE_TEST_DIR) / "data/fbx/pivots.fbx");
+  ASSERT_TRUE(bytes.has_value());
+  const std::string edge = "C: \"OO\",3000,2000";
+  std::string ascii(bytes->begin(), bytes->end());
+  const size_t at = ascii.find(edge);
+  ASSERT_NE(at, std::string::npos);
+  ascii.insert(at + edge.size(), "\n\tC: \"OO\",2000,3000");
+  auto refused = ParseAsset(AssetFormat::kFbx, ascii, "p");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.status().message().find("cycle"), std::string::npos) << refused.status().message();
+
+  // The same in a binary file (version 7400: 32-bit record headers): a
+  // Connections record holding C records 5 → 6, 6 → 7, 7 → 5.
+  auto record = [](const std::string& name, const std::string& props, const std::string& children, size_t at) {
+    std::string r(13, '\0');
+    const auto put = [&r](size_t i, uint32_t v) { std::memcpy(&r[i], &v, 4); };
+    const size_t end = at + 13 + name.size() + props.size() + children.size();
+    put(0, static_cast<uint32_t>(end));
+    put(8, static_cast<uint32_t>(props.size()));
+    r[12] = static_cast<char>(name.size());
+    return r + name + props + children;
+  };
+  auto connection = [](int64_t child, int64_t parent) {
+    std::string p = "S";
+    const uint32_t two = 2;
+    p.append(reinterpret_cast<const char*>(&two), 4).append("OO");
+    for (int64_t id : {child, parent}) p.append("L").append(reinterpret_cast<const char*>(&id), 8);
+    return p;
+  };
+  std::string binary("Kaydara FBX Binary  \0\x1a\0", 23);
+  const uint32_t version = 7400;
+  binary.append(reinterpret_cast<const char*>(&version), 4);
+  const size_t connections_at = binary.size();
+  std::string children;
+  const std::pair<int64_t, int64_t> edges[] = {{5, 6}, {6, 7}, {7, 5}};
+  for (const auto& [child, parent] : edges)
+    children += record("C", connection(child, parent), "", connections_at + 13 + 11 + children.size());
+  children += std::string(13, '\0');  // the null record that ends the list
+  binary += record("Connections", "", children, connections_at);
+  binary += std::string(13, '\0');
+  auto binary_refused = ParseAsset(AssetFormat::kFbx, binary, "b");
+  ASSERT_FALSE(binary_refused.ok());
+  EXPECT_NE(binary_refused.status().message().find("cycle"), std::string::npos) << binary_refused.status().message();
+
+  // Without the last edge it is a chain: no cycle (assimp then refuses the file for its own reasons).
+  std::string chain = binary;
+  const std::string last = connection(7, 5), fixed = connection(7, 8);
+  chain.replace(chain.find(last), last.size(), fixed);
+  auto chained = ParseAsset(AssetFormat::kFbx, chain, "c");
+  EXPECT_EQ(chained.ok() ? std::string::npos : chained.status().message().find("cycle"), std::string::npos);
 }
 
 }  // namespace
