@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "armature/client.h"
+#include "authoring/create_clip_support.h"
 #include "support/client_helpers.h"
 #include "support/server_suite.h"
 
@@ -32,16 +33,8 @@ class CreateClipBakeAtTheDefaultBound : public ServerSuite {
   }
 };
 
-// Two walks blended, one shifted by 0.4 s and at a third of the weight.
-v1::Motion Blend() {
-  v1::Motion m;
-  m.add_layers()->set_clip("demo_walk");
-  v1::MotionLayer* second = m.add_layers();
-  second->set_clip("demo_walk");
-  second->set_time_offset(0.4);
-  second->set_weight(1.0 / 3);
-  return m;
-}
+// Two walks blended, the second at a third of the weight.
+v1::Motion Blend() { return TwoWalksBlend(1.0 / 3); }
 
 // The farthest any joint's virtual point moves between two world poses.
 double WorstShellDisplacement(const v1::Pose& a, const v1::Pose& b) {

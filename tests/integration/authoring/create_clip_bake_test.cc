@@ -24,16 +24,8 @@ class CreateClipBake : public ServerSuite {
   }
 };
 
-// Two walks blended half and half, one shifted by 0.4 s: a pose no clip has.
-v1::Motion Blend() {
-  v1::Motion m;
-  m.add_layers()->set_clip("demo_walk");
-  v1::MotionLayer* second = m.add_layers();
-  second->set_clip("demo_walk");
-  second->set_time_offset(0.4);
-  second->set_weight(0.5);
-  return m;
-}
+// Two walks blended half and half.
+v1::Motion Blend() { return TwoWalksBlend(0.5); }
 
 TEST_F(CreateClipBake, BakedKeysAreTheMotionsPosesAtTheFps) {
   client::Client client(OptionsFor(*server_));

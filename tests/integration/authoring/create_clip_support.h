@@ -39,6 +39,18 @@ inline std::vector<Local> SampleLocal(client::Client& client, const std::string&
   return out;
 }
 
+// Two demo walks blended, the second shifted by 0.4 s at `second_weight`:
+// a pose no clip has, for the bake tests.
+inline v1::Motion TwoWalksBlend(double second_weight) {
+  v1::Motion m;
+  m.add_layers()->set_clip("demo_walk");
+  v1::MotionLayer* second = m.add_layers();
+  second->set_clip("demo_walk");
+  second->set_time_offset(0.4);
+  second->set_weight(second_weight);
+  return m;
+}
+
 // Made-up keys, reproducible: uneven times, unit quaternions, translations in [-2, 2].
 struct KeyMaker {
   std::mt19937 rng{1234};
