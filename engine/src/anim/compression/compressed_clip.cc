@@ -42,38 +42,49 @@ constexpr double kTighten = 0.7, kTightenLeast = 0.9, kTightenMargin = 0.95;
 // a per-segment rotation.
 size_t LeadBytes(const AnimatedTrack& track) { return track.dropped == kDroppedPerSegment ? 1 : 0; }
 
-// Lays the choices out as the sampling job reads them (packed_track.h).
-void Pack(const std::vector<TrackState>& states, CompressedClip& out) {
-  const size_t segments = SegmentCount(out.frames.count), tracks = states.size();
+// One segment's bytes as the sampling job reads them (packed_track.h).
+void PackSegment(const std::vector<TrackState>& states, const FrameGrid& frames, size_t s, std::vector<uint8_t>& out) {
+  const size_t tracks = states.size();
+  size_t tail = 0, bits = 0;
+  for (const TrackState& st : states) {
+    const SegmentTrackChoice& c = st.choice[s];
+    const bool ranged = kCodes[c.code].ranged;
+    tail += LeadBytes(st.track) + (ranged ? kRangeBytes : 0);
+    bits += c.bits - (ranged ? 8 * kRangeBytes : 0);
+  }
+  const size_t size = tracks + (bits + 7) / 8 + tail;
+  out.assign(size, 0);
+  uint8_t* seg = out.data();
+  uint8_t* back = seg + size;  // dropped components and ranges, from the end, in track order
+  size_t bit = tracks * 8;
+  for (size_t t = 0; t < tracks; ++t) {
+    const SegmentTrackChoice& c = states[t].choice[s];
+    seg[t] = c.code;
+    if (LeadBytes(states[t].track)) *--back = states[t].dropped[s];
+    if (kCodes[c.code].ranged) {
+      back -= kRangeBytes;
+      std::copy(c.range, c.range + kRangeBytes, back);
+    }
+    PackSegmentTrack(SegmentInput(states[t], frames, s), c, seg, bit);
+    bit += c.bits - (kCodes[c.code].ranged ? 8 * kRangeBytes : 0);
+  }
+}
+
+// Lays the choices out as the sampling job reads them. `packed` keeps each
+// segment's bytes between calls: a segment chosen again empties its own
+// (Refiner::ChooseOrExplain), and only those are packed again, as most
+// rounds of the refinement choose few segments again.
+void Pack(const std::vector<TrackState>& states, std::vector<std::vector<uint8_t>>& packed, CompressedClip& out) {
+  const size_t segments = SegmentCount(out.frames.count);
   out.data.clear();
   out.segment_offsets.clear();
-  if (tracks == 0) return;  // constants only: no segments to keep (the sampling job reads none)
+  if (states.empty()) return;  // constants only: no segments to keep (the sampling job reads none)
+  packed.resize(segments);
   out.segment_offsets.assign(segments, 0);
   for (size_t s = 0; s < segments; ++s) {
+    if (packed[s].empty()) PackSegment(states, out.frames, s, packed[s]);
     out.segment_offsets[s] = static_cast<uint32_t>(out.data.size());
-    size_t tail = 0, bits = 0;
-    for (const TrackState& st : states) {
-      const SegmentTrackChoice& c = st.choice[s];
-      const bool ranged = kCodes[c.code].ranged;
-      tail += LeadBytes(st.track) + (ranged ? kRangeBytes : 0);
-      bits += c.bits - (ranged ? 8 * kRangeBytes : 0);
-    }
-    const size_t base = out.data.size(), size = tracks + (bits + 7) / 8 + tail;
-    out.data.resize(base + size);
-    uint8_t* seg = out.data.data() + base;
-    uint8_t* back = seg + size;  // dropped components and ranges, from the end, in track order
-    size_t bit = tracks * 8;
-    for (size_t t = 0; t < tracks; ++t) {
-      const SegmentTrackChoice& c = states[t].choice[s];
-      seg[t] = c.code;
-      if (LeadBytes(states[t].track)) *--back = states[t].dropped[s];
-      if (kCodes[c.code].ranged) {
-        back -= kRangeBytes;
-        std::copy(c.range, c.range + kRangeBytes, back);
-      }
-      PackSegmentTrack(SegmentInput(states[t], out.frames, s), c, seg, bit);
-      bit += c.bits - (kCodes[c.code].ranged ? 8 * kRangeBytes : 0);
-    }
+    out.data.insert(out.data.end(), packed[s].begin(), packed[s].end());
   }
   out.data.resize(out.data.size() + kReadPadding, 0);
 }
@@ -173,6 +184,7 @@ struct Refiner {
   ShellErrorMeter meter{skeleton, out.bound.shell_distance};
   std::vector<Trs> pose = std::vector<Trs>(reference.joints);
   std::vector<double> errors = std::vector<double>(out.frames.count * reference.joints, 0.0);
+  std::vector<std::vector<uint8_t>> packed;  // per segment, for Pack
   std::string why;
 
   // Per joint, how much to tighten its tracks in `segment`: each joint over
@@ -193,6 +205,7 @@ struct Refiner {
   }
 
   bool ChooseOrExplain(size_t segment) {
+    if (segment < packed.size()) packed[segment].clear();
     if (Choose(states, out, segment)) return true;
     why = "a track cannot meet the bound at " + std::to_string(kMaxBits) + " bits";
     return false;
@@ -204,7 +217,7 @@ struct Refiner {
   bool MeetBound(std::vector<size_t> dirty) {
     std::vector<int> overs(segments, 0);  // rounds each segment was over
     for (int round = 0; round <= kRefinements; ++round) {
-      Pack(states, out);
+      Pack(states, packed, out);
       std::vector<size_t> next;
       for (size_t s : dirty) {
         bool late = false;
@@ -251,7 +264,7 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
     all.push_back(s);
   }
   if (segments == 0) {  // one frame: constants only
-    Pack(states, out);
+    Pack(states, refiner.packed, out);
     (void)ClipSamplingJob{&out, 0, WrapMode::kClamp, nullptr, refiner.pose, {}}.Run();
     refiner.meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data(), reference.joints), refiner.pose,
                                refiner.errors);
@@ -259,7 +272,7 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
     why = refiner.why;
     return false;
   }
-  Pack(states, out);
+  Pack(states, refiner.packed, out);
   out.error = SummarizeErrors(std::move(refiner.errors));
   if (out.error.worst > out.bound.precision) {
     why = "constant tracks exceed the bound";

@@ -48,23 +48,35 @@ void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
   }
 }
 
-uint32_t Quantize(double normalized, const uint8_t* range, int c, int bits) {
-  double v = normalized;
-  if (range) v = (v - range[c] / 255.0) / (range[3 + c] / 255.0);
-  const double max_q = static_cast<double>((1u << bits) - 1);
-  return static_cast<uint32_t>(std::clamp(v * max_q + 0.5, 0.0, max_q));  // rounded: v ≥ 0
-}
+// Normalized values to `bits`-bit integers per component, in the segment
+// range when there is one; its ends and the integer ranges worked out once
+// per choice, not per value (the same arithmetic, so the same integers).
+struct Quantizer {
+  Quantizer(const uint8_t* range, const SampleLayout& layout) : ranged(range != nullptr) {
+    for (int c = 0; c < 3; ++c) {
+      if (ranged) lo[c] = range[c] / 255.0, extent[c] = range[3 + c] / 255.0;
+      max_q[c] = static_cast<double>((1u << layout.bits[c]) - 1);
+    }
+  }
+  uint32_t operator()(double normalized, int c) const {
+    double v = normalized;
+    if (ranged) v = (v - lo[c]) / extent[c];
+    return static_cast<uint32_t>(std::clamp(v * max_q[c] + 0.5, 0.0, max_q[c]));  // rounded: v ≥ 0
+  }
+  bool ranged;
+  double lo[3] = {}, extent[3] = {}, max_q[3];
+};
 
 // The decoded samples a choice keeps (as the sampling job reads them).
 size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, float (*out)[4]) {
   const SampleLayout layout = MakeLayout(bits, in.clip_extent, range);
   const Dequantizer d = MakeDequantizer(in.clip_min, in.clip_extent, range, layout);
+  const Quantizer quantize(range, layout);
   size_t count = 0;
   for (size_t f = 0; f < StoredEnd(in); f += size_t{1} << stride_log, ++count) {
     float kept[3];
     for (int c = 0; c < 3; ++c)
-      kept[c] =
-          d.offset[c] + d.scale[c] * static_cast<float>(Quantize(in.normalized[f * 3 + c], range, c, layout.bits[c]));
+      kept[c] = d.offset[c] + d.scale[c] * static_cast<float>(quantize(in.normalized[f * 3 + c], c));
     if (in.kind == TrackKind::kRotation)
       ExpandRotation(kept, in.dropped, out[count]);
     else
@@ -188,9 +200,10 @@ void PackSegmentTrack(const SegmentTrackInput& in, const SegmentTrackChoice& cho
   const TrackCode code = kCodes[choice.code];
   const uint8_t* range = code.ranged ? choice.range : nullptr;
   const SampleLayout layout = MakeLayout(code.bits, in.clip_extent, range);
+  const Quantizer quantize(range, layout);
   for (size_t f = 0; f < StoredEnd(in); f += size_t{1} << code.stride_log)
     for (int c = 0; c < 3; offset += layout.bits[c], ++c)
-      WriteBits(data, offset, layout.bits[c], Quantize(in.normalized[f * 3 + c], range, c, layout.bits[c]));
+      WriteBits(data, offset, layout.bits[c], quantize(in.normalized[f * 3 + c], c));
 }
 
 }  // namespace armature::compression_internal

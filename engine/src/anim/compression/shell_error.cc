@@ -31,13 +31,18 @@ void ShellErrorMeter::Measure(std::span<const Trs> reference, std::span<const Tr
 void ShellErrorMeter::MeasureWorld(std::span<const WorldQvv> reference, std::span<const Trs> lossy,
                                    std::span<double> per_joint) {
   ComposeWorldQvv(skeleton_, lossy, lossy_);
+  // A point on axis a lands at translation + shell · scale_a · column a of
+  // the rotation matrix: one matrix per transform serves its three points.
   for (size_t i = 0; i < skeleton_.size(); ++i) {
+    const WorldQvv &r = reference[i], &l = lossy_[i];
+    const Eigen::Matrix3d rm = r.rotation.toRotationMatrix(), lm = l.rotation.toRotationMatrix();
+    const Eigen::Vector3d moved = r.translation - l.translation;
     double worst = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      const Eigen::Vector3d point = Eigen::Vector3d::Unit(axis) * shell_;
-      worst = std::max(worst, (reference[i].Apply(point) - lossy_[i].Apply(point)).norm());
-    }
-    per_joint[i] = worst;
+    for (int axis = 0; axis < 3; ++axis)
+      worst = std::max(
+          worst,
+          (moved + rm.col(axis) * (r.scale[axis] * shell_) - lm.col(axis) * (l.scale[axis] * shell_)).squaredNorm());
+    per_joint[i] = std::sqrt(worst);
   }
 }
 
