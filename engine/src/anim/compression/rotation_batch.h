@@ -25,6 +25,10 @@ inline void MakeUnit(Eigen::Quaterniond& q) { q.coeffs() *= 0.5 * (3.0 - q.squar
 template <class Out>
 class RotationBatchOf {
  public:
+  // Lanes left unset (Add writes them before Flush reads them): a sink
+  // holds one per call, and zeroing them was a `rep stos` every call.
+  RotationBatchOf() {}
+
   // `a`, `b`: the kept components in lanes 0–2 (lane 3 is ignored).
   void Add(v4 a, v4 b, float u, int dropped, Out* out) {
     a[3] = u;  // rides in the free lane: transposed with the samples, no scalar store to reload
