@@ -167,10 +167,21 @@ void MotionWorkspace::Resize(const MotionPlan& plan) {
   layer_lanes.resize(plan.layers.size());
   contexts.resize(plan.layers.size());
   for (size_t i = 0; i < plan.layers.size(); ++i) {
-    const size_t joints = plan.layers[i].clip->skeleton->size();
+    const CompressedClip& clip = *plan.layers[i].clip;
+    const size_t joints = clip.skeleton->size();
     layer_poses[i].resize(joints);
-    layer_lanes[i].resize(plan.layers[i].float_lanes ? 10 * joints + 1 : 0);  // padded: four floats load from the last
-    if (!contexts[i].Fits(*plan.layers[i].clip)) contexts[i].Resize(*plan.layers[i].clip);
+    const size_t lanes = plan.layers[i].float_lanes ? 10 * joints + 1 : 0;  // padded: four floats load from the last
+    bool stale = layer_lanes[i].size() != lanes;
+    layer_lanes[i].resize(lanes);
+    if (!contexts[i].Fits(clip)) contexts[i].Resize(clip), stale = true;
+    if (lanes == 0 || !stale) continue;
+    // The clip's still pose (rest and constant tracks) written once: the
+    // blend's jobs then write only the animated tracks (still_written). The
+    // clip was checked when bound.
+    const std::span<float> l(layer_lanes[i]);
+    const FloatPose pose{l.subspan(0, 4 * joints), l.subspan(4 * joints, 3 * joints),
+                         l.subspan(7 * joints, 3 * joints)};
+    (void)ClipSamplingFloatJob{&clip, 0.0, WrapMode::kClamp, &contexts[i], pose}.Run();
   }
 }
 
@@ -223,7 +234,7 @@ Status SampleLayer(const BoundLayer& l, double time, MotionWorkspace& ws, size_t
   const std::span<float> lanes(ws.layer_lanes[i]);
   const FloatPose pose{lanes.subspan(0, 4 * n), lanes.subspan(4 * n, 3 * n), lanes.subspan(7 * n, 3 * n)};
   ARMATURE_RETURN_IF_ERROR(
-      (ClipSamplingFloatJob{l.clip, time, WrapMode::kClamp, &ws.contexts[i], pose, sampled}.Run()));
+      (ClipSamplingFloatJob{l.clip, time, WrapMode::kClamp, &ws.contexts[i], pose, sampled, true}.Run()));
   if (!l.doubles) return Status::Ok();
   return ClipSamplingJob{l.clip, time, WrapMode::kClamp, &ws.contexts[i], ws.layer_poses[i], {}, &*l.doubles}.Run();
 }
@@ -240,9 +251,12 @@ Status BlendMotionJob::Run() const {
   }
   const bool extract = p.root_motion == RootMotion::kExtract;
   const RootMotion mode = extract ? RootMotion::kInPlace : p.root_motion;
-  // The rest pose first: joints without layers keep it, and float joints
-  // the properties no layer animates; then the blends.
-  std::copy(p.skeleton->rest.begin(), p.skeleton->rest.end(), output.begin());
+  // The rest pose first where the blends do not write all: joints without
+  // layers keep it, and float joints the properties no group writes.
+  // Trs is plain doubles (Eigen's fixed sizes): copied as its 96 bytes, a
+  // few vector moves, where assignment copies member by member.
+  const Trs* rest = p.skeleton->rest.data();
+  for (uint32_t j : p.rest_joints) __builtin_memcpy(static_cast<void*>(&output[j]), rest + j, sizeof(Trs));
   for (uint32_t j : p.double_joints) BlendJoint(p, *workspace, j, mode, output[j]);
   motion_internal::BlendFloatJoints(p, *workspace, output);
   if (extract && root_delta) {

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "anim/compression/rotation_batch.h"
+#include "anim/compression/simd4.h"
 #include "anim/slerp_flat4.h"
 
 namespace armature::motion_internal {
@@ -105,12 +105,23 @@ Lanes<N> Gather(const float* const p[4]) {
   return v;
 }
 
-// The other way: lane i's N floats at values[i] (x y z, or x y z w).
-template <int N>
-void Scatter(const Lanes<N>& v, float values[4][4]) {
+// The other way, written in double: lane i's rotation made unit (as a
+// sampled rotation, rotation_batch.h: the float blend leaves |q| − 1 near
+// 1e-7) or its vector, to lane i's joint, straight from the registers.
+void StoreRotations(const Lanes<4>& v, const FloatBlendGroup& g, std::span<Trs> output) {
   v4 rows[4];
-  Transpose(v.c[0], v.c[1], v.c[2], N == 4 ? v.c[N - 1] : Splat(0.f), rows);
-  for (int i = 0; i < 4; ++i) __builtin_memcpy(values[i], &rows[i], sizeof rows[i]);
+  Transpose(v.c[0], v.c[1], v.c[2], v.c[3], rows);
+  for (uint32_t i = 0; i < g.lanes; ++i)
+    compression_internal::StoreUnitDouble(rows[i], output[g.joints[i]].rotation.coeffs().data());  // x y z w
+}
+
+void StoreVectors(const Lanes<3>& v, const FloatBlendGroup& g, Eigen::Vector3d Trs::*member, std::span<Trs> output) {
+  v4 rows[4];
+  Transpose(v.c[0], v.c[1], v.c[2], Splat(0.f), rows);
+  for (uint32_t i = 0; i < g.lanes; ++i) {
+    double* to = (output[g.joints[i]].*member).data();
+    to[0] = rows[i][0], to[1] = rows[i][1], to[2] = rows[i][2];
+  }
 }
 
 // PropertyMixer's mix: slerpFlat for rotations, lerp for vectors.
@@ -203,26 +214,11 @@ void BindFloatBlend(MotionPlan& plan) {
 
 void BlendFloatJoints(const MotionPlan& plan, const MotionWorkspace& workspace, std::span<Trs> output) {
   const FloatBlendPlan& fb = plan.float_blend;
-  float values[4][4];
-  for (const FloatBlendGroup& g : fb.rotations) {
-    Scatter(BlendGroup<4>(plan, workspace, g, kRotation), values);
-    for (uint32_t i = 0; i < g.lanes; ++i) {
-      // Unit in double, as a sampled rotation (rotation_batch.h): the float blend leaves |q| − 1 near 1e-7.
-      Eigen::Quaterniond& r = output[g.joints[i]].rotation;
-      r.coeffs() = Eigen::Map<const Eigen::Vector4f>(values[i]).cast<double>();  // x y z w, as the lanes
-      compression_internal::MakeUnit(r);
-    }
-  }
-  for (const FloatBlendGroup& g : fb.translations) {
-    Scatter(BlendGroup<3>(plan, workspace, g, kTranslation), values);
-    for (uint32_t i = 0; i < g.lanes; ++i)
-      output[g.joints[i]].translation = Eigen::Map<const Eigen::Vector3f>(values[i]).cast<double>();
-  }
-  for (const FloatBlendGroup& g : fb.scales) {
-    Scatter(BlendGroup<3>(plan, workspace, g, kScale), values);
-    for (uint32_t i = 0; i < g.lanes; ++i)
-      output[g.joints[i]].scale = Eigen::Map<const Eigen::Vector3f>(values[i]).cast<double>();
-  }
+  for (const FloatBlendGroup& g : fb.rotations) StoreRotations(BlendGroup<4>(plan, workspace, g, kRotation), g, output);
+  for (const FloatBlendGroup& g : fb.translations)
+    StoreVectors(BlendGroup<3>(plan, workspace, g, kTranslation), g, &Trs::translation, output);
+  for (const FloatBlendGroup& g : fb.scales)
+    StoreVectors(BlendGroup<3>(plan, workspace, g, kScale), g, &Trs::scale, output);
 }
 
 }  // namespace armature::motion_internal

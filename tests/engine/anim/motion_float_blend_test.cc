@@ -184,6 +184,35 @@ TEST(MotionFloatBlend, RobotExpressiveWeightsRescaledToZeroMatchTheDoubleBlend) 
   }));
 }
 
+// The layers' lanes hold their clip's still pose from Resize on (the blend
+// then writes only animated tracks): a workspace moved to other clips must
+// blend as a fresh one does, bit for bit.
+TEST(MotionFloatBlend, AWorkspaceReusedForOtherClipsBlendsAsAFreshOne) {
+  const Robot r = LoadRobot();
+  SKIP_WITHOUT(r.walking && r.running && r.wave);
+  Motion first, second;
+  first.layers = {Layer(r.walking, 0.6), Layer(r.running, 0.4)};
+  second.layers = {Layer(r.running, 0.5), Layer(r.wave, 0.7, 0.2)};
+  auto a = BindMotion(first), b = BindMotion(second);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_TRUE(b->layers[0].float_lanes && b->layers[1].float_lanes);
+  MotionWorkspace reused, fresh;
+  std::vector<Trs> x(a->skeleton->size()), y(x.size());
+  reused.Resize(*a);
+  ASSERT_TRUE((BlendMotionJob{&*a, 0.37, &reused, x}.Run().ok()));
+  reused.Resize(*b);
+  fresh.Resize(*b);
+  for (double t : {0.05, 0.61, 1.3}) {
+    ASSERT_TRUE((BlendMotionJob{&*b, t, &reused, x}.Run().ok()));
+    ASSERT_TRUE((BlendMotionJob{&*b, t, &fresh, y}.Run().ok()));
+    for (size_t j = 0; j < x.size(); ++j) {
+      EXPECT_EQ(x[j].rotation.coeffs(), y[j].rotation.coeffs()) << "joint " << j << " at " << t;
+      EXPECT_EQ(x[j].translation, y[j].translation) << "joint " << j << " at " << t;
+      EXPECT_EQ(x[j].scale, y[j].scale) << "joint " << j << " at " << t;
+    }
+  }
+}
+
 TEST(MotionFloatBlend, CmuLayersMatchTheDoubleBlend) {
   std::shared_ptr<const CompressedClip> cmu;
   for (const test_util::SharedClip& c : test_util::LoadSharedClips())

@@ -389,7 +389,7 @@ Status ClipSamplingFloatJob::Run() const {
   }
   std::optional<ClipJointSubsetView> subset;
   if (joints) subset = ClipJointSubsetView{joints->joints_, joints->constants_, joints->animated_, joints->in_subset_};
-  StoreStillLanes(context->still_, subset ? &*subset : nullptr, output);
+  if (!still_written) StoreStillLanes(context->still_, subset ? &*subset : nullptr, output);
   FloatSink sink{output, {}};
   SampleLossy(*clip, WrapTime(time, clip->duration, wrap), &context->index_, subset ? &*subset : nullptr, sink);
   return Status::Ok();

@@ -152,8 +152,11 @@ struct MotionPlan {
   Eigen::Matrix3d horizontal = Eigen::Matrix3d::Identity();
   FloatBlendPlan float_blend;
   // The joints with layers acting that are not float joints: BlendMotionJob
-  // blends these in double; every other joint starts at the rest pose.
+  // blends these in double.
   std::vector<uint32_t> double_joints;
+  // The joints the blend does not write whole (no layer acts, or a float
+  // joint with properties no group writes): they start at the rest pose.
+  std::vector<uint32_t> rest_joints;
 };
 
 // kFloatLanes blends what it can in float lanes (FloatBlendPlan); kDouble
@@ -180,8 +183,9 @@ struct LayerTime {
 // Scratch space reused across evaluations (sized by Resize, never in Run):
 // per layer its time, its clip's pose (as double transforms, and as float
 // lanes for a float_lanes layer: 4, 3, 3 floats a joint and one of padding,
-// as the blend loads four floats at a time) and the sampling
-// job's context.
+// as the blend loads four floats at a time; Resize writes the clip's still
+// pose there once, the blend then only its animated tracks) and the
+// sampling job's context.
 struct MotionWorkspace {
   std::vector<LayerTime> layer_times;
   std::vector<std::vector<Trs>> layer_poses;

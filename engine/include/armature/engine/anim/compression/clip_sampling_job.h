@@ -132,6 +132,10 @@ struct ClipSamplingFloatJob {
   ClipSamplingContext* context = nullptr;
   FloatPose output;
   const ClipJointSubset* joints = nullptr;  // optional: built for this clip
+  // The output already holds the still pose (rest and constant tracks) at
+  // those joints, as a job without it wrote there before: only the animated
+  // tracks are written (a motion layer's lanes, reused from pose to pose).
+  bool still_written = false;
 
   Status Validate() const;
   Status Run() const;
