@@ -285,6 +285,26 @@ void DecompressArmature(benchmark::State& state) {
   SetCounters(state, *c, true);
 }
 
+// The same through the float-lane job: float32 out, as ACL's qvvf (the
+// double job above is what EvaluateClip and the server's pose calls use).
+template <bool kRandom>
+void DecompressArmatureFloat(benchmark::State& state) {
+  const Compared* c = Cmu();
+  if (!c) return state.SkipWithError("shared data bvh/cmu_01_01.bvh is absent");
+  const CompressedClip& z = *c->ours;
+  const size_t joints = c->clip->skeleton->size();
+  std::vector<float> rotations(4 * joints), translations(3 * joints), scales(3 * joints);
+  const FloatPose pose{rotations, translations, scales};
+  ClipSamplingContext context(z);
+  PlaybackTimes times(z.duration);
+  for (auto _ : state) {
+    const double t = times.Next(kRandom);
+    benchmark::DoNotOptimize(ClipSamplingFloatJob{&z, t, WrapMode::kClamp, &context, pose}.Run().ok());
+    benchmark::ClobberMemory();
+  }
+  SetCounters(state, *c, true);
+}
+
 template <bool kRandom>
 void DecompressAcl(benchmark::State& state) {
   const Compared* c = Cmu();
@@ -304,12 +324,16 @@ void DecompressAcl(benchmark::State& state) {
 
 void BM_VsAcl_Decompress_Armature(benchmark::State& state) { DecompressArmature<false>(state); }
 void BM_VsAcl_Decompress_Acl(benchmark::State& state) { DecompressAcl<false>(state); }
+void BM_VsAcl_Decompress_ArmatureFloat(benchmark::State& state) { DecompressArmatureFloat<false>(state); }
+void BM_VsAcl_RandomSeek_ArmatureFloat(benchmark::State& state) { DecompressArmatureFloat<true>(state); }
 void BM_VsAcl_RandomSeek_Armature(benchmark::State& state) { DecompressArmature<true>(state); }
 void BM_VsAcl_RandomSeek_Acl(benchmark::State& state) { DecompressAcl<true>(state); }
 BENCHMARK(BM_VsAcl_Decompress_Armature);
 BENCHMARK(BM_VsAcl_Decompress_Acl);
+BENCHMARK(BM_VsAcl_Decompress_ArmatureFloat);
 BENCHMARK(BM_VsAcl_RandomSeek_Armature);
 BENCHMARK(BM_VsAcl_RandomSeek_Acl);
+BENCHMARK(BM_VsAcl_RandomSeek_ArmatureFloat);
 
 void BM_VsAcl_Compress_Armature(benchmark::State& state) {
   const Compared* c = Cmu();
