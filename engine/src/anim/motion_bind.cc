@@ -163,8 +163,8 @@ void ChooseSampledJoints(MotionPlan& plan) {
       plan.double_joints.push_back(j);
 }
 
-// The joints BlendMotionJob starts at the rest pose: all but the double
-// joints and the float joints whose three properties a group writes.
+// What BlendMotionJob takes from the rest pose: the joints nothing writes,
+// and the properties of float joints that no group writes.
 void ChooseRestJoints(MotionPlan& plan) {
   std::vector<uint8_t> written(plan.skeleton->size(), 0);
   for (uint32_t j : plan.double_joints) written[j] = 7;
@@ -175,8 +175,13 @@ void ChooseRestJoints(MotionPlan& plan) {
       for (uint32_t i = 0; i < g.lanes; ++i) written[g.joints[i]] |= part;
   }
   plan.rest_joints.clear();
-  for (uint32_t j = 0; j < written.size(); ++j)
-    if (written[j] != 7) plan.rest_joints.push_back(j);
+  plan.rest_properties.clear();
+  for (uint32_t j = 0; j < written.size(); ++j) {
+    if (written[j] == 0)
+      plan.rest_joints.push_back(j);
+    else if (written[j] != 7)
+      plan.rest_properties.push_back({j, static_cast<uint8_t>(7 & ~written[j])});
+  }
 }
 
 }  // namespace

@@ -257,6 +257,12 @@ Status BlendMotionJob::Run() const {
   // few vector moves, where assignment copies member by member.
   const Trs* rest = p.skeleton->rest.data();
   for (uint32_t j : p.rest_joints) __builtin_memcpy(static_cast<void*>(&output[j]), rest + j, sizeof(Trs));
+  for (const MotionPlan::RestProperties& r : p.rest_properties) {
+    Trs& out = output[r.joint];
+    if (r.missing & 1) out.rotation = rest[r.joint].rotation;
+    if (r.missing & 2) out.translation = rest[r.joint].translation;
+    if (r.missing & 4) out.scale = rest[r.joint].scale;
+  }
   for (uint32_t j : p.double_joints) BlendJoint(p, *workspace, j, mode, output[j]);
   motion_internal::BlendFloatJoints(p, *workspace, output);
   if (extract && root_delta) {

@@ -154,9 +154,16 @@ struct MotionPlan {
   // The joints with layers acting that are not float joints: BlendMotionJob
   // blends these in double.
   std::vector<uint32_t> double_joints;
-  // The joints the blend does not write whole (no layer acts, or a float
-  // joint with properties no group writes): they start at the rest pose.
+  // The joints the blend does not write (no layer acts): they keep the rest
+  // pose. And the float joints with properties no group writes (scales,
+  // mostly): only those properties take the rest's (`missing`: 1 rotation,
+  // 2 translation, 4 scale), a third of a transform's bytes.
   std::vector<uint32_t> rest_joints;
+  struct RestProperties {
+    uint32_t joint = 0;
+    uint8_t missing = 0;
+  };
+  std::vector<RestProperties> rest_properties;
 };
 
 // kFloatLanes blends what it can in float lanes (FloatBlendPlan); kDouble
