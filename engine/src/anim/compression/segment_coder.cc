@@ -67,23 +67,50 @@ struct Quantizer {
   double lo[3] = {}, extent[3] = {}, max_q[3];
 };
 
-// The decoded samples a choice keeps (as the sampling job reads them).
-size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, float (*out)[4]) {
-  const SampleLayout layout = MakeLayout(bits, in.clip_extent, range);
-  const Dequantizer d = MakeDequantizer(in.clip_min, in.clip_extent, range, layout);
-  const Quantizer quantize(range, layout);
-  size_t count = 0;
-  for (size_t f = 0; f < StoredEnd(in); f += size_t{1} << stride_log, ++count) {
+// A choice's decoded samples (as the sampling job reads them), one at a
+// time: ChoiceError stops at the first frame above its target, and a choice
+// that fails usually fails early, so decoding all of them first was most
+// of its cost.
+class SampleDecoder {
+ public:
+  SampleDecoder(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range)
+      : in_(in),
+        stride_log_(stride_log),
+        layout_(MakeLayout(bits, in.clip_extent, range)),
+        dequantize_(MakeDequantizer(in.clip_min, in.clip_extent, range, layout_)),
+        quantize_(range, layout_),
+        stored_((StoredEnd(in) - 1) / (size_t{1} << stride_log) + 1) {}
+
+  // Samples kept: the stored ones, then the shared end.
+  size_t Count() const { return stored_ + (in_.end ? 1 : 0); }
+
+  void Decode(size_t i, float* out) const {
+    if (i == stored_) return EndSample(in_, out);
+    const size_t f = i << stride_log_;
     float kept[3];
     for (int c = 0; c < 3; ++c)
-      kept[c] = d.offset[c] + d.scale[c] * static_cast<float>(quantize(in.normalized[f * 3 + c], c));
-    if (in.kind == TrackKind::kRotation)
-      ExpandRotation(kept, in.dropped, out[count]);
+      kept[c] =
+          dequantize_.offset[c] + dequantize_.scale[c] * static_cast<float>(quantize_(in_.normalized[f * 3 + c], c));
+    if (in_.kind == TrackKind::kRotation)
+      ExpandRotation(kept, in_.dropped, out);
     else
-      std::copy(kept, kept + 3, out[count]);
+      std::copy(kept, kept + 3, out);
   }
-  if (in.end) EndSample(in, out[count++]);
-  return count;
+
+ private:
+  const SegmentTrackInput& in_;
+  int stride_log_;
+  SampleLayout layout_;
+  Dequantizer dequantize_;
+  Quantizer quantize_;
+  size_t stored_;
+};
+
+// All of them, in order.
+size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, float (*out)[4]) {
+  const SampleDecoder decoder(in, bits, stride_log, range);
+  for (size_t i = 0; i < decoder.Count(); ++i) decoder.Decode(i, out[i]);
+  return decoder.Count();
 }
 
 // The squared value error of decoded `r` (interpolated) against the stored `raw`.
@@ -108,14 +135,19 @@ double FrameError2(const SegmentTrackInput& in, const double* raw, const float* 
 // the result is scaled so that ≤ target means every frame is allowed.
 double ChoiceError(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, double target) {
   float samples[kMaxFrames][4];
-  const size_t count = DecodeSamples(in, bits, stride_log, range, samples);
+  const SampleDecoder decoder(in, bits, stride_log, range);
+  const size_t count = decoder.Count();
   const float inv_stride = kInverseStride[stride_log];
   const double limit = target / in.lever;
+  if (in.end) decoder.Decode(count - 1, samples[count - 1]);
   const double end_error =
       in.end ? std::sqrt(FrameError2(in, &in.raw[in.intervals * 4], samples[count - 1], samples[count - 1], 0.f)) : 0;
-  double worst = 0;  // the largest squared error over its allowed square
+  size_t decoded = 0;  // samples[0, decoded) are decoded (and the end, above)
+  double worst = 0;    // the largest squared error over its allowed square
   for (size_t f = 0; f <= in.intervals; ++f) {
     const size_t i = std::min(f >> stride_log, count - 2);
+    for (; decoded <= i + 1; ++decoded)
+      if (decoded != count - 1 || !in.end) decoder.Decode(decoded, samples[decoded]);
     const float u = static_cast<float>(f - (i << stride_log)) * inv_stride;
     const double e2 = FrameError2(in, &in.raw[f * 4], samples[i], samples[i + 1], u);
     double allowed = limit;
