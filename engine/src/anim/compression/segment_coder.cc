@@ -82,6 +82,7 @@ class SampleDecoder {
         stored_((StoredEnd(in) - 1) / (size_t{1} << stride_log) + 1) {}
 
   // Samples kept: the stored ones, then the shared end.
+  size_t Stored() const { return stored_; }
   size_t Count() const { return stored_ + (in_.end ? 1 : 0); }
 
   void Decode(size_t i, float* out) const {
@@ -105,13 +106,6 @@ class SampleDecoder {
   Quantizer quantize_;
   size_t stored_;
 };
-
-// All of them, in order.
-size_t DecodeSamples(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, float (*out)[4]) {
-  const SampleDecoder decoder(in, bits, stride_log, range);
-  for (size_t i = 0; i < decoder.Count(); ++i) decoder.Decode(i, out[i]);
-  return decoder.Count();
-}
 
 // The squared value error of decoded `r` (interpolated) against the stored `raw`.
 double FrameError2(const SegmentTrackInput& in, const double* raw, const float* a, const float* b, float u) {
@@ -146,8 +140,7 @@ double ChoiceError(const SegmentTrackInput& in, int bits, int stride_log, const 
   double worst = 0;    // the largest squared error over its allowed square
   for (size_t f = 0; f <= in.intervals; ++f) {
     const size_t i = std::min(f >> stride_log, count - 2);
-    for (; decoded <= i + 1; ++decoded)
-      if (decoded != count - 1 || !in.end) decoder.Decode(decoded, samples[decoded]);
+    for (; decoded <= i + 1 && decoded < decoder.Stored(); ++decoded) decoder.Decode(decoded, samples[decoded]);
     const float u = static_cast<float>(f - (i << stride_log)) * inv_stride;
     const double e2 = FrameError2(in, &in.raw[f * 4], samples[i], samples[i + 1], u);
     double allowed = limit;
@@ -220,12 +213,9 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
 
 void DecodeFirstSample(const SegmentTrackInput& in, const SegmentTrackChoice& choice, float* out) {
   const TrackCode code = kCodes[choice.code];
-  float samples[kMaxFrames][4] = {};
-  SegmentTrackInput first = in;
-  first.end = nullptr;
-  first.intervals = 0;  // frame 0 only
-  DecodeSamples(first, code.bits, code.stride_log, code.ranged ? choice.range : nullptr, samples);
-  std::copy(samples[0], samples[0] + 4, out);
+  float sample[4] = {};  // a vector's fourth stays 0
+  SampleDecoder(in, code.bits, code.stride_log, code.ranged ? choice.range : nullptr).Decode(0, sample);
+  std::copy(sample, sample + 4, out);
 }
 
 void PackSegmentTrack(const SegmentTrackInput& in, const SegmentTrackChoice& choice, uint8_t* data, size_t offset) {

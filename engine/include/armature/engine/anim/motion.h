@@ -157,7 +157,7 @@ struct MotionPlan {
   // The joints the blend does not write (no layer acts): they keep the rest
   // pose. And the float joints with properties no group writes (scales,
   // mostly): only those properties take the rest's (`missing`: 1 rotation,
-  // 2 translation, 4 scale), a third of a transform's bytes.
+  // 2 translation, 4 scale).
   std::vector<uint32_t> rest_joints;
   struct RestProperties {
     uint32_t joint = 0;
