@@ -29,6 +29,7 @@ await runViewerTest('crowd_e2e.mjs', async ({ page, server, screenshot }) => {
   await page.waitForFunction(() => window.armatureCrowd?.framesReceived >= 5 || window.armatureCrowd?.failure,
                              null, { timeout: 90000 });
   const started = await page.evaluate(() => ({ frames: window.armatureCrowd.framesReceived, at: performance.now(),
+                                               rendered: window.armatureCrowd.rendered,
                                                failure: window.armatureCrowd.failure }));
   check(!started.failure, `the crowd page started (${started.failure ?? 'no failure'})`);
   await page.waitForTimeout(3000);
@@ -46,14 +47,23 @@ await runViewerTest('crowd_e2e.mjs', async ({ page, server, screenshot }) => {
   // Frames flow and are not flooded. The pace itself is the server's, checked
   // by the C++ crowd tests; here SwiftShader shares the page's thread with the
   // socket, and on a loaded machine (CI's 2 cores, -j2) it read 12.7 a second.
-  check(rate > 5 && rate < 40, `frames arrive at ${rate.toFixed(1)} a second (the session's 30)`);
+  // Under three busy loops on 2 cores it read 3.0 a second, so the floor is only that frames
+  // keep coming: ten more, however slow the machine.
+  const flowing = await page.waitForFunction((n) => window.armatureCrowd.framesReceived >= n, s.frames + 10,
+                                             { timeout: 30000 }).then(() => true, () => false);
+  check(flowing && rate < 40, `frames arrive at ${rate.toFixed(1)} a second (the session's 30), and keep coming`);
   check(s.errors.length === 0, `no command was refused (${s.errors[0] ?? 'none'})`);
   check(s.characters === COUNT && s.count === COUNT, `the server's crowd holds ${s.characters} characters`);
   check(JSON.stringify(s.clips) === JSON.stringify(clips), `they play the robot's ${s.clips.length} clips in turn`);
   check(s.instances === COUNT && s.bones > 0.3 * s.joints && s.bones < s.joints,
         `the page draws ${s.instances} instances (${s.bones} bones of ${s.joints} joints each) in one draw call`);
   check(s.posed === COUNT, `every one of the ${COUNT} characters has been posed by the server`);
-  check(s.rendered > 3, `the page drew ${s.rendered} times (${s.drawRate.toFixed(1)} a second)`);
+  // The page keeps drawing while frames arrive: five more draws, however slow the machine
+  // (a stall once froze the view for twice its length; CI saw 3 draws in 3 s).
+  const drawing = await page.waitForFunction((n) => window.armatureCrowd.rendered >= n, started.rendered + 5,
+                                             { timeout: 30000 }).then(() => true, () => false);
+  const drawn = await page.evaluate(() => ({ rendered: window.armatureCrowd.rendered, rate: window.armatureCrowd.drawRate }));
+  check(drawing, `the page drew ${drawn.rendered - started.rendered} times more (${drawn.rate.toFixed(1)} a second)`);
 
   // The budget defers characters: most frames update fewer than all, and the page fills in the rest.
   const deferrals = [];
