@@ -144,15 +144,17 @@ bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t s
 // Measures `segment`'s frames through the sampling job into `errors`
 // (frames × joints); the joints over the bound come back, and `late` says
 // whether one is over in the segment's last quarter, near the shared end.
+// `context` was resized to the clip as packed now: the segment's header is
+// walked once, not once a frame.
 std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReference& reference, size_t segment,
-                                   ShellErrorMeter& meter, std::vector<Trs>& pose, std::vector<double>& errors,
-                                   bool& late) {
+                                   ShellErrorMeter& meter, ClipSamplingContext& context, std::vector<Trs>& pose,
+                                   std::vector<double>& errors, bool& late) {
   late = false;
   const size_t n = reference.joints, start = segment * kSegmentFrames;
   const size_t end = segment + 1 == SegmentCount(clip.frames.count) ? clip.frames.count : start + kSegmentFrames;
   std::vector<size_t> over;
   for (size_t f = start; f < end; ++f) {
-    ClipSamplingJob job{&clip, clip.frames.Time(f), WrapMode::kClamp, nullptr, pose, {}};
+    ClipSamplingJob job{&clip, clip.frames.Time(f), WrapMode::kClamp, &context, pose, {}};
     (void)job.Run();
     std::span<double> per_joint(errors.data() + f * n, n);
     meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data() + f * n, n), pose, per_joint);
@@ -182,6 +184,7 @@ struct Refiner {
   std::vector<TrackState>& states;
   const size_t segments = SegmentCount(out.frames.count);
   ShellErrorMeter meter{skeleton, out.bound.shell_distance};
+  ClipSamplingContext context;
   std::vector<Trs> pose = std::vector<Trs>(reference.joints);
   std::vector<double> errors = std::vector<double>(out.frames.count * reference.joints, 0.0);
   std::vector<std::vector<uint8_t>> packed;  // per segment, for Pack
@@ -218,10 +221,11 @@ struct Refiner {
     std::vector<int> overs(segments, 0);  // rounds each segment was over
     for (int round = 0; round <= kRefinements; ++round) {
       Pack(states, packed, out);
+      context.Resize(out);  // the packed bytes changed: no index of the old ones is kept
       std::vector<size_t> next;
       for (size_t s : dirty) {
         bool late = false;
-        const std::vector<size_t> over = MeasureSegment(out, reference, s, meter, pose, errors, late);
+        const std::vector<size_t> over = MeasureSegment(out, reference, s, meter, context, pose, errors, late);
         if (over.empty()) continue;
         if (round == kRefinements) {
           why = "the bound is not met after " + std::to_string(kRefinements) + " refinements";
