@@ -41,7 +41,7 @@ template <class V, class ValueAt, class InAt, class OutAt>
 V SampleKeys(std::span<const double> times, const ValueAt& value, bool has_tangents, const InAt& in, const OutAt& out,
              double t, Interpolation mode) {
   const KeySpan s = Locate(times, t);
-  if (s.k0 == s.k1 || mode == Interpolation::kStep) return value(s.k0);
+  if (s.u == 0 || mode == Interpolation::kStep) return value(s.k0);  // on a key (k0 == k1 has u 0)
   if (mode == Interpolation::kLinear) return V(value(s.k0) + s.u * (value(s.k1) - value(s.k0)));
   if (has_tangents) return Hermite<V>(value(s.k0), out(s.k0) * s.h, value(s.k1), in(s.k1) * s.h, s.u);
   return Hermite<V>(value(s.k0), KeyTangent<V>(times, value, s.k0) * s.h, value(s.k1),
@@ -62,7 +62,9 @@ Eigen::Quaterniond SampleRotation(const QuatTrack& track, double t, Interpolatio
   const auto& times = track.times;
   const auto& q = track.values;
   const KeySpan s = Locate(times, t);
-  if (s.k0 == s.k1 || mode == Interpolation::kStep) return q[s.k0].normalized();
+  // On a key (k0 == k1 has u 0), every mode gives the key: no slerp. A clip
+  // sampled at its own frames, as compression's reference does, is all keys.
+  if (s.u == 0 || mode == Interpolation::kStep) return q[s.k0].normalized();
   if (mode == Interpolation::kLinear) return Slerp(q[s.k0], q[s.k1], s.u).normalized();
   if (!track.in_tangents.empty() && !track.out_tangents.empty()) {
     // glTF CUBICSPLINE: Hermite on the components, then normalize (glTF 2.0 spec, Appendix C).

@@ -172,6 +172,23 @@ TEST(SampleClip, SquadPassesThroughKeysWithFlippedSigns) {
   for (double t = 0; t <= 2.5; t += 0.05) EXPECT_NEAR(Sample(c, t).rotation.norm(), 1.0, 1e-12);
 }
 
+// A time on a key gives that key, normalized, bit for bit in every mode (no
+// slerp is evaluated there: compression samples a clip at its own frames).
+TEST(SampleClip, ATimeOnAKeyGivesTheKeyExactly) {
+  Clip c = OneJointClip(2.5);
+  QuatTrack& q = c.joints[0].rotation;
+  q.times = {0, 0.4, 1.5, 2.5};
+  q.values = {ExpQuaternion({0.1, 0.2, 0.3}), ExpQuaternion({0.8, -0.4, 0.1}), ExpQuaternion({-0.2, 1.1, 0.5}),
+              ExpQuaternion({0.3, 0.3, -0.9})};
+  q.values[1].coeffs() *= 1.5;  // not unit: the sample is the key normalized
+  for (Interpolation mode : {Interpolation::kStep, Interpolation::kLinear, Interpolation::kCubic}) {
+    q.interpolation = mode;
+    for (size_t k = 0; k < q.times.size(); ++k)
+      EXPECT_EQ(Sample(c, q.times[k]).rotation.coeffs(), q.values[k].normalized().coeffs())
+          << "mode " << static_cast<int>(mode) << ", key " << k;
+  }
+}
+
 // Body-frame angular velocity by one-sided finite differences.
 Eigen::Vector3d VelocityAfter(const Clip& c, double t, double h) {
   return LogQuaternion(Sample(c, t).rotation.conjugate() * Sample(c, t + h).rotation) / h;
