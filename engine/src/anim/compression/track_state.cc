@@ -101,6 +101,7 @@ TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double fi
   }
   s.target.assign(segments, first_target);
   s.choice.assign(segments, {});
+  s.chosen_at.assign(segments, 0.0);
   s.end.assign(segments, {0, 0, 0, 1});
   return s;
 }

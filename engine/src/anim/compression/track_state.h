@@ -20,6 +20,7 @@ struct TrackState {
   std::vector<double> normalized;  // per segment: (kSegmentFrames + 1) × 3
   std::vector<double> target;      // per segment
   std::vector<SegmentTrackChoice> choice;
+  std::vector<double> chosen_at;  // per segment: the target its choice was made for (0: none yet)
   // per segment but the last: the next segment's first sample as decoded
   // (its last frame, shared: packed_track.h), set before it is chosen.
   std::vector<std::array<float, 4>> end;
