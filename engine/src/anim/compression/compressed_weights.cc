@@ -9,9 +9,9 @@
 namespace armature {
 namespace {
 
+using compression_internal::BitWriter;
 using compression_internal::kReadPadding;
 using compression_internal::ReadBits;
-using compression_internal::WriteBits;
 
 constexpr int kMaxWeightBits = 24;
 constexpr int kWeightStrideLogs = 7;  // strides 1 to 64 frames
@@ -117,8 +117,8 @@ std::optional<CompressedWeights> CompressWeights(const WeightsTrack& track, cons
   out.data.assign((bits_total + 7) / 8 + kReadPadding, 0);
   for (size_t k = 0; k < track.targets; ++k) {
     const CompressedWeights::Target& t = out.targets[k];
-    for (size_t i = 0; t.bits > 0 && i < chosen[k].size(); ++i)
-      WriteBits(out.data.data(), t.bit_offset + i * t.bits, t.bits, chosen[k][i]);
+    BitWriter writer(out.data.data(), t.bit_offset);
+    for (size_t i = 0; t.bits > 0 && i < chosen[k].size(); ++i) writer.Put(t.bits, chosen[k][i]);
   }
   return out;
 }

@@ -127,13 +127,24 @@ inline uint32_t ReadBits(const uint8_t* data, size_t offset, int bits) {
   return static_cast<uint32_t>((word >> (offset & 7)) & ((uint64_t{1} << bits) - 1));
 }
 
-// ORs `value` in at bit `offset`, touching only the bytes it covers.
-inline void WriteBits(uint8_t* data, size_t offset, int bits, uint32_t value) {
-  const uint64_t shifted = static_cast<uint64_t>(value) << (offset & 7);
-  const size_t bytes = ((offset & 7) + static_cast<size_t>(bits) + 7) / 8;
-  uint8_t* at = data + (offset >> 3);
-  for (size_t i = 0; i < bytes; ++i) at[i] |= static_cast<uint8_t>(shifted >> (8 * i));
-}
+// Values written one after another from bit `offset` (little-endian, LSB
+// first, ORed in: the data starts zeroed), whole bytes as they fill.
+class BitWriter {
+ public:
+  BitWriter(uint8_t* data, size_t offset) : at_(data + (offset >> 3)), used_(static_cast<int>(offset & 7)) {}
+  void Put(int bits, uint32_t value) {
+    pending_ |= static_cast<uint64_t>(value) << used_;
+    for (used_ += bits; used_ >= 8; used_ -= 8, pending_ >>= 8) *at_++ |= static_cast<uint8_t>(pending_);
+  }
+  ~BitWriter() {
+    if (used_ > 0) *at_ |= static_cast<uint8_t>(pending_);
+  }
+
+ private:
+  uint8_t* at_;
+  int used_;
+  uint64_t pending_ = 0;
+};
 
 // value = offset + scale · q per component: the clip range [min, min + extent]
 // and, when ranged, the segment range inside it (bytes lo, extent of 255).

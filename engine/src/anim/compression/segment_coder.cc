@@ -223,9 +223,9 @@ void PackSegmentTrack(const SegmentTrackInput& in, const SegmentTrackChoice& cho
   const uint8_t* range = code.ranged ? choice.range : nullptr;
   const SampleLayout layout = MakeLayout(code.bits, in.clip_extent, range);
   const Quantizer quantize(range, layout);
+  BitWriter writer(data, offset);
   for (size_t f = 0; f < StoredEnd(in); f += size_t{1} << code.stride_log)
-    for (int c = 0; c < 3; offset += layout.bits[c], ++c)
-      WriteBits(data, offset, layout.bits[c], quantize(in.normalized[f * 3 + c], c));
+    for (int c = 0; c < 3; ++c) writer.Put(layout.bits[c], quantize(in.normalized[f * 3 + c], c));
 }
 
 }  // namespace armature::compression_internal
