@@ -86,8 +86,7 @@ double RotationChord(const double* raw, const double* q) {
   return 4 * half * std::sqrt(std::max(0.0, 1 - half * half));
 }
 
-double ConstantError(const TrackValues& track, const float* value) {
-  double worst = 0;
+bool ConstantFits(const TrackValues& track, const float* value, double limit) {
   const size_t frames = track.raw.size() / 4;
   for (size_t f = 0; f < frames; ++f) {
     const double* raw = &track.raw[f * 4];
@@ -99,9 +98,9 @@ double ConstantError(const TrackValues& track, const float* value) {
       for (int c = 0; c < 3; ++c) e += (raw[c] - value[c]) * (raw[c] - value[c]);
       e = std::sqrt(e);
     }
-    worst = std::max(worst, e * track.lever);
+    if (e * track.lever > limit) return false;
   }
-  return worst;
+  return true;
 }
 
 }  // namespace armature::compression_internal

@@ -56,7 +56,8 @@ inline double RotationChordSquared(const double* raw, const float* q) {
   return 4 * d2 * (1 - d2 / 4);  // (2·sin(angle/2))² = 16·sin²(angle/4)·cos²(angle/4)
 }
 
-// The largest displacement when `value` replaces every frame of `track`.
-double ConstantError(const TrackValues& track, const float* value);
+// Whether `value` can replace every frame of `track` with no displacement
+// above `limit`: false at the first frame above it.
+bool ConstantFits(const TrackValues& track, const float* value, double limit);
 
 }  // namespace armature::compression_internal

@@ -112,8 +112,8 @@ void ClassifyTracks(const Clip& clip, const ClipReference& reference, double bou
         rest_value.value[c] = static_cast<float>(r[c]);
         first.value[c] = static_cast<float>(values.raw[c]);
       }
-      if (ConstantError(values, rest_value.value) <= kConstantShare * bound) continue;
-      if (ConstantError(values, first.value) <= kConstantShare * bound) {
+      if (ConstantFits(values, rest_value.value, kConstantShare * bound)) continue;
+      if (ConstantFits(values, first.value, kConstantShare * bound)) {
         out.constants.push_back(first);
         continue;
       }
