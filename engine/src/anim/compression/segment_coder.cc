@@ -81,12 +81,11 @@ class SampleDecoder {
         quantize_(range, layout_),
         stored_((StoredEnd(in) - 1) / (size_t{1} << stride_log) + 1) {}
 
-  // Samples kept: the stored ones, then the shared end.
+  // Samples kept: the stored ones, then the shared end (SharedEnd's).
   size_t Stored() const { return stored_; }
   size_t Count() const { return stored_ + (in_.end ? 1 : 0); }
 
   void Decode(size_t i, float* out) const {
-    if (i == stored_) return EndSample(in_, out);
     const size_t f = i << stride_log_;
     float kept[3];
     for (int c = 0; c < 3; ++c)
@@ -122,20 +121,36 @@ double FrameError2(const SegmentTrackInput& in, const double* raw, const float* 
   return e2;
 }
 
+// The shared end as every choice in the segment decodes it, and its own
+// error at the segment's last frame: the same for every choice, so worked
+// out once per track and segment, not per ChoiceError.
+struct SharedEnd {
+  float sample[4] = {};
+  double error = 0;
+};
+
+SharedEnd MakeSharedEnd(const SegmentTrackInput& in) {
+  SharedEnd end;
+  if (!in.end) return end;
+  EndSample(in, end.sample);
+  end.error = std::sqrt(FrameError2(in, &in.raw[in.intervals * 4], end.sample, end.sample, 0.f));
+  return end;
+}
+
 // The largest displacement over the segment's frames, or early once above
 // `target`. Compared squared, per unit of lever. A shared end (the next
 // segment's first sample) has its own error, which no choice here changes:
 // the last interval is allowed the blend of the target and that error, and
 // the result is scaled so that ≤ target means every frame is allowed.
-double ChoiceError(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range, double target) {
+double ChoiceError(const SegmentTrackInput& in, const SharedEnd& end, int bits, int stride_log, const uint8_t* range,
+                   double target) {
   float samples[kMaxFrames][4];
   const SampleDecoder decoder(in, bits, stride_log, range);
   const size_t count = decoder.Count();
   const float inv_stride = kInverseStride[stride_log];
   const double limit = target / in.lever;
-  if (in.end) decoder.Decode(count - 1, samples[count - 1]);
-  const double end_error =
-      in.end ? std::sqrt(FrameError2(in, &in.raw[in.intervals * 4], samples[count - 1], samples[count - 1], 0.f)) : 0;
+  if (in.end) std::copy(end.sample, end.sample + 4, samples[count - 1]);
+  const double end_error = end.error;
   size_t decoded = 0;  // samples[0, decoded) are decoded (and the end, above)
   double worst = 0;    // the largest squared error over its allowed square
   for (size_t f = 0; f <= in.intervals; ++f) {
@@ -154,8 +169,9 @@ double ChoiceError(const SegmentTrackInput& in, int bits, int stride_log, const 
 // The fewest bits in [lo, kMaxBits] meeting `target` (errors shrink with
 // bits), or 0. A hint (the neighbouring segment's bits) starts a walk that
 // usually ends in two or three tries; without one, a binary search.
-int FewestBits(const SegmentTrackInput& in, int stride_log, const uint8_t* range, double target, int lo) {
-  auto meets = [&](int bits) { return ChoiceError(in, bits, stride_log, range, target) <= target; };
+int FewestBits(const SegmentTrackInput& in, const SharedEnd& end, int stride_log, const uint8_t* range, double target,
+               int lo) {
+  auto meets = [&](int bits) { return ChoiceError(in, end, bits, stride_log, range, target) <= target; };
   int hi = kMaxBits;
   if (in.hint_stride_log == stride_log && in.hint_bits >= lo && in.hint_bits <= kMaxBits) {
     int bits = in.hint_bits;
@@ -183,6 +199,7 @@ int FewestBits(const SegmentTrackInput& in, int stride_log, const uint8_t* range
 
 std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in, double target) {
   std::optional<SegmentTrackChoice> best;
+  const SharedEnd end = MakeSharedEnd(in);
   for (int s = kStrideLogs - 1; s >= 0; --s) {
     const size_t stride = size_t{1} << s;
     if (in.intervals % stride != 0) continue;
@@ -190,7 +207,7 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
     if (best && (kMinBits + 2) * samples >= best->bits) continue;  // cannot be cheaper
     SegmentTrackChoice ranged;
     SegmentRange(in, s, ranged.range);
-    const int ranged_bits = FewestBits(in, s, ranged.range, target, kMinBits);
+    const int ranged_bits = FewestBits(in, end, s, ranged.range, target, kMinBits);
     if (ranged_bits == 0) continue;
     ranged.code = EncodeTrackCode(ranged_bits, s, true);
     ranged.bits = TrackBits(MakeLayout(ranged_bits, in.clip_extent, ranged.range), s, in.intervals, in.end != nullptr) +
@@ -202,7 +219,7 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
       plain.code = EncodeTrackCode(bits, s, false);
       plain.bits = TrackBits(MakeLayout(bits, in.clip_extent, nullptr), s, in.intervals, in.end != nullptr);
       if (plain.bits >= best->bits) break;
-      if (ChoiceError(in, bits, s, nullptr, target) <= target) {
+      if (ChoiceError(in, end, bits, s, nullptr, target) <= target) {
         best = plain;
         break;
       }
