@@ -150,8 +150,7 @@ double ChoiceError(const SegmentTrackInput& in, const SharedEnd& end, int bits, 
   const float inv_stride = kInverseStride[stride_log];
   const double limit = target / in.lever;
   if (in.end) std::copy(end.sample, end.sample + 4, samples[count - 1]);
-  const double end_error = end.error;
-  size_t decoded = 0;  // samples[0, decoded) are decoded (and the end, above)
+  size_t decoded = 0;  // samples[0, decoded) are decoded (and the end, copied above)
   double worst = 0;    // the largest squared error over its allowed square
   for (size_t f = 0; f <= in.intervals; ++f) {
     const size_t i = std::min(f >> stride_log, count - 2);
@@ -159,7 +158,7 @@ double ChoiceError(const SegmentTrackInput& in, const SharedEnd& end, int bits, 
     const float u = static_cast<float>(f - (i << stride_log)) * inv_stride;
     const double e2 = FrameError2(in, &in.raw[f * 4], samples[i], samples[i + 1], u);
     double allowed = limit;
-    if (in.end && i + 2 == count) allowed = std::max(limit, (1 - u) * limit + u * end_error);
+    if (in.end && i + 2 == count) allowed = std::max(limit, (1 - u) * limit + u * end.error);
     worst = std::max(worst, e2 / (allowed * allowed));
     if (worst > 1) break;
   }
