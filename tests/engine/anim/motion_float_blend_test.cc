@@ -28,7 +28,13 @@
 namespace armature {
 namespace {
 
-constexpr double kRotationBound = 1e-6;  // rad
+// rad: float rounding (about 3e-7 here) plus the jump at three.js's 0.9995
+// cosine, where slerpFlat switches from its sine weights to a normalized
+// lerp. A dot within float rounding of it can take one side in float and
+// the other in double; the two differ there by up to 1.0145e-6 rad (nlerp
+// against slerp at half-angle acos 0.9995, worst at t ≈ 0.21). CMU 01_01
+// has such a pose (1.0115e-6 at t 14.78 s, joint Spine).
+constexpr double kRotationBound = 1.5e-6;
 constexpr double kPositionBound = 1e-6;  // of the skeleton's height
 
 double AngleBetween(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {

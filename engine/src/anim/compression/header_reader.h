@@ -43,13 +43,12 @@ class HeaderReader {
     v4 low, range_extent;
     RangeOf(range, low, range_extent);
     const int bits = Layout(code.bits, extent * range_extent, cursor);
-    if (full) {  // FillDequantizer: unranged, low 0 and extent 1 (255 · (1/255) need not be 1)
-      const v4 high = code.ranged ? range_extent * Splat(1.f / 255) : Splat(1.f);
+    if (full) {  // FillDequantizer: unranged, low 0 and extent 1 (kUnranged's step 0)
       const v4 inverse_max{kInverseMax[bits & 0xff], kInverseMax[(bits >> 8) & 0xff], kInverseMax[(bits >> 16) & 0xff],
                            0.f};
       const v4 min{track.min[0], track.min[1], track.min[2], 0.f};
-      Store4(cursor.offset, min + extent * (low * Splat(1.f / 255)));
-      Store4(cursor.scale, extent * high * inverse_max);
+      Store4(cursor.offset, min + extent * (low * Splat(kInverseRangeLowMax)));
+      Store4(cursor.scale, extent * range_extent * inverse_max);
     }
     cursor.bit = static_cast<uint32_t>(bit_);
     cursor.stride_log = code.stride_log;
@@ -58,29 +57,31 @@ class HeaderReader {
   }
 
  private:
-  // The whole clip range, as a segment range (8 bytes: read as one word).
-  static constexpr uint8_t kUnranged[8] = {0, 0, 0, 255, 255, 255, 0, 0};
+  // The whole clip range, as a segment range: low 0, extent step 0 (8
+  // bytes: read as one word).
+  static constexpr uint8_t kUnranged[8] = {};
 
-  // A segment range's low bytes and extent bytes as floats (lane 3: 0). The
-  // range sits before the segment's end or the clip's padding, so its 8-byte
-  // read stays in the data.
+  // A segment range's low ends (integers, as floats) and extents
+  // (RangeExtent), lane 3: 0. The range sits before the segment's end or
+  // the clip's padding, so its 8-byte read stays in the data.
   static void RangeOf(const uint8_t* range, v4& low, v4& extent) {
-#if defined(__SSE2__)
     uint64_t word;
     std::memcpy(&word, range, sizeof word);
-    const __m128i zero = _mm_setzero_si128();
-    const __m128i low_bytes = _mm_cvtsi32_si128(static_cast<int>(word & 0xffffff));
-    const __m128i high_bytes = _mm_cvtsi32_si128(static_cast<int>((word >> 24) & 0xffffff));
-    low = _mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(low_bytes, zero), zero));
-    extent = _mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(high_bytes, zero), zero));
+    const auto step = [word](int c) { return static_cast<uint32_t>(word >> (16 * c + kRangeLowBits)) & 0x7fu; };
+    static_assert(16 - kRangeLowBits == 7);
+    extent = v4{kRangeExtents[step(0)], kRangeExtents[step(1)], kRangeExtents[step(2)], 0.f};
+#if defined(__SSE2__)
+    const __m128i fields = _mm_unpacklo_epi16(_mm_cvtsi64_si128(static_cast<long long>(word)), _mm_setzero_si128());
+    const __m128i mask = _mm_set_epi32(0, kRangeLowMax, kRangeLowMax, kRangeLowMax);
+    low = _mm_cvtepi32_ps(_mm_and_si128(fields, mask));
 #else
-    low = v4{static_cast<float>(range[0]), static_cast<float>(range[1]), static_cast<float>(range[2]), 0.f};
-    extent = v4{static_cast<float>(range[3]), static_cast<float>(range[4]), static_cast<float>(range[5]), 0.f};
+    const auto field = [word](int c) { return static_cast<uint32_t>(word >> (16 * c)) & kRangeLowMax; };
+    low = v4{static_cast<float>(field(0)), static_cast<float>(field(1)), static_cast<float>(field(2)), 0.f};
 #endif
   }
 
   // FillLayout: the widest component (by float exponent of `scaled`, the
-  // clip extent times the range extent byte) gets `bits`, a narrower one a
+  // clip extent times the range extent) gets `bits`, a narrower one a
   // bit less per halving, at least 1. Writes the cursor's bits and total;
   // returns the three bits as bytes 0–2 of an int.
   static int Layout(int bits, v4 scaled, TrackCursor& cursor) {

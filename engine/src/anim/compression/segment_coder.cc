@@ -26,8 +26,21 @@ void EndSample(const SegmentTrackInput& in, float* out) {
   ExpandRotation(kept, in.dropped, out);
 }
 
-// The segment range over the samples a stride keeps: low byte rounded
-// down, high rounded up, so every sample lies inside.
+// The largest extent step (kRangeExtents[k] = 2^(−k/12), falling with k)
+// whose extent is at least `needed`: from the logarithm, then checked
+// against the table's floats.
+uint32_t NarrowestStepReaching(double needed) {
+  constexpr int kLast = kRangeExtentSteps - 1;
+  if (needed <= kRangeExtents[kLast]) return kLast;
+  int k = std::clamp(static_cast<int>(-kRangeStepsPerOctave * std::log2(needed)), 0, kLast);
+  while (k < kLast && kRangeExtents[k + 1] >= needed) ++k;
+  while (k > 0 && kRangeExtents[k] < needed) --k;
+  return static_cast<uint32_t>(k);
+}
+
+// The segment range over the samples a stride keeps: low end rounded
+// down, extent the narrowest step that still reaches the highest sample,
+// so every sample lies inside.
 void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
   for (int c = 0; c < 3; ++c) {
     double lo = 1, hi = 0;
@@ -35,16 +48,9 @@ void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
       lo = std::min(lo, in.normalized[f * 3 + c]);
       hi = std::max(hi, in.normalized[f * 3 + c]);
     }
-    int lo_q = std::clamp(static_cast<int>(std::floor(lo * 255)), 0, 255);
-    int hi_q = std::clamp(static_cast<int>(std::ceil(hi * 255)), 0, 255);
-    if (hi_q == lo_q) {  // a range of one value has no extent to divide by
-      if (hi_q < 255)
-        ++hi_q;
-      else
-        --lo_q;
-    }
-    range[c] = static_cast<uint8_t>(lo_q);
-    range[3 + c] = static_cast<uint8_t>(hi_q - lo_q);
+    const uint32_t lo_q = static_cast<uint32_t>(std::clamp(std::floor(lo * kRangeLowMax), 0.0, double{kRangeLowMax}));
+    const double needed = hi - lo_q / double{kRangeLowMax};
+    SetRange(range, c, lo_q, NarrowestStepReaching(needed));
   }
 }
 
@@ -54,7 +60,7 @@ void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
 struct Quantizer {
   Quantizer(const uint8_t* range, const SampleLayout& layout) : ranged(range != nullptr) {
     for (int c = 0; c < 3; ++c) {
-      if (ranged) lo[c] = range[c] / 255.0, extent[c] = range[3 + c] / 255.0;
+      if (ranged) lo[c] = RangeLow(range, c) / double{kRangeLowMax}, extent[c] = RangeExtent(range, c);
       max_q[c] = static_cast<double>((1u << layout.bits[c]) - 1);
     }
   }
