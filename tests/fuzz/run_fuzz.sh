@@ -48,6 +48,12 @@ runs=
 # without frame pointers (README.md, "Limits"). The replay above keeps them;
 # an ASAN_OPTIONS of the caller's own still wins.
 fuzz_asan="quarantine_size_mb=64:malloc_context_size=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+# assimp 5.2's FBX parser leaks its parse tree (a few hundred bytes) when it
+# throws part-way through a malformed file (seen with an ASCII header before
+# binary records, 2026-11-29); the leak is inside libassimp, where no
+# suppression can match without allocation stacks, so the FBX target's long
+# run does not count leaks. Its replay still does.
+if [ "$target" = engine_fbx_fuzz ]; then fuzz_asan="detect_leaks=0:$fuzz_asan"; fi
 # shellcheck disable=SC2086
 ASAN_OPTIONS=$fuzz_asan "$bin" $limits $dict $runs -max_len="${FUZZ_MAX_LEN:-4096}" -max_total_time="$seconds" -print_final_stats=1 \
   "$dir/corpus" $inputs

@@ -1,5 +1,5 @@
-// A cycle in an FBX file's object-to-object connections ("C: "OO", child,
-// parent") sends assimp's node conversion into endless recursion, which
+// A cycle in an FBX file's object connections ("C: "OO", child, parent",
+// or any type but "PP") sends assimp's node conversion into endless recursion, which
 // overflows the stack and ends the process (found by fuzz.engine_fbx_fuzz).
 // Real files connect objects as a tree or a DAG, so the bytes are scanned for
 // those connections, ASCII or binary, and a cycle is refused before assimp
@@ -21,15 +21,35 @@ using Edges = std::vector<std::pair<int64_t, int64_t>>;  // child → parent
 
 constexpr std::string_view kBinaryMagic("Kaydara FBX Binary  \0", 21);
 
-// `C: "OO",child,parent` lines anywhere in an ASCII file.
+// A connection's type: assimp skips "PP" and links every other type as
+// objects ("OP" adds a property name, which node conversion skips), so a
+// mistyped "OxglO" links them too (found by fuzz.engine_fbx_fuzz).
+bool LinksObjects(std::string_view type) { return type != "PP"; }
+
+bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+
+// `C: "type",child,parent` records anywhere in an ASCII file (a record's
+// tokens may run over lines).
 Edges AsciiConnections(std::string_view text) {
   Edges edges;
-  for (size_t at = text.find("\"OO\""); at != std::string_view::npos; at = text.find("\"OO\"", at + 4)) {
-    size_t i = at + 4;
+  // Each record is read past once (a quoted type ending far away holds
+  // any "C:" before its end), so the scan stays linear in the bytes.
+  for (size_t at = text.find("C:"); at != std::string_view::npos; at = text.find("C:", at)) {
+    size_t i = at + 2;
+    const bool starts_token = at == 0 || IsSpace(text[at - 1]) || text[at - 1] == '{' || text[at - 1] == '}';
+    at = i;
+    if (!starts_token) continue;
+    while (i < text.size() && IsSpace(text[i])) ++i;
+    if (i >= text.size() || text[i] != '"') continue;
+    const size_t type_end = text.find('"', i + 1);
+    if (type_end == std::string_view::npos) break;
+    at = type_end + 1;
+    if (!LinksObjects(text.substr(i + 1, type_end - i - 1))) continue;
+    i = type_end + 1;
     int64_t ids[2] = {0, 0};
     bool ok = true;
     for (int64_t& id : ids) {
-      while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == ',')) ++i;
+      while (i < text.size() && (IsSpace(text[i]) || text[i] == ',')) ++i;
       const bool negative = i < text.size() && text[i] == '-';
       if (negative) ++i;
       const size_t first = i;
@@ -38,6 +58,7 @@ Edges AsciiConnections(std::string_view text) {
       if (i == first) ok = false;
       id = negative ? -static_cast<int64_t>(v) : static_cast<int64_t>(v);
     }
+    at = i;
     if (ok) edges.emplace_back(ids[0], ids[1]);
   }
   return edges;
@@ -50,14 +71,14 @@ bool ReadLe(std::string_view bytes, size_t at, T& out) {
   return true;
 }
 
-// A binary "C" record's properties: 'S' "OO", then two 'L' ids.
+// A binary "C" record's properties: 'S' and its type, then two 'L' ids.
 void BinaryConnection(std::string_view props, Edges& edges) {
   uint32_t length = 0;
-  if (props.empty() || props[0] != 'S' || !ReadLe(props, 1, length) || length != 2 || props.size() < 7 ||
-      props.substr(5, 2) != "OO")
+  if (props.empty() || props[0] != 'S' || !ReadLe(props, 1, length) || props.size() - 5 < length ||
+      !LinksObjects(props.substr(5, length)))
     return;
   int64_t ids[2];
-  size_t at = 7;
+  size_t at = 5 + size_t{length};
   for (int64_t& id : ids) {
     if (at >= props.size() || props[at] != 'L' || !ReadLe(props, at + 1, id)) return;
     at += 9;

@@ -163,6 +163,22 @@ TEST(FbxImport, ConnectionCyclesAreRefusedBeforeAssimpFollowsThem) {
   EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
   EXPECT_NE(refused.status().message().find("cycle"), std::string::npos) << refused.status().message();
 
+  // assimp links objects by any connection type but "PP", so a mistyped one
+  // closes the cycle too (fuzz.engine_fbx_fuzz), also with its tokens on
+  // two lines; a "PP" one is not followed, so it is not a cycle.
+  for (const std::string closing : {"\n\tC: \"OxglO\",2000,3000", "\n\tC: \"OP\",\n\t\t2000, 3000, \"p\""}) {
+    std::string mistyped(bytes->begin(), bytes->end());
+    mistyped.insert(at + edge.size(), closing);
+    auto r = ParseAsset(AssetFormat::kFbx, mistyped, "p");
+    ASSERT_FALSE(r.ok()) << closing;
+    EXPECT_NE(r.status().message().find("cycle"), std::string::npos) << r.status().message();
+  }
+  std::string property_link(bytes->begin(), bytes->end());
+  property_link.insert(at + edge.size(), "\n\tC: \"PP\",2000,\"a\",3000,\"b\"");
+  auto kept = ParseAsset(AssetFormat::kFbx, property_link, "p");
+  EXPECT_EQ(kept.ok() ? std::string::npos : kept.status().message().find("cycle"), std::string::npos)
+      << kept.status().message();
+
   // The same in a binary file (version 7400: 32-bit record headers): a
   // Connections record holding C records 5 → 6, 6 → 7, 7 → 5.
   auto record = [](const std::string& name, const std::string& props, const std::string& children, size_t at) {
