@@ -65,18 +65,16 @@ class HeaderReader {
   // (RangeExtent), lane 3: 0. The range sits before the segment's end or
   // the clip's padding, so its 8-byte read stays in the data.
   static void RangeOf(const uint8_t* range, v4& low, v4& extent) {
+    extent = v4{RangeExtent(range, 0), RangeExtent(range, 1), RangeExtent(range, 2), 0.f};
+#if defined(__SSE2__)
     uint64_t word;
     std::memcpy(&word, range, sizeof word);
-    const auto step = [word](int c) { return static_cast<uint32_t>(word >> (16 * c + kRangeLowBits)) & 0x7fu; };
-    static_assert(16 - kRangeLowBits == 7);
-    extent = v4{kRangeExtents[step(0)], kRangeExtents[step(1)], kRangeExtents[step(2)], 0.f};
-#if defined(__SSE2__)
     const __m128i fields = _mm_unpacklo_epi16(_mm_cvtsi64_si128(static_cast<long long>(word)), _mm_setzero_si128());
     const __m128i mask = _mm_set_epi32(0, kRangeLowMax, kRangeLowMax, kRangeLowMax);
-    low = _mm_cvtepi32_ps(_mm_and_si128(fields, mask));
+    low = _mm_cvtepi32_ps(_mm_and_si128(fields, mask));  // RangeLow of the three, in one vector
 #else
-    const auto field = [word](int c) { return static_cast<uint32_t>(word >> (16 * c)) & kRangeLowMax; };
-    low = v4{static_cast<float>(field(0)), static_cast<float>(field(1)), static_cast<float>(field(2)), 0.f};
+    low = v4{static_cast<float>(RangeLow(range, 0)), static_cast<float>(RangeLow(range, 1)),
+             static_cast<float>(RangeLow(range, 2)), 0.f};
 #endif
   }
 
