@@ -32,7 +32,7 @@ struct SegmentPosition {
   bool shares_end = false;  // its last frame is the next segment's first (packed_track.h)
 };
 
-SegmentPosition Locate(const CompressedClip& clip, double t) {
+ARMATURE_DECODE_INLINE SegmentPosition Locate(const CompressedClip& clip, double t) {
   const size_t last = clip.frames.count - 1;
   double p = clip.frames.frame_time > 0 ? t / clip.frames.frame_time : 0;
   p = std::clamp(p, 0.0, static_cast<double>(last));
@@ -76,11 +76,13 @@ struct TrsSink {
   std::span<Trs> out;
   compression_internal::RotationBatch rotations;
 
-  void Rotation(v4 a, v4 b, float u, int dropped, uint32_t joint) { rotations.Add(a, b, u, dropped, &out[joint]); }
+  ARMATURE_DECODE_INLINE void Rotation(v4 a, v4 b, float u, int dropped, uint32_t joint) {
+    rotations.Add(a, b, u, dropped, &out[joint]);
+  }
   void Vector(TrackKind kind, v4 v, uint32_t joint) {
     (kind == TrackKind::kTranslation ? out[joint].translation : out[joint].scale) = Eigen::Vector3d(v[0], v[1], v[2]);
   }
-  void Flush() { rotations.Flush(); }
+  ARMATURE_DECODE_INLINE void Flush() { rotations.Flush(); }
 };
 
 // ...or float lanes (ClipSamplingFloatJob).
@@ -88,21 +90,21 @@ struct FloatSink {
   FloatPose out;
   compression_internal::RotationBatchOf<float> rotations;
 
-  void Rotation(v4 a, v4 b, float u, int dropped, uint32_t joint) {
+  ARMATURE_DECODE_INLINE void Rotation(v4 a, v4 b, float u, int dropped, uint32_t joint) {
     rotations.Add(a, b, u, dropped, &out.rotations[4 * joint]);
   }
   void Vector(TrackKind kind, v4 v, uint32_t joint) {
     float* to = (kind == TrackKind::kTranslation ? out.translations : out.scales).data() + 3 * joint;
     to[0] = v[0], to[1] = v[1], to[2] = v[2];
   }
-  void Flush() { rotations.Flush(); }
+  ARMATURE_DECODE_INLINE void Flush() { rotations.Flush(); }
 };
 
 // One animated track at segment position `at`: its two samples around q,
 // interpolated.
 template <class Sink>
-inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, const uint8_t* segment,
-                        const SegmentPosition& at, Sink& sink) {
+ARMATURE_DECODE_INLINE void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, const uint8_t* segment,
+                                        const SegmentPosition& at, Sink& sink) {
   using compression_internal::ReadKept;
   const size_t i = IntervalOf(cursor, at);
   const float u =
@@ -119,7 +121,8 @@ inline void DecodeTrack(const AnimatedTrack& track, const TrackCursor& cursor, c
 
 // `cursor.end` from the next segment's first sample of the track (its
 // cursor `first`), in `cursor`'s kept components.
-void ReadEnd(TrackKind kind, const TrackCursor& first, const uint8_t* next, TrackCursor& cursor) {
+ARMATURE_DECODE_INLINE void ReadEnd(TrackKind kind, const TrackCursor& first, const uint8_t* next,
+                                    TrackCursor& cursor) {
   using namespace compression_internal;
   const v4 v = ReadKept(next, first.bit, first);  // lane 3 is 0, as `end`'s fourth stays
   if (kind != TrackKind::kRotation || first.dropped == cursor.dropped) return Store4(cursor.end, v);
@@ -131,7 +134,8 @@ void ReadEnd(TrackKind kind, const TrackCursor& first, const uint8_t* next, Trac
 
 // Reads the ends of the tracks that `at` interpolates toward, walking the
 // next segment's header only as far as the last of them.
-void ReadNeededEnds(const CompressedClip& clip, const SegmentPosition& at, std::span<TrackCursor> cursors) {
+ARMATURE_DECODE_INLINE void ReadNeededEnds(const CompressedClip& clip, const SegmentPosition& at,
+                                           std::span<TrackCursor> cursors) {
   size_t through = 0;
   for (size_t t = 0; t < cursors.size(); ++t)
     if (EndsOnNext(cursors[t], at, IntervalOf(cursors[t], at))) through = t + 1;
@@ -148,7 +152,7 @@ void ReadNeededEnds(const CompressedClip& clip, const SegmentPosition& at, std::
 // cursors read for the previous segment's ends and reads every end at
 // once; a seek reads only the ends its position needs, and every end once
 // a later position needs more.
-void IndexSegment(const CompressedClip& clip, const SegmentPosition& at, SegmentIndex& index) {
+ARMATURE_DECODE_INLINE void IndexSegment(const CompressedClip& clip, const SegmentPosition& at, SegmentIndex& index) {
   const size_t tracks = clip.animated.size();
   if (index.segment != at.segment) {
     const bool in_order = index.segment + 1 == at.segment;
@@ -210,8 +214,8 @@ void StoreStillLanes(std::span<const float> still, const ClipJointSubsetView* su
 
 // The animated tracks at `t` into `sink` (the still pose is the caller's).
 template <class Sink>
-void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, const ClipJointSubsetView* subset,
-                 Sink& sink) {
+ARMATURE_DECODE_INLINE void SampleLossyBody(const CompressedClip& clip, double t, SegmentIndex* index,
+                                            const ClipJointSubsetView* subset, Sink& sink) {
   if (clip.animated.empty()) return;
   const SegmentPosition at = Locate(clip, t);
   const size_t tracks = clip.animated.size();
@@ -240,6 +244,36 @@ void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, cons
     for (size_t i = 0; i < tracks; ++i) DecodeTrack(clip.animated[i], index->tracks[i], segment, at, sink);
   }
   sink.Flush();
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// On a CPU with AVX2 and BMI2, SampleLossy runs this clone: the same code
+// with VEX's three-operand forms and BMI2's shifts by any register (the
+// bit reads), 3–5% faster in sequence and 8–9% at random on CMU 01_01. It
+// is built without FMA, so it does the same float operations and gives
+// the same values (decode_reference_test runs it against the plain
+// decoder). Its target is an attribute, not a flag for the file, so
+// Eigen's alignment and Trs's layout stay those of every other file.
+template <class Sink>
+[[gnu::target("avx2,bmi,bmi2,lzcnt,popcnt")]] void SampleLossyAvx2(const CompressedClip& clip, double t,
+                                                                   SegmentIndex* index,
+                                                                   const ClipJointSubsetView* subset, Sink& sink) {
+  SampleLossyBody(clip, t, index, subset, sink);
+}
+
+const bool kSampleWithAvx2 = [] {
+  __builtin_cpu_init();  // before any other static initializer might ask
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
+}();
+#endif
+
+template <class Sink>
+void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, const ClipJointSubsetView* subset,
+                 Sink& sink) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (kSampleWithAvx2) return SampleLossyAvx2(clip, t, index, subset, sink);
+#endif
+  SampleLossyBody(clip, t, index, subset, sink);
 }
 
 // STEP on a lossy clip: the time of the frame at or before `t` (a frame's

@@ -19,7 +19,7 @@ namespace armature::compression_internal {
 
 class HeaderReader {
  public:
-  HeaderReader(const CompressedClip& clip, size_t segment) : clip_(clip) {
+  ARMATURE_DECODE_INLINE HeaderReader(const CompressedClip& clip, size_t segment) : clip_(clip) {
     const size_t segments = clip.segment_offsets.size();
     data_ = clip.data.data() + clip.segment_offsets[segment];
     back_ = clip.data.data() +
@@ -33,7 +33,7 @@ class HeaderReader {
   const uint8_t* data() const { return data_; }
 
   // Track `t`'s cursor (tracks in order, each once); its dequantizer only when `full`.
-  void Next(size_t t, TrackCursor& cursor, bool full = true) {
+  ARMATURE_DECODE_INLINE void Next(size_t t, TrackCursor& cursor, bool full = true) {
     const AnimatedTrack& track = clip_.animated[t];
     const TrackCode code = kCodes[data_[t]];
     cursor.dropped = track.dropped == kDroppedPerSegment ? *--back_ : track.dropped;
@@ -64,7 +64,7 @@ class HeaderReader {
   // A segment range's low ends (integers, as floats) and extents
   // (RangeExtent), lane 3: 0. The range sits before the segment's end or
   // the clip's padding, so its 8-byte read stays in the data.
-  static void RangeOf(const uint8_t* range, v4& low, v4& extent) {
+  ARMATURE_DECODE_INLINE static void RangeOf(const uint8_t* range, v4& low, v4& extent) {
     extent = v4{RangeExtent(range, 0), RangeExtent(range, 1), RangeExtent(range, 2), 0.f};
 #if defined(__SSE2__)
     uint64_t word;

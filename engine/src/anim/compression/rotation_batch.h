@@ -42,7 +42,7 @@ class RotationBatchOf {
     Add(v4{a[0], a[1], a[2], 0.f}, v4{b[0], b[1], b[2], 0.f}, u, dropped, out);
   }
 
-  void Flush() {
+  ARMATURE_DECODE_INLINE void Flush() {
     if (n_ == 0) return;
     for (size_t lane = n_; lane < 4; ++lane) a_[lane] = b_[lane] = Splat(0.f);  // unused lanes: identity
     Transpose(a_);

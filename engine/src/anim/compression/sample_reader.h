@@ -19,7 +19,7 @@ inline constexpr int kOneLoadBits = 57;  // 64 − 7: any bit offset within a by
 
 // The sample at bit `bit` of `data` with `cursor`'s layout and dequantizer:
 // x y z in lanes 0–2, lane 3 zero (the cursor's fourth offset and scale).
-inline v4 ReadKept(const uint8_t* data, size_t bit, const TrackCursor& cursor) {
+ARMATURE_DECODE_INLINE v4 ReadKept(const uint8_t* data, size_t bit, const TrackCursor& cursor) {
   const int b0 = cursor.bits[0], b1 = cursor.bits[1], b2 = cursor.bits[2];
   v4i q;
   if (cursor.total <= kOneLoadBits) [[likely]] {

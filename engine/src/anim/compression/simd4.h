@@ -11,6 +11,12 @@
 
 namespace armature::compression_internal {
 
+// The sampling job's decode path, inlined even where GCC would not: its AVX2
+// clone (clip_sampling_job.cc) is only as fast as what is inlined into it,
+// and an inlined copy is the only AVX2 copy there is (no out-of-line one
+// that the linker could pick for another caller on a CPU without AVX2).
+#define ARMATURE_DECODE_INLINE [[gnu::always_inline]] inline
+
 using v4 = float __attribute__((vector_size(16)));
 using v4i = int __attribute__((vector_size(16)));
 
