@@ -1,6 +1,7 @@
 #include "armature/engine/anim/compression/clip_sampling_job.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -10,6 +11,7 @@
 #include "anim/compression/packed_track.h"
 #include "anim/compression/rotation_batch.h"
 #include "anim/compression/sample_reader.h"
+#include "anim/compression/sampling_isa.h"
 
 namespace armature {
 namespace {
@@ -251,8 +253,8 @@ ARMATURE_DECODE_INLINE void SampleLossyBody(const CompressedClip& clip, double t
 // with VEX's three-operand forms and BMI2's shifts by any register (the
 // bit reads), 3–5% faster in sequence and 8–9% at random on CMU 01_01. It
 // is built without FMA, so it does the same float operations and gives
-// the same values (decode_reference_test runs it against the plain
-// decoder). Its target is an attribute, not a flag for the file, so
+// the same values (decode_reference_test runs both builds against the
+// plain decoder; sampling_isa.h switches). Its target is an attribute, not a flag for the file, so
 // Eigen's alignment and Trs's layout stay those of every other file.
 template <class Sink>
 [[gnu::target("avx2,bmi,bmi2,lzcnt,popcnt")]] void SampleLossyAvx2(const CompressedClip& clip, double t,
@@ -261,17 +263,16 @@ template <class Sink>
   SampleLossyBody(clip, t, index, subset, sink);
 }
 
-const bool kSampleWithAvx2 = [] {
-  __builtin_cpu_init();  // before any other static initializer might ask
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
-}();
 #endif
+
+// Read on every call, written only by UseSamplingAvx2 (tests): relaxed.
+std::atomic<bool> sample_with_avx2{compression_internal::CpuRunsSamplingAvx2()};
 
 template <class Sink>
 void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, const ClipJointSubsetView* subset,
                  Sink& sink) {
 #if defined(__x86_64__) && defined(__GNUC__)
-  if (kSampleWithAvx2) return SampleLossyAvx2(clip, t, index, subset, sink);
+  if (sample_with_avx2.load(std::memory_order_relaxed)) return SampleLossyAvx2(clip, t, index, subset, sink);
 #endif
   SampleLossyBody(clip, t, index, subset, sink);
 }
@@ -460,5 +461,20 @@ Status ClipSamplingOntoJob::Run() const {
   }
   return Status::Ok();
 }
+
+namespace compression_internal {
+
+bool CpuRunsSamplingAvx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  __builtin_cpu_init();  // it may be asked before libgcc's own initializer ran
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
+#else
+  return false;
+#endif
+}
+bool SamplingUsesAvx2() { return sample_with_avx2.load(std::memory_order_relaxed); }
+void UseSamplingAvx2(bool on) { sample_with_avx2.store(on && CpuRunsSamplingAvx2(), std::memory_order_relaxed); }
+
+}  // namespace compression_internal
 
 }  // namespace armature

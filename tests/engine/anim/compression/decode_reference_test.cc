@@ -2,11 +2,14 @@
 // a plain decoder of the format does (reference_decoder.h): at and between
 // frames, in order through a context, at random with and without one, and
 // through a joint subset. Its fast paths (one read per sample, rotations
-// four at a time, cheap header walks) change speed, never values.
+// four at a time, cheap header walks) change speed, never values; so does
+// its AVX2 clone, run here beside the baseline where the CPU has AVX2.
 #include <algorithm>
 #include <cstring>
+#include <iostream>
 #include <memory>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -15,6 +18,7 @@
 #include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/anim/compression/compressed_clip.h"
 #include "../../testing/shared_clips.h"
+#include "anim/compression/sampling_isa.h"
 #include "reference_decoder.h"
 
 namespace armature {
@@ -60,8 +64,59 @@ size_t Mismatches(const std::vector<Trs>& pose, const std::vector<Trs>& expected
   return bad;
 }
 
+void DecodeEveryClipAsTheReference();
+
+// The builds of the job's core this CPU runs: the baseline, and the AVX2
+// clone when it can. Each test leaves the job on the CPU's own choice.
+std::vector<bool> Builds() {
+  if (compression_internal::CpuRunsSamplingAvx2()) return {false, true};
+  std::cout << "[   NOTE   ] this CPU has no AVX2 and BMI2: the AVX2 clone is not run\n";
+  return {false};
+}
+
+struct CpuChoice {
+  ~CpuChoice() { compression_internal::UseSamplingAvx2(true); }
+};
+
 TEST(DecodeReference, InOrderAtRandomAndThroughASubsetTheJobDecodesAsThePlainDecoder) {
   if (LossyClips().empty()) GTEST_SKIP() << "../shared/data is absent: no real clips to compress";
+  const CpuChoice restore;
+  for (const bool avx2 : Builds()) {
+    compression_internal::UseSamplingAvx2(avx2);
+    ASSERT_EQ(compression_internal::SamplingUsesAvx2(), avx2);
+    SCOPED_TRACE(avx2 ? "AVX2 clone" : "baseline");
+    DecodeEveryClipAsTheReference();
+  }
+}
+
+// The float lanes (ClipSamplingFloatJob, the crowd's and the blend's) have
+// no plain decoder of their own: the two builds agree on them bit for bit.
+TEST(DecodeReference, TheAvx2CloneGivesTheBaselinesFloatLanes) {
+  if (LossyClips().empty()) GTEST_SKIP() << "../shared/data is absent: no real clips to compress";
+  if (!compression_internal::CpuRunsSamplingAvx2()) GTEST_SKIP() << "this CPU has no AVX2 and BMI2";
+  const CpuChoice restore;
+  size_t lanes_compared = 0;
+  for (const LossyClip& c : LossyClips()) {
+    const CompressedClip& z = *c.clip;
+    const size_t n = z.skeleton->size();
+    std::vector<float> lanes[2] = {std::vector<float>(10 * n), std::vector<float>(10 * n)};
+    ClipSamplingContext contexts[2] = {ClipSamplingContext(z), ClipSamplingContext(z)};
+    for (const double t : Times(z)) {
+      for (int b = 0; b < 2; ++b) {
+        compression_internal::UseSamplingAvx2(b == 1);
+        const std::span<float> l(lanes[b]);
+        const FloatPose pose{l.subspan(0, 4 * n), l.subspan(4 * n, 3 * n), l.subspan(7 * n, 3 * n)};
+        ASSERT_TRUE((ClipSamplingFloatJob{&z, t, WrapMode::kClamp, &contexts[b], pose}.Run().ok()));
+      }
+      ASSERT_EQ(std::memcmp(lanes[0].data(), lanes[1].data(), lanes[0].size() * sizeof(float)), 0)
+          << c.name << " at t = " << t << ": the clone's float lanes differ from the baseline's";
+      lanes_compared += lanes[0].size();
+    }
+  }
+  EXPECT_GT(lanes_compared, 100000u);
+}
+
+void DecodeEveryClipAsTheReference() {
   size_t poses = 0, rotated_segments = 0;
   for (const LossyClip& c : LossyClips()) {
     const CompressedClip& z = *c.clip;
