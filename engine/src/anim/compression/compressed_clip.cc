@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "anim/compression/clip_reference.h"
@@ -165,7 +167,7 @@ std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReferen
     std::span<double> per_joint(errors.data() + f * n, n);
     meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data() + f * n, n), pose, per_joint);
     for (size_t j = 0; j < n; ++j)
-      if (per_joint[j] > clip.bound.precision) {
+      if (!(per_joint[j] <= clip.bound.precision)) {  // NaN too
         over.push_back(j);
         late = late || f + kSegmentFrames / 4 >= end;
       }
@@ -252,14 +254,44 @@ struct Refiner {
       next.erase(std::unique(next.begin(), next.end()), next.end());
       for (size_t s : next)
         if (!ChooseOrExplain(s)) return false;
-      dirty = std::move(next);
+      // Each segment chosen again changed its first samples, which the one
+      // before it ends on: that one is measured again too, even when it was
+      // not chosen again (else its last frames could go over unseen).
+      dirty = next;
+      for (size_t s : next)
+        if (s > 0) dirty.push_back(s - 1);
+      std::sort(dirty.begin(), dirty.end(), std::greater<>());
+      dirty.erase(std::unique(dirty.begin(), dirty.end()), dirty.end());
     }
     return true;
   }
 };
 
+// The packed form keeps ranges and constants in float: a clip that moves
+// or scales a joint past this magnitude is kept exact.
+constexpr double kMaxPackedMagnitude = 1e30;
+
+// The largest translation or scale component of the reference, in
+// magnitude; infinity for one that is not finite.
+double LargestMagnitude(const ClipReference& reference) {
+  double largest = 0;
+  for (const Trs& p : reference.local)
+    for (int c = 0; c < 3; ++c)
+      for (const double v : {p.translation[c], p.scale[c]}) {
+        if (!std::isfinite(v)) return std::numeric_limits<double>::infinity();
+        largest = std::max(largest, std::abs(v));
+      }
+  return largest;
+}
+
 // The lossy form within the bound, or false (and a reason) when it cannot be met.
 bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedClip& out, std::string& why) {
+  if (const double largest = LargestMagnitude(reference); !(largest < kMaxPackedMagnitude)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", largest);
+    why = std::string("a translation or scale of ") + text + " is past the packed form's float ranges";
+    return false;
+  }
   std::vector<TrackState> states;
   ClassifyTracks(clip, reference, out.bound.precision, out, states);
   const size_t segments = SegmentCount(out.frames.count);
@@ -284,7 +316,7 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
   }
   Pack(states, refiner.packed, out);
   out.error = SummarizeErrors(std::move(refiner.errors));
-  if (out.error.worst > out.bound.precision) {
+  if (!(out.error.worst <= out.bound.precision)) {  // NaN too
     why = "constant tracks exceed the bound";
     return false;
   }
@@ -346,18 +378,24 @@ double CompressedClip::BytesPerJointSample() const {
   return samples ? static_cast<double>(ByteSize()) / static_cast<double>(samples) : 0;
 }
 
-FrameGrid CompressionFrames(const Clip& clip) {
-  FrameGrid grid;
-  if (!(clip.duration > 0)) return {1, 0};
-  const size_t own = clip.frame_count;
-  const size_t least = static_cast<size_t>(std::ceil(clip.duration * kMinFramesPerSecond - 1e-9)) + 1;
-  // Fewer frames than that: each interval of the source's own split evenly, so that keys evenly spaced
-  // (a 24 fps glTF clip) stay on frames; between frames the form interpolates, and a grid across the
-  // keys would cut the corner at each one by far more than the bound.
-  const size_t intervals = own > 1 ? own - 1 : 1;
-  grid.count = own >= least ? own : intervals * ((least - 1 + intervals - 1) / intervals) + 1;
-  grid.frame_time = clip.duration / static_cast<double>(grid.count - 1);
-  return grid;
+std::optional<FrameGrid> CompressionFrames(const Clip& clip) {
+  if (!(clip.duration > 0)) return FrameGrid{1, 0};
+  // Counted in double: a long duration must not overflow the count before
+  // the cap refuses it.
+  const double own = static_cast<double>(clip.frame_count);
+  const double least = std::ceil(clip.duration * kMinFramesPerSecond - 1e-9) + 1;
+  double count = own;
+  if (own < least) {
+    // Each interval of the source's own split evenly, so that keys evenly spaced (a 24 fps glTF
+    // clip) stay on frames; between frames the form interpolates, and a grid across the keys
+    // would cut the corner at each one by far more than the bound.
+    const double intervals = own > 1 ? own - 1 : 1;
+    count = intervals * std::ceil((least - 1) / intervals) + 1;
+    const double joints = static_cast<double>(std::max<size_t>(clip.skeleton->size(), 1));
+    if (!(count * joints <= kMaxResampledJointSamples)) return std::nullopt;
+  }
+  const size_t frames = static_cast<size_t>(count);
+  return FrameGrid{frames, clip.duration / static_cast<double>(frames - 1)};
 }
 
 StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<const Clip> clip,
@@ -374,17 +412,29 @@ StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<con
   out->source_frame_time = clip->frame_time;
   out->source_frame_count = clip->frame_count;
   out->source_interpolation = clip->default_interpolation;
-  out->frames = CompressionFrames(*clip);
+  const std::optional<FrameGrid> frames = CompressionFrames(*clip);
+  // Over the cap: the source's own frames (the grid an exact clip lists).
+  out->frames = frames.value_or(
+      FrameGrid{clip->frame_count, clip->duration / static_cast<double>(std::max<size_t>(clip->frame_count, 2) - 1)});
   out->precision = precision;
   out->bound = bound;
   for (const JointTrack& jt : clip->joints)
     out->animated_parts.push_back(static_cast<uint8_t>((jt.rotation.empty() ? 0 : 1) |
                                                        (jt.translation.empty() ? 0 : 2) | (jt.scale.empty() ? 0 : 4)));
   if (!precision.exact) {
-    ARMATURE_ASSIGN_OR_RETURN(const ClipReference reference, SampleReference(*clip, out->frames, bound.shell_distance));
     std::string why;
-    if (CompressLossy(*clip, reference, *out, why) && CompressMorphWeights(*clip, *out, why))
-      return std::shared_ptr<const CompressedClip>(std::move(out));
+    if (!frames) {
+      char seconds[32];
+      std::snprintf(seconds, sizeof seconds, "%g", clip->duration);
+      why = "its " + std::to_string(clip->frame_count) + " frames over " + seconds +
+            " s would be checked at 30 a second, over " +
+            std::to_string(static_cast<uint64_t>(kMaxResampledJointSamples)) + " joint-samples";
+    } else {
+      ARMATURE_ASSIGN_OR_RETURN(const ClipReference reference,
+                                SampleReference(*clip, out->frames, bound.shell_distance));
+      if (CompressLossy(*clip, reference, *out, why) && CompressMorphWeights(*clip, *out, why))
+        return std::shared_ptr<const CompressedClip>(std::move(out));
+    }
     out->warning = "clip kept exact: " + why + " (" + std::to_string(precision.centimetres) + " cm)";
     out->constants.clear();
     out->animated.clear();

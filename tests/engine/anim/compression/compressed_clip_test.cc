@@ -5,8 +5,10 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -16,6 +18,7 @@
 #include "armature/engine/anim/compression/error_bound.h"
 #include "armature/engine/anim/compression/shell_error.h"
 #include "armature/engine/anim/joint_map.h"
+#include "armature/engine/io/bvh/bvh.h"
 #include "../../testing/shared_clips.h"
 
 namespace armature {
@@ -127,6 +130,100 @@ TEST(CompressedClipTest, AClipThatCannotMeetTheBoundIsKeptExactWithAWarning) {
   EXPECT_TRUE((*z)->precision.exact);
   EXPECT_NE((*z)->warning.find("kept exact"), std::string::npos) << (*z)->warning;
   EXPECT_EQ((*z)->error.worst, 0.0);
+}
+
+// Two keys of one rotating joint, `seconds` apart.
+std::shared_ptr<Clip> TwoKeys(double seconds) {
+  auto skeleton = std::make_shared<Skeleton>();
+  skeleton->names = {"root"};
+  skeleton->parents = {-1};
+  skeleton->rest.resize(1);
+  skeleton->channels = {{Channel::kZrotation}};
+  skeleton->end_sites.resize(1);
+  auto clip = std::make_shared<Clip>();
+  clip->skeleton = skeleton;
+  clip->joints.resize(1);
+  clip->joints[0].rotation.times = {0, seconds};
+  clip->joints[0].rotation.values = {Eigen::Quaterniond::Identity(),
+                                     Eigen::Quaterniond(Eigen::AngleAxisd(1, Eigen::Vector3d::UnitZ()))};
+  clip->duration = seconds;
+  clip->frame_count = 2;
+  return clip;
+}
+
+// Keys far apart would be checked at 30 frames a second on a reference of
+// about 200 bytes a joint-sample: past kMaxResampledJointSamples the clip
+// is kept exact instead. (A 600-byte BVH with a frame time of a year asked
+// CompressClip for 500 GB; fuzz/engine_compress_fuzz found it.)
+TEST(CompressedClipTest, KeysTooFarApartToResampleAreKeptExactWithAWarning) {
+  const double cap = kMaxResampledJointSamples;
+  const std::optional<FrameGrid> at_cap = CompressionFrames(*TwoKeys((cap - 1) / 30));
+  ASSERT_TRUE(at_cap.has_value());
+  EXPECT_EQ(at_cap->count, static_cast<size_t>(cap));
+  EXPECT_FALSE(CompressionFrames(*TwoKeys(cap / 30)).has_value());
+
+  const std::shared_ptr<Clip> year = TwoKeys(3.15e7);
+  StatusOr<std::shared_ptr<const CompressedClip>> z = CompressClip(year);
+  ASSERT_TRUE(z.ok()) << z.status().message();
+  EXPECT_TRUE((*z)->exact());
+  EXPECT_NE((*z)->warning.find("at 30 a second"), std::string::npos) << (*z)->warning;
+  EXPECT_EQ((*z)->frames.count, 2u);
+  EXPECT_DOUBLE_EQ((*z)->frames.frame_time, 3.15e7);
+  std::vector<Trs> pose(1);
+  ASSERT_TRUE((ClipSamplingJob{z->get(), 3.15e7 / 2, WrapMode::kClamp, nullptr, pose, {}}.Run().ok()));
+  EXPECT_NEAR(Eigen::AngleAxisd(pose[0].rotation).angle(), 0.5, 1e-12);  // the stored keys, slerped
+}
+
+// The packed form holds ranges and constants in float: a translation past
+// 1e30 (a BVH channel of 2e79, found by fuzz/engine_compress_fuzz, decoded
+// as infinity) is kept exact, and samples as stored.
+TEST(CompressedClipTest, TranslationsPastFloatRangesAreKeptExactWithAWarning) {
+  for (const double far : {2e79, 1e31}) {
+    std::shared_ptr<Clip> clip = TwoKeys(1);
+    clip->joints[0].translation.times = {0, 1};
+    clip->joints[0].translation.values = {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, far, 0)};
+    StatusOr<std::shared_ptr<const CompressedClip>> z = CompressClip(clip);
+    ASSERT_TRUE(z.ok()) << z.status().message();
+    EXPECT_TRUE((*z)->exact()) << far;
+    EXPECT_NE((*z)->warning.find("past the packed form's float ranges"), std::string::npos) << (*z)->warning;
+    std::vector<Trs> pose(1);
+    ASSERT_TRUE((ClipSamplingJob{z->get(), 1, WrapMode::kClamp, nullptr, pose, {}}.Run().ok()));
+    EXPECT_EQ(pose[0].translation.y(), far);
+  }
+  std::shared_ptr<Clip> near = TwoKeys(1);  // within float ranges: lossy as usual
+  near->joints[0].translation.times = {0, 1};
+  near->joints[0].translation.values = {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 50, 0)};
+  StatusOr<std::shared_ptr<const CompressedClip>> z = CompressClip(near);
+  ASSERT_TRUE(z.ok()) << z.status().message();
+  EXPECT_FALSE((*z)->exact()) << (*z)->warning;
+}
+
+// Refinement chose segment 15 again after measuring segment 14, whose last
+// frames interpolate toward 15's first samples: 14 went over the bound
+// (1.07e-4 against 1e-4, at frames 237-239) while the clip claimed 9.98e-5.
+// The segment before each one chosen again is now measured again. (Found
+// by fuzz/engine_compress_fuzz.)
+TEST(CompressedClipTest, TheSegmentBeforeOneChosenAgainIsMeasuredAgain) {
+  constexpr std::string_view kBvh =
+      "HIERARCHY\nROOT Hips\n{\n  OFFSET 5 0 0\n"
+      "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+      "  JOINT Chest\n  {\n    OFFSET 0 5 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n"
+      "    JOINT Neck\n    {\n      OFFSET 0 1 0\n      End Site\n      {\n        OFFSET 0 3 0\n      }\n"
+      "    }\n  }\n}\nMOTION\nFrames: 3\nFrame Time: 5.0333333\n"
+      "0 1 2 3 4 5 6 7 8\n1 2 9 4 1 6 7 8 9\n-1.5 +2 3e0 20 50 60 -70 80 90\n";
+  StatusOr<BvhData> bvh = ParseBvh(kBvh, ImportLimits{});
+  ASSERT_TRUE(bvh.ok()) << bvh.status().message();
+  StatusOr<std::shared_ptr<const CompressedClip>> z = CompressClip(bvh->clip);
+  ASSERT_TRUE(z.ok()) << z.status().message();
+  ASSERT_FALSE((*z)->exact()) << (*z)->warning;
+  ASSERT_GT((*z)->frames.count, 16u * 15) << "the clip no longer reaches segment 15";
+  StatusOr<ClipError> measured =
+      MeasureClipError(*bvh->clip, (*z)->frames, (*z)->bound.shell_distance, [&](double t, std::span<Trs> out) {
+        return ClipSamplingJob{z->get(), t, WrapMode::kClamp, nullptr, out, {}}.Run();
+      });
+  ASSERT_TRUE(measured.ok()) << measured.status().message();
+  EXPECT_LE(measured->worst, (*z)->bound.precision);
+  EXPECT_DOUBLE_EQ(measured->worst, (*z)->error.worst) << "the clip's recorded error is not what it samples";
 }
 
 TEST(CompressedClipTest, ExactKeepsTheStoredKeysBitForBit) {

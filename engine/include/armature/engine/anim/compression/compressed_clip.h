@@ -94,8 +94,16 @@ struct CompressedClip {
 StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<const Clip> clip,
                                                              const ClipPrecision& precision = {});
 
+// Joint-samples (frames × joints) past which CompressClip does not resample
+// a clip up to 30 frames a second: the bound is checked on a reference of
+// two transforms (about 200 bytes) per joint-sample, so a few keys spread
+// over a long time (a BVH frame time of a year) would cost memory without
+// bound. Such a clip is kept exact, with a warning.
+inline constexpr double kMaxResampledJointSamples = 1 << 21;
+
 // The frames a clip is compressed at: its own when at least 30 per second,
-// else each of its intervals split evenly to reach 30 (its keys stay frames).
-FrameGrid CompressionFrames(const Clip& clip);
+// else each of its intervals split evenly to reach 30 (its keys stay frames);
+// nullopt when that split would pass kMaxResampledJointSamples.
+std::optional<FrameGrid> CompressionFrames(const Clip& clip);
 
 }  // namespace armature
