@@ -19,7 +19,7 @@ case $target in
   engine_gltf_fuzz|engine_gltf_writer_fuzz) format=gltf ;;
   engine_obj_fuzz) format=obj ;;
   engine_fbx_fuzz) format=fbx ;;
-  engine_detect_fuzz) format=detect ;;
+  engine_detect_fuzz|engine_compress_fuzz) format=detect ;;
   server_transcode_fuzz) format=transcode ;;
   server_path_template_fuzz) format=path_template ;;
   server_import_upload_fuzz) format=import_upload ;;
