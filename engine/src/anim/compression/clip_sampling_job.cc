@@ -248,21 +248,21 @@ ARMATURE_DECODE_INLINE void SampleLossyBody(const CompressedClip& clip, double t
   sink.Flush();
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ARMATURE_SAMPLING_AVX2
 // On a CPU with AVX2 and BMI2, SampleLossy runs this clone: the same code
 // with VEX's three-operand forms and BMI2's shifts by any register (the
 // bit reads), 3–5% faster in sequence and 8–9% at random on CMU 01_01. It
 // is built without FMA, so it does the same float operations and gives
 // the same values (decode_reference_test runs both builds against the
-// plain decoder; sampling_isa.h switches). Its target is an attribute, not a flag for the file, so
-// Eigen's alignment and Trs's layout stay those of every other file.
+// plain decoder; sampling_isa.h switches). Its target is an attribute, not
+// a flag for the file, so Eigen's alignment and Trs's layout stay those of
+// every other file.
 template <class Sink>
 [[gnu::target("avx2,bmi,bmi2,lzcnt,popcnt")]] void SampleLossyAvx2(const CompressedClip& clip, double t,
                                                                    SegmentIndex* index,
                                                                    const ClipJointSubsetView* subset, Sink& sink) {
   SampleLossyBody(clip, t, index, subset, sink);
 }
-
 #endif
 
 // Read on every call, written only by UseSamplingAvx2 (tests): relaxed.
@@ -271,7 +271,7 @@ std::atomic<bool> sample_with_avx2{compression_internal::CpuRunsSamplingAvx2()};
 template <class Sink>
 void SampleLossy(const CompressedClip& clip, double t, SegmentIndex* index, const ClipJointSubsetView* subset,
                  Sink& sink) {
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ARMATURE_SAMPLING_AVX2
   if (sample_with_avx2.load(std::memory_order_relaxed)) return SampleLossyAvx2(clip, t, index, subset, sink);
 #endif
   SampleLossyBody(clip, t, index, subset, sink);
@@ -465,7 +465,7 @@ Status ClipSamplingOntoJob::Run() const {
 namespace compression_internal {
 
 bool CpuRunsSamplingAvx2() {
-#if defined(__x86_64__) && defined(__GNUC__)
+#if ARMATURE_SAMPLING_AVX2
   __builtin_cpu_init();  // it may be asked before libgcc's own initializer ran
   return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
 #else

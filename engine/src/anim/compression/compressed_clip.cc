@@ -175,6 +175,13 @@ std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReferen
   return over;
 }
 
+// Segments last first, each once: a segment ends on the next one's first
+// samples, so it is chosen after it.
+void SortDescendingUnique(std::vector<size_t>& segments) {
+  std::sort(segments.begin(), segments.end(), std::greater<>());
+  segments.erase(std::unique(segments.begin(), segments.end()), segments.end());
+}
+
 // Multiplies each track's target in `segment` by its joint's factor.
 void Tighten(std::vector<TrackState>& states, const std::vector<double>& factors, size_t segment) {
   for (TrackState& s : states) s.target[segment] *= factors[s.values.joint];
@@ -250,8 +257,7 @@ struct Refiner {
         if (s > 0) next.push_back(s - 1);
       }
       if (next.empty()) return true;
-      std::sort(next.begin(), next.end(), std::greater<>());
-      next.erase(std::unique(next.begin(), next.end()), next.end());
+      SortDescendingUnique(next);
       for (size_t s : next)
         if (!ChooseOrExplain(s)) return false;
       // Each segment chosen again changed its first samples, which the one
@@ -260,8 +266,7 @@ struct Refiner {
       dirty = next;
       for (size_t s : next)
         if (s > 0) dirty.push_back(s - 1);
-      std::sort(dirty.begin(), dirty.end(), std::greater<>());
-      dirty.erase(std::unique(dirty.begin(), dirty.end()), dirty.end());
+      SortDescendingUnique(dirty);
     }
     return true;
   }

@@ -4,6 +4,13 @@
 // to check that on one machine.
 #pragma once
 
+// Whether this build has the clone (GCC or Clang on x86-64).
+#if defined(__x86_64__) && defined(__GNUC__)
+#define ARMATURE_SAMPLING_AVX2 1
+#else
+#define ARMATURE_SAMPLING_AVX2 0
+#endif
+
 namespace armature::compression_internal {
 
 // True when the CPU can run the AVX2 clone.
