@@ -5,7 +5,8 @@
 // joint-sample, 99th-percentile and worst error (cm, ACL's virtual points,
 // over every frame) and compression time (one run, thread CPU time). On CMU 01_01, pairs
 // BM_VsAcl_<what>_{Armature,Acl}: a whole pose played sequentially
-// (Decompress) or at random times (RandomSeek), and compression (Compress);
+// (Decompress) or at random times (RandomSeek), and compression (Compress,
+// ours with the peak of heap it holds per joint-sample);
 // scripts/bench_ratios.py prints their ratios. Setup aborts when ACL's and
 // our decompressed world poses differ by more than twice the bound at any
 // frame where ACL keeps its own bound (ACL's bound is nearly guaranteed, and
@@ -28,6 +29,7 @@
 
 #include "../../tests/engine/testing/shared_clips.h"
 #include "acl_baseline.h"
+#include "heap_peak.h"
 #include "armature/engine/anim/compression/clip_sampling_job.h"
 #include "armature/engine/anim/compression/compressed_clip.h"
 #include "armature/engine/anim/compression/shell_error.h"
@@ -335,11 +337,16 @@ BENCHMARK(BM_VsAcl_RandomSeek_Armature);
 BENCHMARK(BM_VsAcl_RandomSeek_Acl);
 BENCHMARK(BM_VsAcl_RandomSeek_ArmatureFloat);
 
+// peak_heap_bytes_per_joint_sample: the most heap one compression holds at
+// once (its output included), per joint-sample of the clip.
 void BM_VsAcl_Compress_Armature(benchmark::State& state) {
   const Compared* c = Cmu();
   if (!c) return state.SkipWithError("shared data bvh/cmu_01_01.bvh is absent");
   for (auto _ : state) benchmark::DoNotOptimize(CompressClip(c->clip).ok());
   SetCounters(state, *c, true);
+  const double peak = armature_bench::PeakHeapBytesOf([&] { benchmark::DoNotOptimize(CompressClip(c->clip).ok()); });
+  state.counters["peak_heap_bytes_per_joint_sample"] =
+      peak / static_cast<double>(c->ours->frames.count * c->clip->skeleton->size());
 }
 
 void BM_VsAcl_Compress_Acl(benchmark::State& state) {

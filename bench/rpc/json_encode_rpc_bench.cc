@@ -9,11 +9,6 @@
 // the peak of heap bytes allocated while encoding once, over the answer's
 // size; the JSON rows also x_binary_time and x_binary_peak, their time and
 // peak over the binary encoding's in the same run.
-#include <malloc.h>
-
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -24,6 +19,7 @@
 #include <google/protobuf/util/json_util.h>
 
 #include "armature/v1/meshes.grpc.pb.h"
+#include "heap_peak.h"
 #include "rpc_bench_server.h"
 #include "server/host/gateway/rest/json/json_codec.h"
 
@@ -32,28 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 namespace pb = google::protobuf;
 using armature_bench::Server;
-
-// Heap bytes in use while `tracking` is set, and their peak: the global
-// operator new and delete of this binary count them (one relaxed load when
-// not tracking).
-std::atomic<bool> tracking{false};
-std::atomic<int64_t> live_bytes{0}, peak_bytes{0};
-
-void Count(int64_t delta) {
-  const int64_t now = live_bytes.fetch_add(delta, std::memory_order_relaxed) + delta;
-  int64_t peak = peak_bytes.load(std::memory_order_relaxed);
-  while (now > peak && !peak_bytes.compare_exchange_weak(peak, now, std::memory_order_relaxed)) {}
-}
-
-// The peak of heap bytes allocated while `encode` runs once (its output included).
-double PeakBytesOf(const std::function<void()>& encode) {
-  live_bytes = 0;
-  peak_bytes = 0;
-  tracking = true;
-  encode();
-  tracking = false;
-  return static_cast<double>(peak_bytes.load());
-}
 
 std::string WriterJson(const pb::Message& m) { return armature::server::gateway::MessageToJson(m); }
 std::string BinaryEncoding(const pb::Message& m) { return m.SerializeAsString(); }
@@ -90,13 +64,13 @@ void Encode(benchmark::State& state, const pb::Message& answer, Encoder encode) 
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * bytes));
   state.counters["answer_MB"] = static_cast<double>(bytes) / 1e6;
-  const double peak = PeakBytesOf([&] { benchmark::DoNotOptimize(encode(answer).size()); });
+  const double peak = armature_bench::PeakHeapBytesOf([&] { benchmark::DoNotOptimize(encode(answer).size()); });
   state.counters["peak_x_answer"] = peak / static_cast<double>(bytes);
   if (encode == BinaryEncoding) return;
   state.counters["x_binary_time"] =
       seconds / static_cast<double>(state.iterations()) / SecondsOf(answer, BinaryEncoding);
   state.counters["x_binary_peak"] =
-      peak / PeakBytesOf([&] { benchmark::DoNotOptimize(BinaryEncoding(answer).size()); });
+      peak / armature_bench::PeakHeapBytesOf([&] { benchmark::DoNotOptimize(BinaryEncoding(answer).size()); });
 }
 
 const armature::v1::EvaluateClipResponse& EvaluateClip10k() {
@@ -148,18 +122,3 @@ BENCHMARK(BM_SkinCharacterRobot_Protobuf)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SkinCharacterRobot_ProtobufJson)->Unit(benchmark::kMillisecond);
 
 }  // namespace
-
-void* operator new(size_t size) {
-  void* p = std::malloc(size ? size : 1);
-  if (p == nullptr) throw std::bad_alloc();
-  if (tracking.load(std::memory_order_relaxed)) Count(static_cast<int64_t>(malloc_usable_size(p)));
-  return p;
-}
-void* operator new[](size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept {
-  if (p != nullptr && tracking.load(std::memory_order_relaxed)) Count(-static_cast<int64_t>(malloc_usable_size(p)));
-  std::free(p);
-}
-void operator delete[](void* p) noexcept { operator delete(p); }
-void operator delete(void* p, size_t) noexcept { operator delete(p); }
-void operator delete[](void* p, size_t) noexcept { operator delete(p); }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "armature/engine/anim/compression/compressed_clip.h"
@@ -13,19 +14,6 @@
 #include "anim/compression/packed_track.h"
 
 namespace armature::compression_internal {
-
-struct ClipReference {
-  FrameGrid frames;
-  size_t joints = 0;
-  std::vector<Trs> local;       // frames × joints
-  std::vector<WorldQvv> world;  // frames × joints
-  // Per joint: the farthest virtual point of it or its descendants (world
-  // units), its parent's largest world scale, its smallest local scale.
-  std::vector<double> reach, parent_scale, min_scale;
-  std::vector<double> segment_reach;  // the same per segment: segments × joints
-};
-
-StatusOr<ClipReference> SampleReference(const Clip& clip, const FrameGrid& frames, double shell_distance);
 
 // One source track over every frame: 4 values per frame (rotations x y z w
 // as stored, vectors x y z 0) and its lever.
@@ -37,7 +25,29 @@ struct TrackValues {
   std::vector<double> segment_lever;  // over each segment's frames
 };
 
-TrackValues ReadTrack(const ClipReference& reference, uint16_t joint, TrackKind kind);
+// The reference keeps the source's tracks only, and rebuilds a frame's
+// local and world poses from them when it is measured: keeping both poses
+// of every frame cost about 160 bytes per joint-sample during compression
+// (4 times the source clip in memory; 240 in all against 64 now).
+struct ClipReference {
+  FrameGrid frames;
+  size_t joints = 0;
+  const Skeleton* skeleton = nullptr;
+  std::vector<TrackValues> tracks;  // every track the source has, joints in order, then rotation, translation, scale
+  // Per joint: the farthest virtual point of it or its descendants (world
+  // units), its parent's largest world scale, its smallest local scale.
+  std::vector<double> reach, parent_scale, min_scale;
+  std::vector<double> segment_reach;  // the same per segment: segments × joints
+  // The largest local translation or scale component in magnitude, rest
+  // values included; infinity for one that is not finite.
+  double largest_magnitude = 0;
+};
+
+StatusOr<ClipReference> SampleReference(const Clip& clip, const FrameGrid& frames, double shell_distance);
+
+// Frame `f`'s world poses (joints) as SampleClip and ComposeWorldQvv gave
+// them, rebuilt from the tracks into `local` (joints), the same values.
+void ReferenceWorld(const ClipReference& reference, size_t f, std::span<Trs> local, std::span<WorldQvv> world);
 
 // 2·sin(angle/2) of the rotation between unit `raw` and `q` (x y z w, any
 // length): a point at distance 1 moves that far. From the chord |raw − q̂|,

@@ -67,7 +67,8 @@ void PackSegment(const std::vector<TrackState>& states, const FrameGrid& frames,
       back -= kRangeBytes;
       std::copy(c.range, c.range + kRangeBytes, back);
     }
-    PackSegmentTrack(SegmentInput(states[t], frames, s), c, seg, bit);
+    SegmentValues values;
+    PackSegmentTrack(SegmentInput(states[t], frames, s, values), c, seg, bit);
     bit += c.bits - (kCodes[c.code].ranged ? 8 * kRangeBytes : 0);
   }
 }
@@ -92,35 +93,28 @@ void Pack(const std::vector<TrackState>& states, std::vector<std::vector<uint8_t
 }
 
 // Splits the source's tracks into dropped (rest), constant and animated.
-void ClassifyTracks(const Clip& clip, const ClipReference& reference, double bound, CompressedClip& out,
+void ClassifyTracks(const ClipReference& reference, double bound, CompressedClip& out,
                     std::vector<TrackState>& animated) {
-  const Skeleton& skeleton = *clip.skeleton;
-  for (uint16_t j = 0; j < skeleton.size(); ++j) {
-    const JointTrack& jt = clip.joints[j];
-    for (TrackKind kind : {TrackKind::kRotation, TrackKind::kTranslation, TrackKind::kScale}) {
-      const bool has = kind == TrackKind::kRotation      ? !jt.rotation.empty()
-                       : kind == TrackKind::kTranslation ? !jt.translation.empty()
-                                                         : !jt.scale.empty();
-      if (!has) continue;
-      TrackValues values = ReadTrack(reference, j, kind);
-      const Trs& rest = skeleton.rest[j];
-      ConstantTrack rest_value{j, kind, {0, 0, 0, 0}}, first{j, kind, {0, 0, 0, 0}};
-      const Eigen::Vector4d r =
-          kind == TrackKind::kRotation ? rest.rotation.normalized().coeffs()
-          : kind == TrackKind::kTranslation
-              ? Eigen::Vector4d(rest.translation.x(), rest.translation.y(), rest.translation.z(), 0)
-              : Eigen::Vector4d(rest.scale.x(), rest.scale.y(), rest.scale.z(), 0);
-      for (int c = 0; c < 4; ++c) {
-        rest_value.value[c] = static_cast<float>(r[c]);
-        first.value[c] = static_cast<float>(values.raw[c]);
-      }
-      if (ConstantFits(values, rest_value.value, kConstantShare * bound)) continue;
-      if (ConstantFits(values, first.value, kConstantShare * bound)) {
-        out.constants.push_back(first);
-        continue;
-      }
-      animated.push_back(MakeTrackState(std::move(values), out.frames, kFirstShare * bound));
+  const Skeleton& skeleton = *reference.skeleton;
+  for (const TrackValues& values : reference.tracks) {
+    const uint16_t j = values.joint;
+    const TrackKind kind = values.kind;
+    const Trs& rest = skeleton.rest[j];
+    ConstantTrack rest_value{j, kind, {0, 0, 0, 0}}, first{j, kind, {0, 0, 0, 0}};
+    const Eigen::Vector4d r = kind == TrackKind::kRotation ? rest.rotation.normalized().coeffs()
+                              : kind == TrackKind::kTranslation
+                                  ? Eigen::Vector4d(rest.translation.x(), rest.translation.y(), rest.translation.z(), 0)
+                                  : Eigen::Vector4d(rest.scale.x(), rest.scale.y(), rest.scale.z(), 0);
+    for (int c = 0; c < 4; ++c) {
+      rest_value.value[c] = static_cast<float>(r[c]);
+      first.value[c] = static_cast<float>(values.raw[c]);
     }
+    if (ConstantFits(values, rest_value.value, kConstantShare * bound)) continue;
+    if (ConstantFits(values, first.value, kConstantShare * bound)) {
+      out.constants.push_back(first);
+      continue;
+    }
+    animated.push_back(MakeTrackState(values, out.frames, kFirstShare * bound));
   }
 }
 
@@ -134,7 +128,8 @@ bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t s
     const std::array<float, 4> end = state.end[segment];
     UpdateEnd(state, out.frames, segment);
     if (state.chosen_at[segment] == state.target[segment] && state.end[segment] == end) continue;
-    SegmentTrackInput in = SegmentInput(state, out.frames, segment);
+    SegmentValues values;
+    SegmentTrackInput in = SegmentInput(state, out.frames, segment, values);
     const bool fresh = state.choice[segment].bits == 0 && segment + 1 < state.choice.size();
     const SegmentTrackChoice& hint = state.choice[fresh ? segment + 1 : segment];
     if (hint.bits > 0) {
@@ -153,10 +148,12 @@ bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t s
 // (frames × joints); the joints over the bound come back, and `late` says
 // whether one is over in the segment's last quarter, near the shared end.
 // `context` was resized to the clip as packed now: the segment's header is
-// walked once, not once a frame.
+// walked once, not once a frame. `world` and `local` are the reference's
+// poses of a frame, rebuilt for each.
 std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReference& reference, size_t segment,
                                    ShellErrorMeter& meter, ClipSamplingContext& context, std::vector<Trs>& pose,
-                                   std::vector<double>& errors, bool& late) {
+                                   std::vector<Trs>& local, std::vector<WorldQvv>& world, std::vector<double>& errors,
+                                   bool& late) {
   late = false;
   const size_t n = reference.joints, start = segment * kSegmentFrames;
   const size_t end = segment + 1 == SegmentCount(clip.frames.count) ? clip.frames.count : start + kSegmentFrames;
@@ -165,7 +162,8 @@ std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReferen
     ClipSamplingJob job{&clip, clip.frames.Time(f), WrapMode::kClamp, &context, pose, {}};
     (void)job.Run();
     std::span<double> per_joint(errors.data() + f * n, n);
-    meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data() + f * n, n), pose, per_joint);
+    ReferenceWorld(reference, f, local, world);
+    meter.MeasureWorld(world, pose, per_joint);
     for (size_t j = 0; j < n; ++j)
       if (!(per_joint[j] <= clip.bound.precision)) {  // NaN too
         over.push_back(j);
@@ -184,7 +182,7 @@ void SortDescendingUnique(std::vector<size_t>& segments) {
 
 // Multiplies each track's target in `segment` by its joint's factor.
 void Tighten(std::vector<TrackState>& states, const std::vector<double>& factors, size_t segment) {
-  for (TrackState& s : states) s.target[segment] *= factors[s.values.joint];
+  for (TrackState& s : states) s.target[segment] *= factors[s.values->joint];
 }
 
 // The compressor's working state after the first choices: it measures
@@ -200,7 +198,8 @@ struct Refiner {
   const size_t segments = SegmentCount(out.frames.count);
   ShellErrorMeter meter{skeleton, out.bound.shell_distance};
   ClipSamplingContext context;
-  std::vector<Trs> pose = std::vector<Trs>(reference.joints);
+  std::vector<Trs> pose = std::vector<Trs>(reference.joints), local = pose;
+  std::vector<WorldQvv> world = std::vector<WorldQvv>(reference.joints);
   std::vector<double> errors = std::vector<double>(out.frames.count * reference.joints, 0.0);
   std::vector<std::vector<uint8_t>> packed;  // per segment, for Pack
   std::string why;
@@ -240,7 +239,8 @@ struct Refiner {
       std::vector<size_t> next;
       for (size_t s : dirty) {
         bool late = false;
-        const std::vector<size_t> over = MeasureSegment(out, reference, s, meter, context, pose, errors, late);
+        const std::vector<size_t> over =
+            MeasureSegment(out, reference, s, meter, context, pose, local, world, errors, late);
         if (over.empty()) continue;
         if (round == kRefinements) {
           why = "the bound is not met after " + std::to_string(kRefinements) + " refinements";
@@ -276,29 +276,16 @@ struct Refiner {
 // or scales a joint past this magnitude is kept exact.
 constexpr double kMaxPackedMagnitude = 1e30;
 
-// The largest translation or scale component of the reference, in
-// magnitude; infinity for one that is not finite.
-double LargestMagnitude(const ClipReference& reference) {
-  double largest = 0;
-  for (const Trs& p : reference.local)
-    for (int c = 0; c < 3; ++c)
-      for (const double v : {p.translation[c], p.scale[c]}) {
-        if (!std::isfinite(v)) return std::numeric_limits<double>::infinity();
-        largest = std::max(largest, std::abs(v));
-      }
-  return largest;
-}
-
 // The lossy form within the bound, or false (and a reason) when it cannot be met.
 bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedClip& out, std::string& why) {
-  if (const double largest = LargestMagnitude(reference); !(largest < kMaxPackedMagnitude)) {
+  if (const double largest = reference.largest_magnitude; !(largest < kMaxPackedMagnitude)) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", largest);
     why = std::string("a translation or scale of ") + text + " is past the packed form's float ranges";
     return false;
   }
   std::vector<TrackState> states;
-  ClassifyTracks(clip, reference, out.bound.precision, out, states);
+  ClassifyTracks(reference, out.bound.precision, out, states);
   const size_t segments = SegmentCount(out.frames.count);
   for (const TrackState& s : states) out.animated.push_back(s.track);
   Refiner refiner(*clip.skeleton, reference, out, states);
@@ -313,8 +300,8 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
   if (segments == 0) {  // one frame: constants only
     Pack(states, refiner.packed, out);
     (void)ClipSamplingJob{&out, 0, WrapMode::kClamp, nullptr, refiner.pose, {}}.Run();
-    refiner.meter.MeasureWorld(std::span<const WorldQvv>(reference.world.data(), reference.joints), refiner.pose,
-                               refiner.errors);
+    ReferenceWorld(reference, 0, refiner.local, refiner.world);
+    refiner.meter.MeasureWorld(refiner.world, refiner.pose, refiner.errors);
   } else if (!refiner.MeetBound(all)) {
     why = refiner.why;
     return false;

@@ -7,7 +7,6 @@
 namespace armature::compression_internal {
 namespace {
 
-constexpr size_t kSegmentStride = (kSegmentFrames + 1) * 3;
 // Below this, the best component over the whole clip comes too near 0 to be
 // rebuilt from the others: each segment then picks its own.
 constexpr double kSafeDropped = 0.3;
@@ -45,10 +44,9 @@ void Segment(const FrameGrid& frames, size_t segment, size_t& start, size_t& int
 
 }  // namespace
 
-TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double first_target) {
+TrackState MakeTrackState(const TrackValues& t, const FrameGrid& frames, double first_target) {
   TrackState s;
-  s.values = std::move(values);
-  const TrackValues& t = s.values;
+  s.values = &t;
   const size_t segments = SegmentCount(frames.count), count = t.raw.size() / 4;
   s.track.joint = t.joint;
   s.track.kind = t.kind;
@@ -88,17 +86,6 @@ TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double fi
     s.track.min[c] = min;
     s.track.extent[c] = extent;
   }
-  s.normalized.assign(segments * kSegmentStride, 0.0);
-  for (size_t seg = 0; seg < segments; ++seg) {
-    size_t start, intervals;
-    Segment(frames, seg, start, intervals);
-    for (size_t f = 0; f <= intervals; ++f) {
-      Components(t, s.dropped[seg], start + f, v);
-      for (int c = 0; c < 3; ++c)
-        s.normalized[seg * kSegmentStride + f * 3 + c] =
-            s.track.extent[c] > 0 ? std::clamp((v[c] - s.track.min[c]) / s.track.extent[c], 0.0, 1.0) : 0.0;
-    }
-  }
   s.target.assign(segments, first_target);
   s.choice.assign(segments, {});
   s.chosen_at.assign(segments, 0.0);
@@ -106,25 +93,34 @@ TrackState MakeTrackState(TrackValues values, const FrameGrid& frames, double fi
   return s;
 }
 
-SegmentTrackInput SegmentInput(const TrackState& s, const FrameGrid& frames, size_t segment) {
+SegmentTrackInput SegmentInput(const TrackState& s, const FrameGrid& frames, size_t segment, SegmentValues& values) {
   size_t start, intervals;
   Segment(frames, segment, start, intervals);
+  double v[3];
+  for (size_t f = 0; f <= intervals; ++f) {
+    Components(*s.values, s.dropped[segment], start + f, v);
+    for (int c = 0; c < 3; ++c)
+      values.normalized[f * 3 + c] =
+          s.track.extent[c] > 0 ? std::clamp((v[c] - s.track.min[c]) / s.track.extent[c], 0.0, 1.0) : 0.0;
+  }
   SegmentTrackInput in;
   in.kind = s.track.kind;
   in.dropped = s.dropped[segment];
   in.intervals = intervals;
-  in.raw = std::span<const double>(s.values.raw).subspan(start * 4, (intervals + 1) * 4);
-  in.normalized = std::span<const double>(s.normalized).subspan(segment * kSegmentStride, (intervals + 1) * 3);
+  in.raw = std::span<const double>(s.values->raw).subspan(start * 4, (intervals + 1) * 4);
+  in.normalized = std::span<const double>(values.normalized).first((intervals + 1) * 3);
   in.clip_min = s.track.min;
   in.clip_extent = s.track.extent;
-  in.lever = s.values.segment_lever[segment];
+  in.lever = s.values->segment_lever[segment];
   if (segment + 1 < s.choice.size()) in.end = s.end[segment].data();
   return in;
 }
 
 void UpdateEnd(TrackState& s, const FrameGrid& frames, size_t segment) {
-  if (segment + 1 < s.choice.size())
-    DecodeFirstSample(SegmentInput(s, frames, segment + 1), s.choice[segment + 1], s.end[segment].data());
+  if (segment + 1 < s.choice.size()) {
+    SegmentValues values;
+    DecodeFirstSample(SegmentInput(s, frames, segment + 1, values), s.choice[segment + 1], s.end[segment].data());
+  }
 }
 
 }  // namespace armature::compression_internal
