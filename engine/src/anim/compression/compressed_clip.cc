@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <string>
 
@@ -272,6 +273,29 @@ struct Refiner {
   }
 };
 
+// Orders the animated tracks for random access, once they are chosen: a
+// seek reads the next segment's header as far as the last track whose
+// interval ends on that segment's first sample, and a track of stride 2^k
+// ends there at 2^k of a segment's 16 frames. The tracks that need it most
+// often go first (the rest in joint order), so that walk is short. Each
+// track decodes to the same values in any order. True when the order changed.
+bool OrderForSeeks(std::vector<TrackState>& states, CompressedClip& out) {
+  std::vector<size_t> weight(states.size(), 0), order(states.size());
+  for (size_t t = 0; t < states.size(); ++t)
+    for (const SegmentTrackChoice& c : states[t].choice) weight[t] += size_t{1} << kCodes[c.code].stride_log;
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return weight[a] > weight[b]; });
+  if (std::is_sorted(order.begin(), order.end())) return false;
+  std::vector<TrackState> ordered;
+  ordered.reserve(states.size());
+  for (size_t t = 0; t < order.size(); ++t) {
+    ordered.push_back(std::move(states[order[t]]));
+    out.animated[t] = ordered.back().track;
+  }
+  states = std::move(ordered);
+  return true;
+}
+
 // The packed form keeps ranges and constants in float: a clip that moves
 // or scales a joint past this magnitude is kept exact.
 constexpr double kMaxPackedMagnitude = 1e30;
@@ -306,6 +330,7 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
     why = refiner.why;
     return false;
   }
+  if (OrderForSeeks(states, out)) refiner.packed.clear();
   Pack(states, refiner.packed, out);
   out.error = SummarizeErrors(std::move(refiner.errors));
   if (!(out.error.worst <= out.bound.precision)) {  // NaN too

@@ -1,7 +1,7 @@
 // The compressed runtime clip (issue 30) on the real files of ../shared/data:
 // the bound holds on every clip, `exact` keeps the stored keys, bad bounds
-// are refused, and the sampling job agrees with itself played in order or
-// at random and through a joint map.
+// are refused, tracks are ordered for seeks, and the sampling job agrees
+// with itself played in order or at random and through a joint map.
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -19,6 +19,7 @@
 #include "armature/engine/anim/compression/shell_error.h"
 #include "armature/engine/anim/joint_map.h"
 #include "armature/engine/io/bvh/bvh.h"
+#include "anim/compression/packed_track.h"
 #include "../../testing/shared_clips.h"
 
 namespace armature {
@@ -224,6 +225,28 @@ TEST(CompressedClipTest, TheSegmentBeforeOneChosenAgainIsMeasuredAgain) {
   ASSERT_TRUE(measured.ok()) << measured.status().message();
   EXPECT_LE(measured->worst, (*z)->bound.precision);
   EXPECT_DOUBLE_EQ(measured->worst, (*z)->error.worst) << "the clip's recorded error is not what it samples";
+}
+
+// A seek reads the next segment's header as far as the last track whose
+// interval ends on it (a track of stride 2^k: at 2^k of a segment's 16
+// frames), so the tracks doing so most often come first.
+TEST(CompressedClipTest, TracksEndingOnTheNextSegmentMostOftenComeFirst) {
+  SKIP_WITHOUT_SHARED_DATA();
+  size_t ordered = 0;
+  for (const test_util::SharedClip& c : Clips()) {
+    auto z = CompressClip(c.clip);
+    ASSERT_TRUE(z.ok()) << c.name;
+    const CompressedClip& k = **z;
+    if (k.exact()) continue;
+    std::vector<size_t> weight(k.animated.size(), 0);
+    for (const uint32_t offset : k.segment_offsets)
+      for (size_t t = 0; t < k.animated.size(); ++t)
+        weight[t] += size_t{1} << compression_internal::kCodes[k.data[offset + t]].stride_log;
+    for (size_t t = 1; t < weight.size(); ++t)
+      EXPECT_GE(weight[t - 1], weight[t]) << c.name << ": track " << t << " of " << weight.size();
+    ordered += weight.size() > 1 && weight.front() > weight.back();
+  }
+  EXPECT_GT(ordered, 0u) << "no clip has tracks of different strides: the order was never tested";
 }
 
 TEST(CompressedClipTest, ExactKeepsTheStoredKeysBitForBit) {
