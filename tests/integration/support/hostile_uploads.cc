@@ -72,8 +72,9 @@ std::vector<HostileUpload> RealFiles() {
   if (auto glb = MakeDemoCharacterGlb(); glb.ok()) files.push_back({"", "character.glb", *glb});
   files.push_back({"", "grid.obj", MakeGrid(12).obj});
   files.push_back({"", "tiny.gltf", TinyGltf().dump()});
-  for (const char* shared : {"bvh/cmu_01_01.bvh", "gltf/rigged_simple.gltf", "gltf/simple_skin.gltf",
-                             "gltf/interpolation_test.gltf", "gltf/RobotExpressive/RobotExpressive.glb"}) {
+  for (const char* shared :
+       {"bvh/cmu_01_01.bvh", "gltf/rigged_simple.gltf", "gltf/simple_skin.gltf", "gltf/interpolation_test.gltf",
+        "gltf/RobotExpressive/RobotExpressive.glb", "fbx/animation_with_skeleton.fbx", "fbx/box_ascii.fbx"}) {
     const std::string path = SharedData(shared);
     if (!path.empty() && std::filesystem::exists(path))
       files.push_back({"", std::filesystem::path(path).filename().string(), ReadFile(path)});
@@ -138,6 +139,14 @@ std::vector<HostileUpload> BombUploads() {
     g["buffers"][0].erase("uri");
     bombs.push_back(Bomb("glb-bin-chunk-length-lies", "bomb.glb", Glb(g.dump(), bin, 0xFFFFFFF0u)));
   }
+  {
+    // A binary FBX whose first record's lengths run past the file: assimp's
+    // tokenizer fails its own check, which aborted the process.
+    std::string fbx = "Kaydara FBX Binary# a te\no t";
+    fbx += std::string(7, '\0') + "\x01hi" + std::string(58, '\xff') + "h\nHI";
+    fbx.resize(500, 'x');
+    bombs.push_back(Bomb("fbx-record-past-the-file-fails-an-assimp-check", "bomb.fbx", fbx));
+  }
   return bombs;
 }
 
@@ -145,7 +154,7 @@ std::vector<HostileUpload> HostileUploads(int count, uint32_t seed) {
   std::mt19937 rng(seed);
   const std::vector<HostileUpload> bombs = BombUploads();
   const std::vector<HostileUpload> real = RealFiles();
-  const char* kExtensions[] = {".bvh", ".gltf", ".glb", ".obj", ".bin", ""};
+  const char* kExtensions[] = {".bvh", ".gltf", ".glb", ".obj", ".fbx", ".bin", ""};
   std::vector<HostileUpload> out;
   const int bomb_every = std::max(1, count / static_cast<int>(4 * bombs.size()));  // each bomb about 4 times
   for (int i = 0; i < count; ++i) {
@@ -157,7 +166,7 @@ std::vector<HostileUpload> HostileUploads(int count, uint32_t seed) {
       case 0: {
         std::string bytes(1 + rng() % (64 << 10), '\0');
         for (char& c : bytes) c = static_cast<char>(rng());
-        out.push_back({"random", std::string("random") + kExtensions[rng() % 6], std::move(bytes)});
+        out.push_back({"random", std::string("random") + kExtensions[rng() % 7], std::move(bytes)});
         break;
       }
       case 1: {

@@ -6,8 +6,30 @@
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 
+#include <stdexcept>
+#include <string>
+
 #include "armature/base/utf8.h"
 #include "fbx_importer.h"
+
+// Debian's libassimp is built with its internal checks on, and a failed one
+// (aiAssertViolation) aborted the process: a 497-byte binary FBX whose
+// record length runs past the file failed `begin <= cursor` in the
+// tokenizer. libassimp calls the handler through its PLT, so this
+// definition in the program replaces its own, and the failure becomes an
+// import error: BaseImporter::ReadFile catches it, the read returns no
+// scene, and Load answers INVALID_ARGUMENT with the check in the message.
+// assimp's own errors are std::runtime_errors thrown the same way, so it
+// unwinds as they do.
+namespace Assimp {
+void aiAssertViolation(const char* failed_expression, const char* file, int line) {
+  const char* base = file;
+  for (const char* c = file; *c != '\0'; ++c)
+    if (*c == '/') base = c + 1;
+  throw std::runtime_error(std::string("assimp's check ") + failed_expression + " failed (" + base + ":" +
+                           std::to_string(line) + ")");
+}
+}  // namespace Assimp
 
 namespace armature::fbx_internal {
 

@@ -130,6 +130,22 @@ TEST(FbxImport, BrokenBytesAreInvalidArgument) {
   for (size_t n = 0; n < box.size(); n += 997) (void)ParseAsset(AssetFormat::kFbx, box.substr(0, n), "x");
 }
 
+// A binary FBX whose first record's lengths run past the file (found by
+// engine_compress_fuzz): assimp's tokenizer failed its own check
+// `begin <= cursor`, and Debian's libassimp aborted the process on it.
+TEST(FbxImport, AFailedAssimpCheckIsAnErrorNotAnAbort) {
+  std::string bytes = "Kaydara FBX Binary# a te\no t";
+  bytes += std::string(7, '\0') + "\x01hi" + std::string(58, '\xff') + "h\nHI";
+  bytes.resize(500, 'x');
+  auto c = ParseAsset(AssetFormat::kFbx, bytes, "x");
+  ASSERT_FALSE(c.ok());
+  EXPECT_EQ(c.status().code(), StatusCode::kInvalidArgument) << c.status().message();
+  EXPECT_EQ(c.status().message(), "FBX: assimp's check begin <= cursor failed (FBXBinaryTokenizer.cpp:136)");
+  // The next file reads as before.
+  const std::string box = Shared("box.fbx");
+  if (!box.empty()) EXPECT_TRUE(ParseAsset(AssetFormat::kFbx, box, "box").ok());
+}
+
 TEST(FbxImport, LimitsAreTheOtherFormats) {
   const std::string bytes = Shared("animation_with_skeleton.fbx");
   if (bytes.empty()) GTEST_SKIP() << "shared data not found";
