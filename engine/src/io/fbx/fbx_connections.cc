@@ -28,6 +28,9 @@ bool LinksObjects(std::string_view type) { return type != "PP"; }
 
 bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
+// What ends a token in assimp's ASCII tokenizer.
+bool EndsToken(char c) { return IsSpace(c) || c == ',' || c == '{' || c == '}' || c == ';' || c == ':' || c == '"'; }
+
 // `C: "type",child,parent` records anywhere in an ASCII file (a record's
 // tokens may run over lines).
 Edges AsciiConnections(std::string_view text) {
@@ -53,10 +56,23 @@ Edges AsciiConnections(std::string_view text) {
       const bool negative = i < text.size() && text[i] == '-';
       if (negative) ++i;
       const size_t first = i;
+      // As assimp's strtoul10_64 reads it: an overflow it notices (the new
+      // value below the old) is 0, one it misses wraps.
       uint64_t v = 0;
-      while (i < text.size() && text[i] >= '0' && text[i] <= '9' && i - first < 19) v = 10 * v + (text[i++] - '0');
+      bool overflowed = false;
+      for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) {
+        const uint64_t next = v * 10 + static_cast<uint64_t>(text[i] - '0');
+        overflowed = overflowed || next < v;
+        v = next;
+      }
+      if (overflowed) v = 0;
       if (i == first) ok = false;
       id = negative ? -static_cast<int64_t>(v) : static_cast<int64_t>(v);
+      // assimp reads a token's leading digits as its id and ignores the
+      // rest ("3000-0" is 3000), so the next id starts at the next token
+      // (found by fuzz.engine_fbx_fuzz: "3000-0" read as 3000 and then 0
+      // hid a cycle).
+      while (i < text.size() && !EndsToken(text[i])) ++i;
     }
     at = i;
     if (ok) edges.emplace_back(ids[0], ids[1]);

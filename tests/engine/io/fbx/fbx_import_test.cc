@@ -182,7 +182,11 @@ TEST(FbxImport, ConnectionCyclesAreRefusedBeforeAssimpFollowsThem) {
   // assimp links objects by any connection type but "PP", so a mistyped one
   // closes the cycle too (fuzz.engine_fbx_fuzz), also with its tokens on
   // two lines; a "PP" one is not followed, so it is not a cycle.
-  for (const std::string closing : {"\n\tC: \"OxglO\",2000,3000", "\n\tC: \"OP\",\n\t\t2000, 3000, \"p\""}) {
+  // assimp reads an id token's leading digits and skips the rest, so
+  // "2000-0" is 2000 and the next token, 3000, the parent; an id past 2^64
+  // that assimp sees overflow is 0 (fuzz.engine_fbx_fuzz).
+  for (const std::string closing : {"\n\tC: \"OxglO\",2000,3000", "\n\tC: \"OP\",\n\t\t2000, 3000, \"p\"",
+                                    "\n\tC: \"OO\",2000-0\n,3000", "\n\tC: \"OO\",2000x9,3000"}) {
     std::string mistyped(bytes->begin(), bytes->end());
     mistyped.insert(at + edge.size(), closing);
     auto r = ParseAsset(AssetFormat::kFbx, mistyped, "p");
