@@ -147,6 +147,20 @@ std::vector<HostileUpload> BombUploads() {
     fbx.resize(500, 'x');
     bombs.push_back(Bomb("fbx-record-past-the-file-fails-an-assimp-check", "bomb.fbx", fbx));
   }
+  {
+    // An ASCII FBX of 20,000 objects connected in one chain, and scopes
+    // nested 30,000 deep: assimp recursed through either until the stack
+    // overflowed.
+    std::string chain = "; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n\tFBXVersion: 7400\n}\nObjects:  {\n";
+    constexpr int kChain = 20000;
+    for (int i = 1; i <= kChain; ++i) chain += "\tModel: " + std::to_string(i) + ", \"Model::m\", \"Null\" {\n\t}\n";
+    chain += "}\nConnections:  {\n";
+    for (int i = 1; i <= kChain; ++i) chain += "\tC: \"OO\"," + std::to_string(i) + "," + std::to_string(i - 1) + "\n";
+    bombs.push_back(Bomb("fbx-chain-of-20000-objects", "bomb.fbx", chain + "}\n"));
+    std::string scopes = "; FBX 7.4.0 project file\nFoo:  {\n";
+    for (int i = 0; i < 30000; ++i) scopes += "a: {";
+    bombs.push_back(Bomb("fbx-scopes-nested-30000-deep", "bomb.fbx", scopes + std::string(30001, '}')));
+  }
   return bombs;
 }
 

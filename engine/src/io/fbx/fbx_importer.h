@@ -28,9 +28,10 @@ struct LoadedScene {
 
 // Runs assimp's FBX reader on `bytes` with every external path refused.
 StatusOr<LoadedScene> Load(std::string_view bytes);
-// INVALID_ARGUMENT when the file's object-to-object connections form a
-// cycle, which assimp would follow until the stack overflows.
-Status CheckConnectionsAcyclic(std::string_view bytes);
+// INVALID_ARGUMENT when assimp would recurse through the file until the
+// stack overflows: its object-to-object connections form a cycle or a
+// chain over 1,000 deep, or its scopes nest over 1,000 deep.
+Status CheckRecursion(std::string_view bytes);
 
 Eigen::Matrix4d ToEigen(const aiMatrix4x4& m);
 // `base`, or `base_1`, `base_2`, … : the first not in `used` (then added).

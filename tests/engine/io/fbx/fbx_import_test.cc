@@ -240,5 +240,54 @@ TEST(FbxImport, ConnectionCyclesAreRefusedBeforeAssimpFollowsThem) {
   EXPECT_EQ(chained.ok() ? std::string::npos : chained.status().message().find("cycle"), std::string::npos);
 }
 
+// assimp reads scopes and connections recursively: a chain of 10,000
+// connected objects or 30,000 nested scopes overflowed an 8 MB stack and
+// ended the process. Over 1,000 deep, either is refused before assimp.
+TEST(FbxImport, DeepChainsAndScopesAreRefusedBeforeAssimpRecursesThroughThem) {
+  auto ascii_chain = [](int models) {
+    std::string fbx = "; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n\tFBXVersion: 7400\n}\nObjects:  {\n";
+    for (int i = 1; i <= models; ++i)
+      fbx += "\tModel: " + std::to_string(i) + ", \"Model::m" + std::to_string(i) + "\", \"Null\" {\n\t}\n";
+    fbx += "}\nConnections:  {\n\tC: \"OO\",1,0\n";
+    for (int i = 2; i <= models; ++i) fbx += "\tC: \"OO\"," + std::to_string(i) + "," + std::to_string(i - 1) + "\n";
+    return fbx + "}\n";
+  };
+  auto deep = ParseAsset(AssetFormat::kFbx, ascii_chain(20000), "deep");
+  ASSERT_FALSE(deep.ok());
+  EXPECT_EQ(deep.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(deep.status().message().find("a chain of over 1000 connected objects"), std::string::npos)
+      << deep.status().message();
+  auto shallow = ParseAsset(AssetFormat::kFbx, ascii_chain(500), "shallow");
+  EXPECT_TRUE(shallow.ok()) << shallow.status().message();
+  if (shallow.ok()) EXPECT_EQ(shallow->skeletons.at(0).skeleton->size(), 500u);
+
+  std::string braces = "; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n\tFBXVersion: 7400\n}\nFoo:  {\n";
+  for (int i = 0; i < 30000; ++i) braces += "a: {";
+  braces += std::string(30000, '}') + "\n}\n";
+  auto nested = ParseAsset(AssetFormat::kFbx, braces, "n");
+  ASSERT_FALSE(nested.ok());
+  EXPECT_EQ(nested.status().message(), "FBX: braces nested 30001 deep, over the limit of 1000");
+
+  // The same in a binary file (version 7400): 30,000 records each holding
+  // the next, every list ended by a null record.
+  constexpr size_t kDepth = 30000, kFirst = 27, kStep = 14;  // a 13-byte header and the name "a"
+  std::string binary("Kaydara FBX Binary  \0\x1a\0", 23);
+  const uint32_t version = 7400;
+  binary.append(reinterpret_cast<const char*>(&version), 4);
+  const size_t innermost_end = kFirst + kStep * kDepth;
+  for (size_t k = 0; k < kDepth; ++k) {
+    std::string header(13, '\0');
+    const auto end = static_cast<uint32_t>(innermost_end + 13 * (kDepth - 1 - k));
+    std::memcpy(&header[0], &end, 4);
+    header[12] = 1;
+    binary += header + "a";
+  }
+  for (size_t k = 0; k + 1 < kDepth; ++k) binary += std::string(13, '\0');
+  binary += std::string(13, '\0');
+  auto records = ParseAsset(AssetFormat::kFbx, binary, "r");
+  ASSERT_FALSE(records.ok());
+  EXPECT_EQ(records.status().message(), "FBX: records nested 29999 deep, over the limit of 1000");
+}
+
 }  // namespace
 }  // namespace armature

@@ -1,9 +1,14 @@
-// A cycle in an FBX file's object connections ("C: "OO", child, parent",
-// or any type but "PP") sends assimp's node conversion into endless recursion, which
-// overflows the stack and ends the process (found by fuzz.engine_fbx_fuzz).
-// Real files connect objects as a tree or a DAG, so the bytes are scanned for
-// those connections, ASCII or binary, and a cycle is refused before assimp
-// sees them. Every walk here is iterative and bounded by the bytes.
+// assimp reads an FBX file recursively: its scopes (ASCII braces, binary
+// records nested in records) and then its object connections ("C: "OO",
+// child, parent", or any type but "PP") from the root down. A cycle in the
+// connections recursed without end (found by fuzz.engine_fbx_fuzz), and a
+// chain of 10,000 connected objects or 30,000 nested scopes overflowed an
+// 8 MB stack: each ended the process. Real files nest a few levels and
+// connect objects as a tree or a DAG a few dozen deep, so the bytes are
+// scanned, ASCII or binary, and a cycle or a depth over kMaxDepth is
+// refused before assimp sees them. Every walk here is iterative and
+// bounded by the bytes.
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <map>
@@ -18,6 +23,18 @@ namespace armature::fbx_internal {
 namespace {
 
 using Edges = std::vector<std::pair<int64_t, int64_t>>;  // child → parent
+
+// Scopes nested, or objects chained, deeper than this are refused: about
+// 1 MB of assimp's stack at the deepest (a connection level takes about
+// 1 KB of it in the release build, a scope about 300 bytes).
+constexpr size_t kMaxDepth = 1000;
+
+// What assimp would recurse through: the connections, and how deep the
+// scopes nest.
+struct Structure {
+  Edges edges;
+  size_t depth = 0;
+};
 
 constexpr std::string_view kBinaryMagic("Kaydara FBX Binary  \0", 21);
 
@@ -80,6 +97,29 @@ Edges AsciiConnections(std::string_view text) {
   return edges;
 }
 
+// How deep an ASCII file's braces nest, outside quoted strings and
+// comments (';' to the end of the line), as assimp's tokenizer reads them.
+size_t AsciiNesting(std::string_view text) {
+  size_t depth = 0, deepest = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"') {
+      const size_t end = text.find('"', i + 1);
+      if (end == std::string_view::npos) break;
+      i = end;
+    } else if (c == ';') {
+      const size_t end = text.find('\n', i);
+      if (end == std::string_view::npos) break;
+      i = end;
+    } else if (c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if (c == '}' && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
 template <typename T>
 bool ReadLe(std::string_view bytes, size_t at, T& out) {
   if (at > bytes.size() || bytes.size() - at < sizeof(T)) return false;
@@ -102,12 +142,13 @@ void BinaryConnection(std::string_view props, Edges& edges) {
   edges.emplace_back(ids[0], ids[1]);
 }
 
-// Every "C" record in a binary file, at any depth, walked with a stack of
-// the enclosing records' ends.
-Edges BinaryConnections(std::string_view bytes) {
-  Edges edges;
+// Every "C" record in a binary file, at any depth, and how deep records
+// nest, walked with a stack of the enclosing records' ends.
+Structure BinaryStructure(std::string_view bytes) {
+  Structure structure;
+  Edges& edges = structure.edges;
   uint32_t version = 0;
-  if (!ReadLe(bytes, 23, version)) return edges;
+  if (!ReadLe(bytes, 23, version)) return structure;
   const bool wide = version >= 7500;
   const size_t header = wide ? 25 : 13;
   std::vector<size_t> ends = {bytes.size()};
@@ -141,23 +182,23 @@ Edges BinaryConnections(std::string_view bytes) {
     const size_t children = props_at + props_length;
     if (children < end) {
       ends.push_back(end);
+      structure.depth = std::max(structure.depth, ends.size() - 1);
       at = children;
     } else {
       at = end;
     }
   }
-  return edges;
+  return structure;
 }
 
-}  // namespace
-
-Status CheckConnectionsAcyclic(std::string_view bytes) {
-  const Edges edges =
-      bytes.substr(0, kBinaryMagic.size()) == kBinaryMagic ? BinaryConnections(bytes) : AsciiConnections(bytes);
+// INVALID_ARGUMENT for a cycle in the connections or a chain of them
+// deeper than kMaxDepth: an iterative depth-first search, each object's
+// chain length (itself and its deepest line of parents) set when it is done.
+Status CheckConnections(const Edges& edges) {
   std::map<int64_t, std::vector<int64_t>> parents;
   for (const auto& [child, parent] : edges) parents[child].push_back(parent);
-  // Iterative depth-first search: 1 = on the current path, 2 = done.
-  std::map<int64_t, int> state;
+  std::map<int64_t, int> state;  // 1 = on the current path, 2 = done
+  std::map<int64_t, size_t> chain;
   for (const auto& [start, unused] : parents) {
     if (state[start] != 0) continue;
     std::vector<std::pair<int64_t, size_t>> path = {{start, 0}};
@@ -166,6 +207,14 @@ Status CheckConnectionsAcyclic(std::string_view bytes) {
       auto& [id, next] = path.back();
       const auto it = parents.find(id);
       if (it == parents.end() || next == it->second.size()) {
+        size_t longest = 0;
+        if (it != parents.end())
+          for (const int64_t parent : it->second) longest = std::max(longest, chain[parent]);
+        chain[id] = longest + 1;
+        if (chain[id] > kMaxDepth)
+          return Status::InvalidArgument("FBX: a chain of over " + std::to_string(kMaxDepth) +
+                                         " connected objects (object " + std::to_string(id) +
+                                         "), deeper than real files connect them");
         state[id] = 2;
         path.pop_back();
         continue;
@@ -182,6 +231,24 @@ Status CheckConnectionsAcyclic(std::string_view bytes) {
     }
   }
   return Status::Ok();
+}
+
+}  // namespace
+
+Status CheckRecursion(std::string_view bytes) {
+  const bool binary = bytes.substr(0, kBinaryMagic.size()) == kBinaryMagic;
+  Structure structure;
+  if (binary) {
+    structure = BinaryStructure(bytes);
+  } else {
+    structure.edges = AsciiConnections(bytes);
+    structure.depth = AsciiNesting(bytes);
+  }
+  if (structure.depth > kMaxDepth)
+    return Status::InvalidArgument(std::string("FBX: ") + (binary ? "records" : "braces") + " nested " +
+                                   std::to_string(structure.depth) + " deep, over the limit of " +
+                                   std::to_string(kMaxDepth));
+  return CheckConnections(structure.edges);
 }
 
 }  // namespace armature::fbx_internal
