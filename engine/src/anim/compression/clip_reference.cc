@@ -62,7 +62,7 @@ double LargestMagnitude(std::span<const Trs> local) {
 // below by the parent's scale; a scale error stretches the reach relative
 // to the scale.
 void SetLevers(ClipReference& r) {
-  const size_t n = r.joints, segments = r.segment_reach.size() / std::max<size_t>(n, 1);
+  const size_t n = r.skeleton->size(), segments = r.segment_reach.size() / std::max<size_t>(n, 1);
   for (TrackValues& t : r.tracks) {
     auto lever = [&](double reach) {
       return t.kind == TrackKind::kRotation      ? reach
@@ -80,10 +80,9 @@ StatusOr<ClipReference> SampleReference(const Clip& clip, const FrameGrid& frame
   const Skeleton& skeleton = *clip.skeleton;
   ClipReference r;
   r.frames = frames;
-  r.joints = skeleton.size();
   r.skeleton = &skeleton;
   r.tracks = SourceTracks(clip, frames.count);
-  const size_t n = r.joints;
+  const size_t n = skeleton.size();
   r.reach.assign(n, 0);
   r.parent_scale.assign(n, 1);
   r.min_scale.assign(n, 1);

@@ -145,35 +145,6 @@ bool Choose(std::vector<TrackState>& states, const CompressedClip& out, size_t s
   return true;
 }
 
-// Measures `segment`'s frames through the sampling job into `errors`
-// (frames × joints); the joints over the bound come back, and `late` says
-// whether one is over in the segment's last quarter, near the shared end.
-// `context` was resized to the clip as packed now: the segment's header is
-// walked once, not once a frame. `world` and `local` are the reference's
-// poses of a frame, rebuilt for each.
-std::vector<size_t> MeasureSegment(const CompressedClip& clip, const ClipReference& reference, size_t segment,
-                                   ShellErrorMeter& meter, ClipSamplingContext& context, std::vector<Trs>& pose,
-                                   std::vector<Trs>& local, std::vector<WorldQvv>& world, std::vector<double>& errors,
-                                   bool& late) {
-  late = false;
-  const size_t n = reference.joints, start = segment * kSegmentFrames;
-  const size_t end = segment + 1 == SegmentCount(clip.frames.count) ? clip.frames.count : start + kSegmentFrames;
-  std::vector<size_t> over;
-  for (size_t f = start; f < end; ++f) {
-    ClipSamplingJob job{&clip, clip.frames.Time(f), WrapMode::kClamp, &context, pose, {}};
-    (void)job.Run();
-    std::span<double> per_joint(errors.data() + f * n, n);
-    ReferenceWorld(reference, f, local, world);
-    meter.MeasureWorld(world, pose, per_joint);
-    for (size_t j = 0; j < n; ++j)
-      if (!(per_joint[j] <= clip.bound.precision)) {  // NaN too
-        over.push_back(j);
-        late = late || f + kSegmentFrames / 4 >= end;
-      }
-  }
-  return over;
-}
-
 // Segments last first, each once: a segment ends on the next one's first
 // samples, so it is chosen after it.
 void SortDescendingUnique(std::vector<size_t>& segments) {
@@ -189,8 +160,8 @@ void Tighten(std::vector<TrackState>& states, const std::vector<double>& factors
 // The compressor's working state after the first choices: it measures
 // segments through the sampling job, and tightens or relaxes targets.
 struct Refiner {
-  Refiner(const Skeleton& sk, const ClipReference& ref, CompressedClip& o, std::vector<TrackState>& st)
-      : skeleton(sk), reference(ref), out(o), states(st) {}
+  Refiner(const ClipReference& ref, CompressedClip& o, std::vector<TrackState>& st)
+      : skeleton(*ref.skeleton), reference(ref), out(o), states(st) {}
 
   const Skeleton& skeleton;
   const ClipReference& reference;
@@ -199,17 +170,42 @@ struct Refiner {
   const size_t segments = SegmentCount(out.frames.count);
   ShellErrorMeter meter{skeleton, out.bound.shell_distance};
   ClipSamplingContext context;
-  std::vector<Trs> pose = std::vector<Trs>(reference.joints), local = pose;
-  std::vector<WorldQvv> world = std::vector<WorldQvv>(reference.joints);
-  std::vector<double> errors = std::vector<double>(out.frames.count * reference.joints, 0.0);
+  const size_t joints = skeleton.size();
+  std::vector<Trs> pose = std::vector<Trs>(joints), local = pose;  // the job's pose, the reference's
+  std::vector<WorldQvv> world = std::vector<WorldQvv>(joints);     // the reference's
+  std::vector<double> errors = std::vector<double>(out.frames.count * joints, 0.0);
   std::vector<std::vector<uint8_t>> packed;  // per segment, for Pack
   std::string why;
+
+  // Measures `segment`'s frames through the sampling job into `errors`
+  // (frames × joints); the joints over the bound come back, and `late`
+  // says whether one is over in the segment's last quarter, near the
+  // shared end. `context` was resized to the clip as packed now: the
+  // segment's header is walked once, not once a frame.
+  std::vector<size_t> MeasureSegment(size_t segment, bool& late) {
+    late = false;
+    const size_t start = segment * kSegmentFrames;
+    const size_t end = segment + 1 == segments ? out.frames.count : start + kSegmentFrames;
+    std::vector<size_t> over;
+    for (size_t f = start; f < end; ++f) {
+      (void)ClipSamplingJob{&out, out.frames.Time(f), WrapMode::kClamp, &context, pose, {}}.Run();
+      std::span<double> per_joint(errors.data() + f * joints, joints);
+      ReferenceWorld(reference, f, local, world);
+      meter.MeasureWorld(world, pose, per_joint);
+      for (size_t j = 0; j < joints; ++j)
+        if (!(per_joint[j] <= out.bound.precision)) {  // NaN too
+          over.push_back(j);
+          late = late || f + kSegmentFrames / 4 >= end;
+        }
+    }
+    return over;
+  }
 
   // Per joint, how much to tighten its tracks in `segment`: each joint over
   // the bound asks its chain for the share its worst frame is over, with a
   // margin, within [kTighten, kTightenLeast]; a track takes the least asked.
   std::vector<double> ChainFactors(size_t segment) const {
-    const size_t n = reference.joints, start = segment * kSegmentFrames;
+    const size_t n = joints, start = segment * kSegmentFrames;
     const size_t end = segment + 1 == segments ? out.frames.count : start + kSegmentFrames;
     std::vector<double> worst(n, 0.0), factors(n, 1.0);
     for (size_t f = start; f < end; ++f)
@@ -240,8 +236,7 @@ struct Refiner {
       std::vector<size_t> next;
       for (size_t s : dirty) {
         bool late = false;
-        const std::vector<size_t> over =
-            MeasureSegment(out, reference, s, meter, context, pose, local, world, errors, late);
+        const std::vector<size_t> over = MeasureSegment(s, late);
         if (over.empty()) continue;
         if (round == kRefinements) {
           why = "the bound is not met after " + std::to_string(kRefinements) + " refinements";
@@ -301,7 +296,7 @@ bool OrderForSeeks(std::vector<TrackState>& states, CompressedClip& out) {
 constexpr double kMaxPackedMagnitude = 1e30;
 
 // The lossy form within the bound, or false (and a reason) when it cannot be met.
-bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedClip& out, std::string& why) {
+bool CompressLossy(const ClipReference& reference, CompressedClip& out, std::string& why) {
   if (const double largest = reference.largest_magnitude; !(largest < kMaxPackedMagnitude)) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", largest);
@@ -312,7 +307,7 @@ bool CompressLossy(const Clip& clip, const ClipReference& reference, CompressedC
   ClassifyTracks(reference, out.bound.precision, out, states);
   const size_t segments = SegmentCount(out.frames.count);
   for (const TrackState& s : states) out.animated.push_back(s.track);
-  Refiner refiner(*clip.skeleton, reference, out, states);
+  Refiner refiner(reference, out, states);
   std::vector<size_t> all;
   for (size_t s = segments; s-- > 0;) {  // last first: each segment ends on the next one's first samples
     if (!refiner.ChooseOrExplain(s)) {
@@ -449,7 +444,7 @@ StatusOr<std::shared_ptr<const CompressedClip>> CompressClip(std::shared_ptr<con
     } else {
       ARMATURE_ASSIGN_OR_RETURN(const ClipReference reference,
                                 SampleReference(*clip, out->frames, bound.shell_distance));
-      if (CompressLossy(*clip, reference, *out, why) && CompressMorphWeights(*clip, *out, why))
+      if (CompressLossy(reference, *out, why) && CompressMorphWeights(*clip, *out, why))
         return std::shared_ptr<const CompressedClip>(std::move(out));
     }
     out->warning = "clip kept exact: " + why + " (" + std::to_string(precision.centimetres) + " cm)";
