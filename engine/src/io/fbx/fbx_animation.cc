@@ -104,7 +104,7 @@ Status Importer::ImportAnimation(unsigned a) {
   if (anim.mNumMorphMeshChannels > 0 || anim.mNumMeshChannels > 0)
     warnings_.push_back(where + ": morph weight and mesh animation not imported");
   ARMATURE_RETURN_IF_ERROR(clip->Validate().WithContext(where + ": "));
-  const std::string local = UniqueName(stack.empty() ? std::to_string(a) : stack, used_clip_names_);
+  const std::string local = used_clip_names_.Take(stack.empty() ? std::to_string(a) : stack);
   contents_.clips.push_back({name_ + "." + local, name_, clip});
   return Status::Ok();
 }

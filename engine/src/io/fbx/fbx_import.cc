@@ -53,7 +53,7 @@ StatusOr<AssetContents> Importer::Run() {
 Status Importer::BuildSkeleton() {
   auto skeleton = std::make_shared<Skeleton>();
   node_joint_of_mesh_.assign(scene_.mNumMeshes, -1);
-  std::set<std::string> used;
+  UniqueNames used;
   size_t folded_helpers = 0;
   // Depth-first, parents before children; an explicit stack, as a hostile
   // file may nest deeply. Each entry: the node and its parent's joint.
@@ -74,7 +74,7 @@ Status Importer::BuildSkeleton() {
         warnings_.push_back("node '" + EscapeForMessage(name) +
                             "' has shear or zero scale; decomposed into the nearest rotation and scale");
       joint = static_cast<int>(skeleton->names.size());
-      skeleton->names.push_back(UniqueName(name.empty() ? "node" + std::to_string(joint) : name, used));
+      skeleton->names.push_back(used.Take(name.empty() ? "node" + std::to_string(joint) : name));
       skeleton->parents.push_back(parent);
       skeleton->rest.push_back(rest);
       joint_of_name_.emplace(name, joint);
@@ -97,12 +97,6 @@ Status Importer::BuildSkeleton() {
   skeleton_ = skeleton;
   contents_.skeletons.push_back({name_, skeleton_});
   return Status::Ok();
-}
-
-std::string UniqueName(std::string base, std::set<std::string>& used) {
-  std::string name = base;
-  for (int i = 1; !used.insert(name).second; ++i) name = base + "_" + std::to_string(i);
-  return name;
 }
 
 int Importer::JointNamed(const std::string& node_name) const {

@@ -14,6 +14,7 @@
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
+#include "armature/base/unique_names.h"
 #include "armature/engine/io/asset.h"
 #include "armature/engine/io/import_limits.h"
 #include "armature/engine/mesh/mesh.h"
@@ -34,8 +35,6 @@ StatusOr<LoadedScene> Load(std::string_view bytes);
 Status CheckRecursion(std::string_view bytes);
 
 Eigen::Matrix4d ToEigen(const aiMatrix4x4& m);
-// `base`, or `base_1`, `base_2`, … : the first not in `used` (then added).
-std::string UniqueName(std::string base, std::set<std::string>& used);
 
 class Importer {
  public:
@@ -62,7 +61,7 @@ class Importer {
   std::map<std::string, int> joint_of_name_;    // assimp node name → joint (the first node of a name)
   std::map<const aiNode*, int> joint_of_node_;  // every kept node → joint
   std::vector<int> node_joint_of_mesh_;         // scene mesh → the joint of the first node showing it, or -1
-  std::set<std::string> used_mesh_names_, used_clip_names_;
+  UniqueNames used_mesh_names_, used_clip_names_;
   uint64_t decoded_bytes_ = 0;
   AssetContents contents_;
   std::vector<std::string> warnings_;

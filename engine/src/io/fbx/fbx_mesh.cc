@@ -41,7 +41,7 @@ Status Importer::ImportMesh(unsigned m) {
     return Status::Ok();
   }
   auto mesh = std::make_shared<Mesh>();
-  mesh->name = UniqueName(given.empty() ? std::to_string(m) : given, used_mesh_names_);
+  mesh->name = used_mesh_names_.Take(given.empty() ? std::to_string(m) : given);
   mesh->positions.reserve(n);
   for (unsigned v = 0; v < n; ++v) {
     if (!Finite(am.mVertices[v]))
@@ -147,7 +147,7 @@ Status Importer::AddSkin(const aiMesh& am, int node_joint, const std::string& wh
 // assimp's anim meshes hold whole positions (and normals); a target keeps only
 // the vertices it moves.
 Status Importer::AddMorphTargets(const aiMesh& am, const std::string& where, Mesh& mesh) {
-  std::set<std::string> used;
+  UniqueNames used;
   for (unsigned t = 0; t < am.mNumAnimMeshes; ++t) {
     const aiAnimMesh& target = *am.mAnimMeshes[t];
     const std::string target_where = where + " morph target " + std::to_string(t);
@@ -157,7 +157,7 @@ Status Importer::AddMorphTargets(const aiMesh& am, const std::string& where, Mes
     const std::string given = target.mName.C_Str();
     if (!IsValidUtf8(given)) return Status::InvalidArgument(target_where + ": the name is not valid UTF-8");
     MorphTarget out;
-    out.name = UniqueName(given.empty() ? std::to_string(t) : given, used);
+    out.name = used.Take(given.empty() ? std::to_string(t) : given);
     const bool normals = target.mNormals != nullptr && am.mNormals != nullptr;
     for (unsigned v = 0; v < am.mNumVertices; ++v) {
       if (!Finite(target.mVertices[v]) || (normals && !Finite(target.mNormals[v])))

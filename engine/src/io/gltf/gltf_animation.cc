@@ -130,7 +130,7 @@ Status Importer::ImportAnimation(size_t a) {
   clip->default_interpolation = SharedInterpolation(*clip);
   ARMATURE_RETURN_IF_ERROR(clip->Validate().WithContext(where + ": "));
   ARMATURE_RETURN_IF_ERROR(CheckName(anim.name, where + ".name"));
-  const std::string local = Unique(anim.name.empty() ? std::to_string(a) : anim.name, used_clip_names_);
+  const std::string local = used_clip_names_.Take(anim.name.empty() ? std::to_string(a) : anim.name);
   contents_.clips.push_back({name_ + "." + local, name_, clip});
   return Status::Ok();
 }

@@ -24,12 +24,6 @@ Status CheckName(const std::string& name, const std::string& where) {
   return Status::InvalidArgument(where + " '" + EscapeForMessage(name) + "' is not valid UTF-8");
 }
 
-std::string Unique(std::string base, std::set<std::string>& used) {
-  std::string name = base;
-  for (int i = 1; !used.insert(name).second; ++i) name = base + "_" + std::to_string(i);
-  return name;
-}
-
 Status CheckNumbers(const std::vector<double>& v, std::initializer_list<size_t> sizes, const std::string& where) {
   if (std::find(sizes.begin(), sizes.end(), v.size()) == sizes.end())
     return Status::InvalidArgument(where + ": expected " + std::to_string(*(sizes.end() - 1)) + " numbers, got " +
@@ -113,12 +107,12 @@ Status Importer::BuildSkeleton() {
       return Status::InvalidArgument("nodes[" + std::to_string(i) + "]: the node hierarchy has a cycle");
 
   auto skeleton = std::make_shared<Skeleton>();
-  std::set<std::string> used;
+  UniqueNames used;
   for (size_t j = 0; j < n; ++j) {
     const size_t i = order[j];
     const tinygltf::Node& node = model_.nodes[i];
     ARMATURE_RETURN_IF_ERROR(CheckName(node.name, "nodes[" + std::to_string(i) + "].name"));
-    skeleton->names.push_back(Unique(node.name.empty() ? "node" + std::to_string(i) : node.name, used));
+    skeleton->names.push_back(used.Take(node.name.empty() ? "node" + std::to_string(i) : node.name));
     skeleton->parents.push_back(parent[i] < 0 ? -1 : joint_of_[static_cast<size_t>(parent[i])]);
     ARMATURE_ASSIGN_OR_RETURN(auto rest, NodeTrs(node, "nodes[" + std::to_string(i) + "]"));
     skeleton->rest.push_back(rest);

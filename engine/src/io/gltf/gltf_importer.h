@@ -12,6 +12,7 @@
 
 #include <tiny_gltf.h>
 
+#include "armature/base/unique_names.h"
 #include "armature/engine/io/asset.h"
 #include "armature/engine/io/import_limits.h"
 #include "armature/engine/mesh/material.h"
@@ -28,8 +29,6 @@ constexpr int kShort = TINYGLTF_COMPONENT_TYPE_SHORT;
 
 // Names travel in protobuf strings, which must be UTF-8.
 Status CheckName(const std::string& name, const std::string& where);
-// `base`, or `base_1`, `base_2`, … : the first not in `used` (then added).
-std::string Unique(std::string base, std::set<std::string>& used);
 Status CheckNumbers(const std::vector<double>& v, std::initializer_list<size_t> sizes, const std::string& where);
 
 // Parses the glTF JSON (or GLB container), reading external buffers from `resources`.
@@ -127,7 +126,7 @@ class Importer {
   std::shared_ptr<const Skeleton> skeleton_;
   std::vector<int> joint_of_;  // node → skeleton joint
   std::vector<int> instance_;  // mesh → first node using it, or -1
-  std::set<std::string> used_mesh_names_, used_clip_names_;
+  UniqueNames used_mesh_names_, used_clip_names_;
   std::vector<std::shared_ptr<const Material>> materials_;  // by glTF index, built on first use
   std::vector<std::shared_ptr<const MaterialImage>> images_;
   uint64_t clip_keys_ = 0;      // keys of the clip being imported, all tracks

@@ -20,7 +20,7 @@ Status Importer::ImportMesh(size_t m) {
   const std::string where = "meshes[" + std::to_string(m) + "]";
   ARMATURE_RETURN_IF_ERROR(CheckName(gm.name, where + ".name"));
   auto mesh = std::make_shared<Mesh>();
-  mesh->name = Unique(gm.name.empty() ? std::to_string(m) : gm.name, used_mesh_names_);
+  mesh->name = used_mesh_names_.Take(gm.name.empty() ? std::to_string(m) : gm.name);
   const int node = instance_[m];
   const int skin = node >= 0 ? model_.nodes[static_cast<size_t>(node)].skin : -1;
   if (skin >= 0) {

@@ -1,6 +1,7 @@
 // FBX import (assimp) on the shared files and on broken bytes: what the
 // skeleton, clips and meshes hold, the units report, format detection, limits
 // and clear errors.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -287,6 +288,25 @@ TEST(FbxImport, DeepChainsAndScopesAreRefusedBeforeAssimpRecursesThroughThem) {
   auto records = ParseAsset(AssetFormat::kFbx, binary, "r");
   ASSERT_FALSE(records.ok());
   EXPECT_EQ(records.status().message(), "FBX: records nested 29999 deep, over the limit of 1000");
+}
+
+// Nodes named alike get "_N" suffixes in one pass: 16,000 nodes named
+// "Hips" (a 1.2 MB file) took 20 s when each looked for its suffix from 1.
+TEST(FbxImport, ThousandsOfNodesNamedAlikeGetTheNextSuffixes) {
+  constexpr int kModels = 20000;
+  std::string fbx = "; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n\tFBXVersion: 7400\n}\nObjects:  {\n";
+  for (int i = 1; i <= kModels; ++i) fbx += "\tModel: " + std::to_string(i) + ", \"Model::Hips\", \"Null\" {\n\t}\n";
+  fbx += "}\nConnections:  {\n";
+  for (int i = 1; i <= kModels; ++i) fbx += "\tC: \"OO\"," + std::to_string(i) + ",0\n";
+  auto c = ParseAsset(AssetFormat::kFbx, fbx + "}\n", "alike");
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  const Skeleton& skeleton = *c->skeletons.at(0).skeleton;
+  ASSERT_EQ(skeleton.size(), static_cast<size_t>(kModels));
+  std::vector<std::string> names = skeleton.names;
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "Hips"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "Hips_" + std::to_string(kModels - 1)), names.end());
 }
 
 }  // namespace
