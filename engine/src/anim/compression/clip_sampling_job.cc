@@ -112,11 +112,12 @@ ARMATURE_DECODE_INLINE void DecodeTrack(const AnimatedTrack& track, const TrackC
   const float u =
       (at.q - static_cast<float>(i << cursor.stride_log)) * compression_internal::kInverseStride[cursor.stride_log];
   const size_t bit_a = cursor.bit + i * cursor.total;
-  const v4 a = ReadKept(segment, bit_a, cursor);
+  const float fi = static_cast<float>(i);
+  const v4 a = ReadKept(segment, bit_a, fi, cursor);
   // The data is padded (kReadPadding), so the read past a segment's last
   // sample is harmless; its shared end replaces it.
   const v4 b = EndsOnNext(cursor, at, i) ? compression_internal::Load4(cursor.end)
-                                         : ReadKept(segment, bit_a + cursor.total, cursor);
+                                         : ReadKept(segment, bit_a + cursor.total, fi + 1.f, cursor);
   if (track.kind == TrackKind::kRotation) return sink.Rotation(a, b, u, cursor.dropped, track.joint);
   sink.Vector(track.kind, a + compression_internal::Splat(u) * (b - a), track.joint);
 }
@@ -126,7 +127,7 @@ ARMATURE_DECODE_INLINE void DecodeTrack(const AnimatedTrack& track, const TrackC
 ARMATURE_DECODE_INLINE void ReadEnd(TrackKind kind, const TrackCursor& first, const uint8_t* next,
                                     TrackCursor& cursor) {
   using namespace compression_internal;
-  const v4 v = ReadKept(next, first.bit, first);  // lane 3 is 0, as `end`'s fourth stays
+  const v4 v = ReadKept(next, first.bit, 0.f, first);  // lane 3 is 0, as `end`'s fourth stays
   if (kind != TrackKind::kRotation || first.dropped == cursor.dropped) return Store4(cursor.end, v);
   const float kept[3] = {v[0], v[1], v[2]};
   float q[4];

@@ -51,14 +51,13 @@ void PackSegment(const std::vector<TrackState>& states, const FrameGrid& frames,
   size_t tail = 0, bits = 0;
   for (const TrackState& st : states) {
     const SegmentTrackChoice& c = st.choice[s];
-    const bool ranged = kCodes[c.code].ranged;
-    tail += LeadBytes(st.track) + (ranged ? kRangeBytes : 0);
-    bits += c.bits - (ranged ? 8 * kRangeBytes : 0);
+    tail += LeadBytes(st.track) + TailBytes(c);
+    bits += c.bits - 8 * TailBytes(c);
   }
   const size_t size = tracks + (bits + 7) / 8 + tail;
   out.assign(size, 0);
   uint8_t* seg = out.data();
-  uint8_t* back = seg + size;  // dropped components and ranges, from the end, in track order
+  uint8_t* back = seg + size;  // dropped components, ranges and slopes, from the end, in track order
   size_t bit = tracks * 8;
   for (size_t t = 0; t < tracks; ++t) {
     const SegmentTrackChoice& c = states[t].choice[s];
@@ -68,9 +67,13 @@ void PackSegment(const std::vector<TrackState>& states, const FrameGrid& frames,
       back -= kRangeBytes;
       std::copy(c.range, c.range + kRangeBytes, back);
     }
+    if (kCodes[c.code].sloped) {
+      back -= kSlopeBytes;
+      std::copy(c.slope, c.slope + kSlopeBytes, back);
+    }
     SegmentValues values;
     PackSegmentTrack(SegmentInput(states[t], frames, s, values), c, seg, bit);
-    bit += c.bits - (kCodes[c.code].ranged ? 8 * kRangeBytes : 0);
+    bit += c.bits - 8 * TailBytes(c);
   }
 }
 

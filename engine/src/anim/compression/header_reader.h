@@ -39,6 +39,7 @@ class HeaderReader {
     cursor.dropped = track.dropped == kDroppedPerSegment ? *--back_ : track.dropped;
     back_ -= code.ranged ? kRangeBytes : 0;
     const uint8_t* range = code.ranged ? back_ : kUnranged;
+    back_ -= code.sloped ? kSlopeBytes : 0;
     const v4 extent{track.extent[0], track.extent[1], track.extent[2], 0.f};
     v4 low, range_extent;
     RangeOf(range, low, range_extent);
@@ -49,6 +50,8 @@ class HeaderReader {
       const v4 min{track.min[0], track.min[1], track.min[2], 0.f};
       Store4(cursor.offset, min + extent * (low * Splat(kInverseRangeLowMax)));
       Store4(cursor.scale, extent * range_extent * inverse_max);
+      const v4 drift = SlopeOf(code.sloped ? back_ : kUnranged) * Splat(kSlopeStep);
+      Store4(cursor.slope, extent * drift);
     }
     cursor.bit = static_cast<uint32_t>(bit_);
     cursor.stride_log = code.stride_log;
@@ -58,8 +61,24 @@ class HeaderReader {
 
  private:
   // The whole clip range, as a segment range: low 0, extent step 0 (8
-  // bytes: read as one word).
+  // bytes: read as one word). Also no slope.
   static constexpr uint8_t kUnranged[8] = {};
+
+  // A slope's three steps (SlopeSteps) as floats, lane 3: 0. Its bytes sit
+  // before the range's, so the 4-byte read stays in the data.
+  ARMATURE_DECODE_INLINE static v4 SlopeOf(const uint8_t* slope) {
+#if defined(__SSE2__)
+    uint32_t word;
+    std::memcpy(&word, slope, sizeof word);
+    __m128i steps = _mm_cvtsi32_si128(static_cast<int>(word & 0xffffffu));
+    steps = _mm_unpacklo_epi8(steps, steps);  // each byte to the top of a 32-bit lane, then sign-extended down
+    steps = _mm_srai_epi32(_mm_unpacklo_epi16(steps, steps), 24);
+    return _mm_cvtepi32_ps(steps);
+#else
+    return v4{static_cast<float>(SlopeSteps(slope, 0)), static_cast<float>(SlopeSteps(slope, 1)),
+              static_cast<float>(SlopeSteps(slope, 2)), 0.f};
+#endif
+  }
 
   // A segment range's low ends (integers, as floats) and extents
   // (RangeExtent), lane 3: 0. The range sits before the segment's end or

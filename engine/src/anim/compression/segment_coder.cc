@@ -54,23 +54,68 @@ void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
   }
 }
 
+// A drifting segment range over every frame the segment stores: per
+// component the least-squares slope, in whole kSlopeStep steps, and the
+// band of what is left around it. False when a slope is beyond kSlopeMax
+// steps, or the band leaves the clip range (its low end is stored unsigned).
+bool SlopedRange(const SegmentTrackInput& in, uint8_t* range, uint8_t* slope) {
+  const size_t n = StoredEnd(in);
+  if (n < 3) return false;
+  const double mean_i = static_cast<double>(n - 1) / 2;
+  double sii = 0;
+  for (size_t i = 0; i < n; ++i) sii += (static_cast<double>(i) - mean_i) * (static_cast<double>(i) - mean_i);
+  for (int c = 0; c < 3; ++c) {
+    double mean_v = 0, siv = 0;
+    for (size_t i = 0; i < n; ++i) mean_v += in.normalized[i * 3 + c];
+    mean_v /= static_cast<double>(n);
+    for (size_t i = 0; i < n; ++i) siv += (static_cast<double>(i) - mean_i) * (in.normalized[i * 3 + c] - mean_v);
+    const double steps = std::round(siv / sii / double{kSlopeStep});
+    if (!(std::abs(steps) <= kSlopeMax)) return false;
+    const double drift = steps * double{kSlopeStep};
+    double lo = 2, hi = -1;
+    for (size_t i = 0; i < n; ++i) {
+      const double r = in.normalized[i * 3 + c] - static_cast<double>(i) * drift;
+      lo = std::min(lo, r), hi = std::max(hi, r);
+    }
+    if (lo < 0 || hi > 1) return false;
+    const uint32_t lo_q = static_cast<uint32_t>(std::min(std::floor(lo * kRangeLowMax), double{kRangeLowMax}));
+    SetRange(range, c, lo_q, NarrowestStepReaching(hi - lo_q / double{kRangeLowMax}));
+    slope[c] = static_cast<uint8_t>(static_cast<int8_t>(steps));
+  }
+  return true;
+}
+
+// Where a choice quantizes: the clip range (no segment range), a segment
+// range, or a drifting one (a range and its slope).
+struct Band {
+  const uint8_t* range = nullptr;
+  const uint8_t* slope = nullptr;
+};
+
+Band BandOf(const SegmentTrackChoice& choice) {
+  const TrackCode code = kCodes[choice.code];
+  return {code.ranged ? choice.range : nullptr, code.sloped ? choice.slope : nullptr};
+}
+
 // Normalized values to `bits`-bit integers per component, in the segment
 // range when there is one; its ends and the integer ranges worked out once
 // per choice, not per value (the same arithmetic, so the same integers).
 struct Quantizer {
-  Quantizer(const uint8_t* range, const SampleLayout& layout) : ranged(range != nullptr) {
+  Quantizer(Band band, const SampleLayout& layout) : ranged(band.range != nullptr) {
     for (int c = 0; c < 3; ++c) {
-      if (ranged) lo[c] = RangeLow(range, c) / double{kRangeLowMax}, extent[c] = RangeExtent(range, c);
+      if (ranged) lo[c] = RangeLow(band.range, c) / double{kRangeLowMax}, extent[c] = RangeExtent(band.range, c);
+      if (band.slope) drift[c] = SlopeSteps(band.slope, c) * double{kSlopeStep};
       max_q[c] = static_cast<double>((1u << layout.bits[c]) - 1);
     }
   }
-  uint32_t operator()(double normalized, int c) const {
+  // Sample `i`'s component `c`.
+  uint32_t operator()(double normalized, int c, size_t i) const {
     double v = normalized;
-    if (ranged) v = (v - lo[c]) / extent[c];
+    if (ranged) v = (v - lo[c] - static_cast<double>(i) * drift[c]) / extent[c];
     return static_cast<uint32_t>(std::clamp(v * max_q[c] + 0.5, 0.0, max_q[c]));  // rounded: v ≥ 0
   }
   bool ranged;
-  double lo[3] = {}, extent[3] = {}, max_q[3];
+  double lo[3] = {}, extent[3] = {}, drift[3] = {}, max_q[3];
 };
 
 // A choice's decoded samples (as the sampling job reads them), one at a
@@ -79,12 +124,12 @@ struct Quantizer {
 // of its cost.
 class SampleDecoder {
  public:
-  SampleDecoder(const SegmentTrackInput& in, int bits, int stride_log, const uint8_t* range)
+  SampleDecoder(const SegmentTrackInput& in, int bits, int stride_log, Band band)
       : in_(in),
         stride_log_(stride_log),
-        layout_(MakeLayout(bits, in.clip_extent, range)),
-        dequantize_(MakeDequantizer(in.clip_min, in.clip_extent, range, layout_)),
-        quantize_(range, layout_),
+        layout_(MakeLayout(bits, in.clip_extent, band.range)),
+        dequantize_(MakeDequantizer(in.clip_min, in.clip_extent, band.range, band.slope, layout_)),
+        quantize_(band, layout_),
         stored_((StoredEnd(in) - 1) / (size_t{1} << stride_log) + 1) {}
 
   // Samples kept: the stored ones, then the shared end (SharedEnd's).
@@ -94,9 +139,10 @@ class SampleDecoder {
   void Decode(size_t i, float* out) const {
     const size_t f = i << stride_log_;
     float kept[3];
-    for (int c = 0; c < 3; ++c)
-      kept[c] =
-          dequantize_.offset[c] + dequantize_.scale[c] * static_cast<float>(quantize_(in_.normalized[f * 3 + c], c));
+    for (int c = 0; c < 3; ++c)  // ReadSample's arithmetic
+      kept[c] = (dequantize_.offset[c] +
+                 dequantize_.scale[c] * static_cast<float>(quantize_(in_.normalized[f * 3 + c], c, i))) +
+                static_cast<float>(i) * dequantize_.slope[c];
     if (in_.kind == TrackKind::kRotation)
       ExpandRotation(kept, in_.dropped, out);
     else
@@ -148,10 +194,10 @@ SharedEnd MakeSharedEnd(const SegmentTrackInput& in) {
 // segment's first sample) has its own error, which no choice here changes:
 // the last interval is allowed the blend of the target and that error, and
 // the result is scaled so that ≤ target means every frame is allowed.
-double ChoiceError(const SegmentTrackInput& in, const SharedEnd& end, int bits, int stride_log, const uint8_t* range,
+double ChoiceError(const SegmentTrackInput& in, const SharedEnd& end, int bits, int stride_log, Band band,
                    double target) {
   float samples[kMaxFrames][4];
-  const SampleDecoder decoder(in, bits, stride_log, range);
+  const SampleDecoder decoder(in, bits, stride_log, band);
   const size_t count = decoder.Count();
   const float inv_stride = kInverseStride[stride_log];
   const double limit = target / in.lever;
@@ -174,9 +220,8 @@ double ChoiceError(const SegmentTrackInput& in, const SharedEnd& end, int bits, 
 // The fewest bits in [lo, kMaxBits] meeting `target` (errors shrink with
 // bits), or 0. A hint (the neighbouring segment's bits) starts a walk that
 // usually ends in two or three tries; without one, a binary search.
-int FewestBits(const SegmentTrackInput& in, const SharedEnd& end, int stride_log, const uint8_t* range, double target,
-               int lo) {
-  auto meets = [&](int bits) { return ChoiceError(in, end, bits, stride_log, range, target) <= target; };
+int FewestBits(const SegmentTrackInput& in, const SharedEnd& end, int stride_log, Band band, double target, int lo) {
+  auto meets = [&](int bits) { return ChoiceError(in, end, bits, stride_log, band, target) <= target; };
   int hi = kMaxBits;
   if (in.hint_stride_log == stride_log && in.hint_bits >= lo && in.hint_bits <= kMaxBits) {
     int bits = in.hint_bits;
@@ -200,6 +245,19 @@ int FewestBits(const SegmentTrackInput& in, const SharedEnd& end, int stride_log
   return hi;
 }
 
+// A drifting range (every frame kept), as `best` when it is cheaper.
+void TryDrifting(const SegmentTrackInput& in, const SharedEnd& end, double target,
+                 std::optional<SegmentTrackChoice>& best) {
+  SegmentTrackChoice sloped;
+  if (!SlopedRange(in, sloped.range, sloped.slope)) return;
+  const int bits = FewestBits(in, end, 0, {sloped.range, sloped.slope}, target, kMinBits);
+  if (bits == 0) return;
+  sloped.code = EncodeSlopedCode(bits);
+  sloped.bits = TrackBits(MakeLayout(bits, in.clip_extent, sloped.range), 0, in.intervals, in.end != nullptr) +
+                8 * (kRangeBytes + kSlopeBytes);
+  if (!best || sloped.bits < best->bits) best = sloped;
+}
+
 }  // namespace
 
 std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in, double target) {
@@ -212,7 +270,7 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
     if (best && (kMinBits + 2) * samples >= best->bits) continue;  // cannot be cheaper
     SegmentTrackChoice ranged;
     SegmentRange(in, s, ranged.range);
-    const int ranged_bits = FewestBits(in, end, s, ranged.range, target, kMinBits);
+    const int ranged_bits = FewestBits(in, end, s, {ranged.range}, target, kMinBits);
     if (ranged_bits == 0) continue;
     ranged.code = EncodeTrackCode(ranged_bits, s, true);
     ranged.bits = TrackBits(MakeLayout(ranged_bits, in.clip_extent, ranged.range), s, in.intervals, in.end != nullptr) +
@@ -224,11 +282,12 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
       plain.code = EncodeTrackCode(bits, s, false);
       plain.bits = TrackBits(MakeLayout(bits, in.clip_extent, nullptr), s, in.intervals, in.end != nullptr);
       if (plain.bits >= best->bits) break;
-      if (ChoiceError(in, end, bits, s, nullptr, target) <= target) {
+      if (ChoiceError(in, end, bits, s, {}, target) <= target) {
         best = plain;
         break;
       }
     }
+    if (s == 0) TryDrifting(in, end, target, best);
   }
   return best;
 }
@@ -236,18 +295,18 @@ std::optional<SegmentTrackChoice> ChooseSegmentTrack(const SegmentTrackInput& in
 void DecodeFirstSample(const SegmentTrackInput& in, const SegmentTrackChoice& choice, float* out) {
   const TrackCode code = kCodes[choice.code];
   float sample[4] = {};  // a vector's fourth stays 0
-  SampleDecoder(in, code.bits, code.stride_log, code.ranged ? choice.range : nullptr).Decode(0, sample);
+  SampleDecoder(in, code.bits, code.stride_log, BandOf(choice)).Decode(0, sample);
   std::copy(sample, sample + 4, out);
 }
 
 void PackSegmentTrack(const SegmentTrackInput& in, const SegmentTrackChoice& choice, uint8_t* data, size_t offset) {
   const TrackCode code = kCodes[choice.code];
-  const uint8_t* range = code.ranged ? choice.range : nullptr;
-  const SampleLayout layout = MakeLayout(code.bits, in.clip_extent, range);
-  const Quantizer quantize(range, layout);
+  const Band band = BandOf(choice);
+  const SampleLayout layout = MakeLayout(code.bits, in.clip_extent, band.range);
+  const Quantizer quantize(band, layout);
   BitWriter writer(data, offset);
-  for (size_t f = 0; f < StoredEnd(in); f += size_t{1} << code.stride_log)
-    for (int c = 0; c < 3; ++c) writer.Put(layout.bits[c], quantize(in.normalized[f * 3 + c], c));
+  for (size_t f = 0, i = 0; f < StoredEnd(in); f += size_t{1} << code.stride_log, ++i)
+    for (int c = 0; c < 3; ++c) writer.Put(layout.bits[c], quantize(in.normalized[f * 3 + c], c, i));
 }
 
 }  // namespace armature::compression_internal

@@ -1,5 +1,5 @@
 // Internal: one animated track in one segment, quantized and chosen. The
-// choice (bit rate, sample stride, segment range or not) is the cheapest in
+// choice (bit rate, sample stride, segment range or not, drifting or not) is the cheapest in
 // bits whose decoded frames all stay within a displacement target, the
 // error measured as the sampling job will decode (packed_track.h).
 #pragma once
@@ -36,8 +36,15 @@ struct SegmentTrackInput {
 struct SegmentTrackChoice {
   uint8_t code = 0;
   uint8_t range[kRangeBytes] = {};
-  size_t bits = 0;  // samples' bits, plus the range's when ranged
+  uint8_t slope[kSlopeBytes] = {};  // when sloped (kCodes)
+  size_t bits = 0;                  // samples' bits, plus the range's and slope's when there are
 };
+
+// The bytes a choice keeps after the samples (its range and slope).
+inline size_t TailBytes(const SegmentTrackChoice& choice) {
+  const TrackCode code = kCodes[choice.code];
+  return (code.ranged ? kRangeBytes : 0) + (code.sloped ? kSlopeBytes : 0);
+}
 
 // The cheapest choice within `target`, or nothing when 23 bits on every
 // frame do not reach it.

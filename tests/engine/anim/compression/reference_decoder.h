@@ -94,7 +94,7 @@ class ReferenceDecoder {
   }
 
   // Every track's cursor in `segment`: codes first, samples after them,
-  // per-segment dropped components and ranges from the segment's end back.
+  // per-segment dropped components, ranges and slopes from the segment's end back.
   std::vector<Cursor> Header(size_t segment) const {
     using namespace compression_internal;
     const size_t segments = clip_.segment_offsets.size();
@@ -110,10 +110,11 @@ class ReferenceDecoder {
       const TrackCode code = kCodes[data[k]];
       Cursor& c = cursors[k];
       c.dropped = track.dropped == kDroppedPerSegment ? *--back : track.dropped;
-      const uint8_t* range = nullptr;
+      const uint8_t *range = nullptr, *slope = nullptr;
       if (code.ranged) range = back -= kRangeBytes;
+      if (code.sloped) slope = back -= kSlopeBytes;
       c.layout = MakeLayout(code.bits, track.extent, range);
-      c.dequantizer = MakeDequantizer(track.min, track.extent, range, c.layout);
+      c.dequantizer = MakeDequantizer(track.min, track.extent, range, slope, c.layout);
       c.stride_log = code.stride_log;
       c.bit = bit;
       bit += TrackBits(c.layout, code.stride_log, intervals, shares_end);

@@ -19,7 +19,8 @@ namespace armature {
 
 // One animated track in one segment, read from its header: where its
 // samples start, their bits per component, its stride, the component a
-// rotation rebuilds, and value = offset + scale · q per component; `end`:
+// rotation rebuilds, and sample i's value = (offset + scale · q) + i · slope
+// per component (packed_track.h's Dequantizer); `end`:
 // the segment's last frame, the next segment's first sample as it decodes
 // it, in this segment's kept components (when the segment has a next).
 // The float triples have a fourth lane, kept 0, so the job reads each as a
@@ -30,7 +31,7 @@ struct TrackCursor {
   uint8_t total = 0;
   uint8_t stride_log = 0;
   uint8_t dropped = 3;
-  float offset[4] = {}, scale[4] = {};
+  float offset[4] = {}, scale[4] = {}, slope[4] = {};
   float end[4] = {};
 };
 
