@@ -38,9 +38,15 @@ uint32_t NarrowestStepReaching(double needed) {
   return static_cast<uint32_t>(k);
 }
 
-// The segment range over the samples a stride keeps: low end rounded
-// down, extent the narrowest step that still reaches the highest sample,
-// so every sample lies inside.
+// Component `c` of a segment range holding [lo, hi]: low end rounded
+// down, extent the narrowest step that still reaches `hi`, so every value
+// lies inside.
+void SetBand(uint8_t* range, int c, double lo, double hi) {
+  const uint32_t lo_q = static_cast<uint32_t>(std::clamp(std::floor(lo * kRangeLowMax), 0.0, double{kRangeLowMax}));
+  SetRange(range, c, lo_q, NarrowestStepReaching(hi - lo_q / double{kRangeLowMax}));
+}
+
+// The segment range over the samples a stride keeps.
 void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
   for (int c = 0; c < 3; ++c) {
     double lo = 1, hi = 0;
@@ -48,9 +54,7 @@ void SegmentRange(const SegmentTrackInput& in, int stride_log, uint8_t* range) {
       lo = std::min(lo, in.normalized[f * 3 + c]);
       hi = std::max(hi, in.normalized[f * 3 + c]);
     }
-    const uint32_t lo_q = static_cast<uint32_t>(std::clamp(std::floor(lo * kRangeLowMax), 0.0, double{kRangeLowMax}));
-    const double needed = hi - lo_q / double{kRangeLowMax};
-    SetRange(range, c, lo_q, NarrowestStepReaching(needed));
+    SetBand(range, c, lo, hi);
   }
 }
 
@@ -78,8 +82,7 @@ bool SlopedRange(const SegmentTrackInput& in, uint8_t* range, uint8_t* slope) {
       lo = std::min(lo, r), hi = std::max(hi, r);
     }
     if (lo < 0 || hi > 1) return false;
-    const uint32_t lo_q = static_cast<uint32_t>(std::min(std::floor(lo * kRangeLowMax), double{kRangeLowMax}));
-    SetRange(range, c, lo_q, NarrowestStepReaching(hi - lo_q / double{kRangeLowMax}));
+    SetBand(range, c, lo, hi);
     slope[c] = static_cast<uint8_t>(static_cast<int8_t>(steps));
   }
   return true;
@@ -254,7 +257,7 @@ void TryDrifting(const SegmentTrackInput& in, const SharedEnd& end, double targe
   if (bits == 0) return;
   sloped.code = EncodeSlopedCode(bits);
   sloped.bits = TrackBits(MakeLayout(bits, in.clip_extent, sloped.range), 0, in.intervals, in.end != nullptr) +
-                8 * (kRangeBytes + kSlopeBytes);
+                8 * TailBytes(sloped);
   if (!best || sloped.bits < best->bits) best = sloped;
 }
 
