@@ -28,11 +28,18 @@ struct LoadedScene {
 };
 
 // Runs assimp's FBX reader on `bytes` with every external path refused.
+// CheckStructure and TrialRead must have passed them first.
 StatusOr<LoadedScene> Load(std::string_view bytes);
+// Load in a child process, for its status only: what a failed read leaks
+// (libassimp 5.2 does), and a crash or a hang, stay in the child. A read
+// that takes over kTrialReadSeconds is killed (fbx_trial_read.cc).
+constexpr int kTrialReadSeconds = 120;
+Status TrialRead(std::string_view bytes);
 // INVALID_ARGUMENT when assimp would recurse through the file until the
-// stack overflows: its object-to-object connections form a cycle or a
-// chain over 1,000 deep, or its scopes nest over 1,000 deep.
-Status CheckRecursion(std::string_view bytes);
+// stack overflows (its object-to-object connections form a cycle or a
+// chain over 1,000 deep, or its scopes nest over 1,000 deep), or when two
+// objects share an id (assimp leaks all but the last).
+Status CheckStructure(std::string_view bytes);
 
 Eigen::Matrix4d ToEigen(const aiMatrix4x4& m);
 

@@ -53,7 +53,6 @@ Eigen::Matrix4d ToEigen(const aiMatrix4x4& m) {
 
 StatusOr<LoadedScene> Load(std::string_view bytes) {
   if (bytes.empty()) return Status::InvalidArgument("FBX: the file is empty");
-  ARMATURE_RETURN_IF_ERROR(CheckRecursion(bytes));
   LoadedScene loaded;
   loaded.importer = std::make_unique<Assimp::Importer>();
   Assimp::Importer& importer = *loaded.importer;

@@ -1,13 +1,21 @@
-// assimp reads an FBX file recursively: its scopes (ASCII braces, binary
-// records nested in records) and then its object connections ("C: "OO",
-// child, parent", or any type but "PP") from the root down. A cycle in the
-// connections recursed without end (found by fuzz.engine_fbx_fuzz), and a
-// chain of 10,000 connected objects or 30,000 nested scopes overflowed an
-// 8 MB stack: each ended the process. Real files nest a few levels and
-// connect objects as a tree or a DAG a few dozen deep, so the bytes are
-// scanned, ASCII or binary, and a cycle or a depth over kMaxDepth is
-// refused before assimp sees them. Every walk here is iterative and
-// bounded by the bytes.
+// What assimp would choke on, found in the bytes before assimp reads them.
+//
+// Recursion. assimp reads an FBX file recursively: its scopes (ASCII
+// braces, binary records nested in records) and then its object
+// connections ("C: "OO", child, parent", or any type but "PP") from the
+// root down. A cycle in the connections recursed without end (found by
+// fuzz.engine_fbx_fuzz), and a chain of 10,000 connected objects or 30,000
+// nested scopes overflowed an 8 MB stack: each ended the process. Real
+// files nest a few levels and connect objects as a tree or a DAG a few
+// dozen deep, so a cycle or a depth over kMaxDepth is refused.
+//
+// Objects sharing an id. assimp keeps the last object of an id and leaks
+// the others (40 bytes each, for good, even when the import succeeds;
+// found by fuzz.engine_fbx_fuzz). Ids are unique in a file any exporter
+// writes, so a repeated one is refused.
+//
+// The bytes are scanned, ASCII or binary, by iterative walks bounded by
+// the bytes.
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -24,6 +32,13 @@ namespace {
 
 using Edges = std::vector<std::pair<int64_t, int64_t>>;  // child → parent
 
+// An object's id, and where it is: the line of an ASCII file, the byte
+// offset of a binary one.
+struct ObjectId {
+  int64_t id;
+  size_t where;
+};
+
 // Scopes nested, or objects chained, deeper than this are refused: about
 // 1 MB of assimp's stack at the deepest (a connection level takes about
 // 1 KB of it in the release build, a scope about 300 bytes).
@@ -34,6 +49,7 @@ constexpr size_t kMaxDepth = 1000;
 struct Structure {
   Edges edges;
   size_t depth = 0;
+  std::vector<ObjectId> objects;  // the ids of the top-level "Objects" scope's children
 };
 
 constexpr std::string_view kBinaryMagic("Kaydara FBX Binary  \0", 21);
@@ -47,6 +63,22 @@ bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
 // What ends a token in assimp's ASCII tokenizer.
 bool EndsToken(char c) { return IsSpace(c) || c == ',' || c == '{' || c == '}' || c == ';' || c == ':' || c == '"'; }
+
+// A token's leading digits from `i` on, as assimp's strtoul10_64 reads
+// them: an overflow it notices (the new value below the old) is 0, one it
+// misses wraps. `i` ends past them; false when there are none.
+bool ReadDigits(std::string_view text, size_t& i, uint64_t& value) {
+  const size_t first = i;
+  bool overflowed = false;
+  value = 0;
+  for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) {
+    const uint64_t next = value * 10 + static_cast<uint64_t>(text[i] - '0');
+    overflowed = overflowed || next < value;
+    value = next;
+  }
+  if (overflowed) value = 0;
+  return i > first;
+}
 
 // `C: "type",child,parent` records anywhere in an ASCII file (a record's
 // tokens may run over lines).
@@ -72,18 +104,8 @@ Edges AsciiConnections(std::string_view text) {
       while (i < text.size() && (IsSpace(text[i]) || text[i] == ',')) ++i;
       const bool negative = i < text.size() && text[i] == '-';
       if (negative) ++i;
-      const size_t first = i;
-      // As assimp's strtoul10_64 reads it: an overflow it notices (the new
-      // value below the old) is 0, one it misses wraps.
       uint64_t v = 0;
-      bool overflowed = false;
-      for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) {
-        const uint64_t next = v * 10 + static_cast<uint64_t>(text[i] - '0');
-        overflowed = overflowed || next < v;
-        v = next;
-      }
-      if (overflowed) v = 0;
-      if (i == first) ok = false;
+      if (!ReadDigits(text, i, v)) ok = false;
       id = negative ? -static_cast<int64_t>(v) : static_cast<int64_t>(v);
       // assimp reads a token's leading digits as its id and ignores the
       // rest ("3000-0" is 3000), so the next id starts at the next token
@@ -95,6 +117,62 @@ Edges AsciiConnections(std::string_view text) {
     if (ok) edges.emplace_back(ids[0], ids[1]);
   }
   return edges;
+}
+
+// The ids of an ASCII file's objects: each child of the first top-level
+// "Objects" scope, keyed "Type:", has its first data token as its id
+// (assimp reads the token's leading digits; one without digits fails the
+// read, so it is left out here).
+std::vector<ObjectId> AsciiObjectIds(std::string_view text) {
+  enum { kBefore, kKeyRead, kInside, kDone } objects = kBefore;
+  std::vector<ObjectId> ids;
+  size_t depth = 0, line = 1, key_line = 0;
+  bool want_id = false;  // a child's key was just read
+  for (size_t i = 0; i < text.size() && objects != kDone;) {
+    const char c = text[i];
+    if (c == '\n' || IsSpace(c) || c == ',' || c == ':') {
+      line += c == '\n';
+      ++i;
+      continue;
+    }
+    if (c == ';') {  // a comment, to the end of the line
+      i = text.find('\n', i);
+      continue;  // npos ends the loop
+    }
+    if (c == '{' || c == '}') {
+      if (c == '{') objects = objects == kKeyRead && depth == 0 ? kInside : objects;
+      depth = c == '{' ? depth + 1 : depth - (depth > 0);
+      if (objects == kInside && depth == 0) objects = kDone;
+      want_id = false;
+      ++i;
+      continue;
+    }
+    const size_t start = i;
+    if (c == '"') {
+      const size_t end = text.find('"', i + 1);
+      if (end == std::string_view::npos) break;
+      line += static_cast<size_t>(std::count(text.begin() + i, text.begin() + end, '\n'));
+      i = end + 1;
+    } else {
+      while (i < text.size() && !EndsToken(text[i])) ++i;
+    }
+    const std::string_view token = text.substr(start, i - start);
+    if (i < text.size() && text[i] == ':' && c != '"') {  // a key
+      if (depth == 0 && objects == kBefore && token == "Objects") {
+        objects = kKeyRead;
+      } else if (depth == 0 && objects == kKeyRead) {
+        objects = kDone;  // "Objects" without a scope: assimp refuses the file
+      }
+      want_id = objects == kInside && depth == 1;
+      key_line = line;
+      continue;
+    }
+    size_t digit = 0;
+    uint64_t id = 0;
+    if (want_id && ReadDigits(token, digit, id)) ids.push_back({static_cast<int64_t>(id), key_line});
+    want_id = false;
+  }
+  return ids;
 }
 
 // How deep an ASCII file's braces nest, outside quoted strings and
@@ -152,6 +230,7 @@ Structure BinaryStructure(std::string_view bytes) {
   const bool wide = version >= 7500;
   const size_t header = wide ? 25 : 13;
   std::vector<size_t> ends = {bytes.size()};
+  size_t objects_end = 0;  // the end of the first top-level "Objects" record
   size_t at = 27;
   while (!ends.empty()) {
     if (at >= ends.back() || ends.back() - at < header) {  // this list is done
@@ -177,8 +256,13 @@ Structure BinaryStructure(std::string_view bytes) {
     }
     const size_t props_at = at + header + name_length;
     if (end <= at || end > ends.back() || props_at > end || end - props_at < props_length) break;  // malformed
-    if (std::string_view(bytes.data() + at + header, name_length) == "C")
-      BinaryConnection(bytes.substr(props_at, props_length), edges);
+    const std::string_view name(bytes.data() + at + header, name_length);
+    if (name == "C") BinaryConnection(bytes.substr(props_at, props_length), edges);
+    if (ends.size() == 1 && objects_end == 0 && name == "Objects") objects_end = end;
+    int64_t id = 0;
+    if (ends.size() == 2 && ends.back() == objects_end && props_length >= 9 && bytes[props_at] == 'L' &&
+        ReadLe(bytes, props_at + 1, id))
+      structure.objects.push_back({id, at});
     const size_t children = props_at + props_length;
     if (children < end) {
       ends.push_back(end);
@@ -233,9 +317,21 @@ Status CheckConnections(const Edges& edges) {
   return Status::Ok();
 }
 
+// INVALID_ARGUMENT naming the first id two objects share.
+Status CheckObjectIds(std::vector<ObjectId> objects, bool binary) {
+  std::stable_sort(objects.begin(), objects.end(), [](const ObjectId& a, const ObjectId& b) { return a.id < b.id; });
+  const auto same = std::adjacent_find(objects.begin(), objects.end(),
+                                       [](const ObjectId& a, const ObjectId& b) { return a.id == b.id; });
+  if (same == objects.end()) return Status::Ok();
+  const char* where = binary ? "at bytes " : "on lines ";
+  return Status::InvalidArgument("FBX: two objects share the id " + std::to_string(same->id) + " (" + where +
+                                 std::to_string(same->where) + " and " + std::to_string(std::next(same)->where) +
+                                 "); an object's id must be its own");
+}
+
 }  // namespace
 
-Status CheckRecursion(std::string_view bytes) {
+Status CheckStructure(std::string_view bytes) {
   const bool binary = bytes.substr(0, kBinaryMagic.size()) == kBinaryMagic;
   Structure structure;
   if (binary) {
@@ -243,12 +339,14 @@ Status CheckRecursion(std::string_view bytes) {
   } else {
     structure.edges = AsciiConnections(bytes);
     structure.depth = AsciiNesting(bytes);
+    structure.objects = AsciiObjectIds(bytes);
   }
   if (structure.depth > kMaxDepth)
     return Status::InvalidArgument(std::string("FBX: ") + (binary ? "records" : "braces") + " nested " +
                                    std::to_string(structure.depth) + " deep, over the limit of " +
                                    std::to_string(kMaxDepth));
-  return CheckConnections(structure.edges);
+  ARMATURE_RETURN_IF_ERROR(CheckConnections(structure.edges));
+  return CheckObjectIds(structure.objects, binary);
 }
 
 }  // namespace armature::fbx_internal
