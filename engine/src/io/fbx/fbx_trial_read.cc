@@ -15,6 +15,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -44,8 +45,14 @@ void WriteAll(int fd, const char* data, size_t size) {
 }
 
 // The child: reads, reports, and leaves without running the parent's
-// exit handlers or destructors (its threads are not here).
-[[noreturn]] void ReadAndReport(std::string_view bytes, int report_fd) {
+// exit handlers or destructors (its threads are not here). It holds none
+// of the parent's sockets and files, and dies with the parent's thread,
+// so a server that stops is not kept on its port by a reader.
+[[noreturn]] void ReadAndReport(std::string_view bytes, int report_fd, pid_t parent) {
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (::getppid() != parent) ::_exit(1);  // the parent died before the line above
+  if (report_fd > 3) ::close_range(3, static_cast<unsigned>(report_fd) - 1, 0);
+  ::close_range(static_cast<unsigned>(report_fd) + 1, ~0u, 0);
   Status status;
   {
     StatusOr<LoadedScene> loaded = Load(bytes);
@@ -89,6 +96,7 @@ Status TrialRead(std::string_view bytes) {
   if (::pipe2(fds, O_CLOEXEC) != 0)
     return Status::Unavailable(std::string("FBX: could not start the reader's process (pipe: ") + std::strerror(errno) +
                                ")");
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int error = errno;
@@ -99,7 +107,7 @@ Status TrialRead(std::string_view bytes) {
   }
   if (pid == 0) {
     ::close(fds[0]);
-    ReadAndReport(bytes, fds[1]);
+    ReadAndReport(bytes, fds[1], parent);
   }
   ::close(fds[1]);
   std::string report;
