@@ -163,27 +163,6 @@ void ChooseSampledJoints(MotionPlan& plan) {
       plan.double_joints.push_back(j);
 }
 
-// What BlendMotionJob takes from the rest pose: the joints nothing writes,
-// and the properties of float joints that no group writes.
-void ChooseRestJoints(MotionPlan& plan) {
-  std::vector<uint8_t> written(plan.skeleton->size(), 0);
-  for (uint32_t j : plan.double_joints) written[j] = 7;
-  const FloatBlendPlan& fb = plan.float_blend;
-  for (const auto* groups : {&fb.rotations, &fb.translations, &fb.scales}) {
-    const uint8_t part = static_cast<uint8_t>(groups == &fb.rotations ? 1 : (groups == &fb.translations ? 2 : 4));
-    for (const FloatBlendGroup& g : *groups)
-      for (uint32_t i = 0; i < g.lanes; ++i) written[g.joints[i]] |= part;
-  }
-  plan.rest_joints.clear();
-  plan.rest_properties.clear();
-  for (uint32_t j = 0; j < written.size(); ++j) {
-    if (written[j] == 0)
-      plan.rest_joints.push_back(j);
-    else if (written[j] != 7)
-      plan.rest_properties.push_back({j, static_cast<uint8_t>(7 & ~written[j])});
-  }
-}
-
 }  // namespace
 
 StatusOr<MotionPlan> BindMotion(const Motion& motion, BlendPath path) {
@@ -235,7 +214,6 @@ StatusOr<MotionPlan> BindMotion(const Motion& motion, BlendPath path) {
   IndexJointLayers(plan);
   if (path == BlendPath::kFloatLanes) motion_internal::BindFloatBlend(plan);
   ChooseSampledJoints(plan);
-  ChooseRestJoints(plan);
   return plan;
 }
 

@@ -251,18 +251,12 @@ Status BlendMotionJob::Run() const {
   }
   const bool extract = p.root_motion == RootMotion::kExtract;
   const RootMotion mode = extract ? RootMotion::kInPlace : p.root_motion;
-  // The rest pose first where the blends do not write all: joints without
-  // layers keep it, and float joints the properties no group writes.
-  // Trs is plain doubles (Eigen's fixed sizes): copied as its 96 bytes, a
-  // few vector moves, where assignment copies member by member.
-  const Trs* rest = p.skeleton->rest.data();
-  for (uint32_t j : p.rest_joints) __builtin_memcpy(static_cast<void*>(&output[j]), rest + j, sizeof(Trs));
-  for (const MotionPlan::RestProperties& r : p.rest_properties) {
-    Trs& out = output[r.joint];
-    if (r.missing & 1) out.rotation = rest[r.joint].rotation;
-    if (r.missing & 2) out.translation = rest[r.joint].translation;
-    if (r.missing & 4) out.scale = rest[r.joint].scale;
-  }
+  // The rest pose first, in one copy: joints without layers keep it, and
+  // float joints the properties no group writes. A copy of the whole pose
+  // (8 KB for RobotExpressive's 84 joints) took a fifth of the time of
+  // copying its 60 still joints and 24 still properties one by one. Trs is
+  // plain doubles (Eigen's fixed sizes), so its bytes are its value.
+  __builtin_memcpy(static_cast<void*>(output.data()), p.skeleton->rest.data(), output.size() * sizeof(Trs));
   for (uint32_t j : p.double_joints) BlendJoint(p, *workspace, j, mode, output[j]);
   motion_internal::BlendFloatJoints(p, *workspace, output);
   if (extract && root_delta) {

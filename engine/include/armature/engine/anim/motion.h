@@ -154,16 +154,6 @@ struct MotionPlan {
   // The joints with layers acting that are not float joints: BlendMotionJob
   // blends these in double.
   std::vector<uint32_t> double_joints;
-  // The joints the blend does not write (no layer acts): they keep the rest
-  // pose. And the float joints with properties no group writes (scales,
-  // mostly): only those properties take the rest's (`missing`: 1 rotation,
-  // 2 translation, 4 scale).
-  std::vector<uint32_t> rest_joints;
-  struct RestProperties {
-    uint32_t joint = 0;
-    uint8_t missing = 0;
-  };
-  std::vector<RestProperties> rest_properties;
 };
 
 // kFloatLanes blends what it can in float lanes (FloatBlendPlan); kDouble
