@@ -1,12 +1,17 @@
 // assimp reads an FBX file in a child process first (fbx_trial_read.cc):
 // what libassimp 5.2 leaks when its reader throws stays there.
 #include <malloc.h>
+#include <signal.h>
+#include <sys/resource.h>
 
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "armature/engine/io/asset.h"
+#include "io/fbx/fbx_importer.h"
+#include "../../testing/test_files.h"
 
 namespace armature {
 namespace {
@@ -40,6 +45,33 @@ TEST(FbxTrialRead, AFailedReadLeavesNoMemoryBehind) {
   }
   const size_t after = HeapInUse();
   EXPECT_LT(after, before + (64u << 10)) << "grew " << (after - before) << " bytes over 20 failed reads";
+}
+
+// A crash in assimp ends only the reader's process. ParseFbx refuses this
+// file before any read (fbx_structure.cc); read anyway, 100,000 nested
+// scopes overflow assimp's recursive parser's stack, as 30,000 ended the
+// whole process before the scan.
+TEST(FbxTrialRead, ACrashInAssimpEndsOnlyTheReader) {
+  std::string braces = "; FBX 7.4.0 project file\nFBXHeaderExtension:  {\n\tFBXVersion: 7400\n}\nFoo:  {\n";
+  for (int i = 0; i < 100000; ++i) braces += "a: {";
+  braces += std::string(100000, '}') + "\n}\n";
+  // The reader's stack is this thread's: at most 8 MB (the default), so the
+  // overflow happens wherever the suite runs (the child inherits the limit).
+  rlimit stack{};
+  ASSERT_EQ(getrlimit(RLIMIT_STACK, &stack), 0);
+  const rlimit before = stack;
+  if (stack.rlim_cur == RLIM_INFINITY || stack.rlim_cur > (rlim_t{8} << 20)) stack.rlim_cur = rlim_t{8} << 20;
+  ASSERT_EQ(setrlimit(RLIMIT_STACK, &stack), 0);
+  const Status crashed = fbx_internal::TrialRead(braces);
+  setrlimit(RLIMIT_STACK, &before);
+  ASSERT_FALSE(crashed.ok());
+  EXPECT_EQ(crashed.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(crashed.message(), "FBX: assimp's reader crashed on the file (signal " + std::to_string(SIGSEGV) + ")");
+  // This process goes on: the next file reads.
+  const auto pivots = test_util::ReadFileBytes(std::filesystem::path(ARMATURE_TEST_DIR) / "data/fbx/pivots.fbx");
+  ASSERT_TRUE(pivots.has_value());
+  const Status read = fbx_internal::TrialRead(std::string(pivots->begin(), pivots->end()));
+  EXPECT_TRUE(read.ok()) << read.message();
 }
 
 }  // namespace
