@@ -253,7 +253,7 @@ Status BlendMotionJob::Run() const {
   const RootMotion mode = extract ? RootMotion::kInPlace : p.root_motion;
   // The rest pose first, in one copy: joints without layers keep it, and
   // float joints the properties no group writes. A copy of the whole pose
-  // (8 KB for RobotExpressive's 84 joints) took a fifth of the time of
+  // (8 KB for RobotExpressive's 84 joints) took about half the time of
   // copying its 60 still joints and 24 still properties one by one. Trs is
   // plain doubles (Eigen's fixed sizes), so its bytes are its value.
   __builtin_memcpy(static_cast<void*>(output.data()), p.skeleton->rest.data(), output.size() * sizeof(Trs));

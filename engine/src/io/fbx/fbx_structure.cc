@@ -119,18 +119,19 @@ Edges AsciiConnections(std::string_view text) {
   return edges;
 }
 
-// The ids of an ASCII file's objects: each child of the first top-level
-// "Objects" scope, keyed "Type:", has its first data token as its id
-// (assimp reads the token's leading digits; one without digits fails the
-// read, so it is left out here).
-std::vector<ObjectId> AsciiObjectIds(std::string_view text) {
+// An ASCII file's scopes, walked as assimp's tokenizer reads them (quoted
+// strings and comments, ';' to the end of the line, hold no braces): how
+// deep its braces nest, and the ids of its objects. Each child of the first
+// top-level "Objects" scope, keyed "Type:", has its first data token as its
+// id (assimp reads the token's leading digits; one without digits fails
+// the read, so it is left out here).
+void AsciiScopes(std::string_view text, Structure& structure) {
   enum { kBefore, kKeyRead, kInside, kDone } objects = kBefore;
-  std::vector<ObjectId> ids;
   size_t depth = 0, line = 1, key_line = 0;
   bool want_id = false;  // a child's key was just read
-  for (size_t i = 0; i < text.size() && objects != kDone;) {
+  for (size_t i = 0; i < text.size();) {
     const char c = text[i];
-    if (c == '\n' || IsSpace(c) || c == ',' || c == ':') {
+    if (IsSpace(c) || c == ',' || c == ':') {
       line += c == '\n';
       ++i;
       continue;
@@ -142,6 +143,7 @@ std::vector<ObjectId> AsciiObjectIds(std::string_view text) {
     if (c == '{' || c == '}') {
       if (c == '{') objects = objects == kKeyRead && depth == 0 ? kInside : objects;
       depth = c == '{' ? depth + 1 : depth - (depth > 0);
+      structure.depth = std::max(structure.depth, depth);
       if (objects == kInside && depth == 0) objects = kDone;
       want_id = false;
       ++i;
@@ -169,33 +171,9 @@ std::vector<ObjectId> AsciiObjectIds(std::string_view text) {
     }
     size_t digit = 0;
     uint64_t id = 0;
-    if (want_id && ReadDigits(token, digit, id)) ids.push_back({static_cast<int64_t>(id), key_line});
+    if (want_id && ReadDigits(token, digit, id)) structure.objects.push_back({static_cast<int64_t>(id), key_line});
     want_id = false;
   }
-  return ids;
-}
-
-// How deep an ASCII file's braces nest, outside quoted strings and
-// comments (';' to the end of the line), as assimp's tokenizer reads them.
-size_t AsciiNesting(std::string_view text) {
-  size_t depth = 0, deepest = 0;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '"') {
-      const size_t end = text.find('"', i + 1);
-      if (end == std::string_view::npos) break;
-      i = end;
-    } else if (c == ';') {
-      const size_t end = text.find('\n', i);
-      if (end == std::string_view::npos) break;
-      i = end;
-    } else if (c == '{') {
-      deepest = std::max(deepest, ++depth);
-    } else if (c == '}' && depth > 0) {
-      --depth;
-    }
-  }
-  return deepest;
 }
 
 template <typename T>
@@ -338,8 +316,7 @@ Status CheckStructure(std::string_view bytes) {
     structure = BinaryStructure(bytes);
   } else {
     structure.edges = AsciiConnections(bytes);
-    structure.depth = AsciiNesting(bytes);
-    structure.objects = AsciiObjectIds(bytes);
+    AsciiScopes(bytes, structure);
   }
   if (structure.depth > kMaxDepth)
     return Status::InvalidArgument(std::string("FBX: ") + (binary ? "records" : "braces") + " nested " +
