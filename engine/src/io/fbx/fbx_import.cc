@@ -141,8 +141,8 @@ bool LooksLikeFbx(std::string_view bytes) {
 }
 
 StatusOr<AssetContents> ParseFbx(std::string_view bytes, std::string_view name, const ImportLimits& limits) {
-  ARMATURE_RETURN_IF_ERROR(fbx_internal::CheckStructure(bytes));
-  ARMATURE_RETURN_IF_ERROR(fbx_internal::TrialRead(bytes));
+  ARMATURE_RETURN_IF_ERROR(fbx_internal::CheckStructure(bytes, limits));
+  ARMATURE_RETURN_IF_ERROR(fbx_internal::TrialRead(bytes, fbx_internal::TrialReadMemory(limits)));
   ARMATURE_ASSIGN_OR_RETURN(auto loaded, fbx_internal::Load(bytes));
   return fbx_internal::Importer(*loaded.scene, name, limits).Run();
 }

@@ -32,14 +32,39 @@ struct LoadedScene {
 StatusOr<LoadedScene> Load(std::string_view bytes);
 // Load in a child process, for its status only: what a failed read leaks
 // (libassimp 5.2 does), and a crash or a hang, stay in the child. A read
-// that takes over kTrialReadSeconds is killed (fbx_trial_read.cc).
+// that takes over kTrialReadSeconds is killed, and one that needs more
+// than `memory_bytes` of address space beyond what the process had is
+// RESOURCE_EXHAUSTED (fbx_trial_read.cc). The in-process read that
+// follows a good trial allocates as it did, so it stays within them too.
 constexpr int kTrialReadSeconds = 120;
-Status TrialRead(std::string_view bytes);
+// Not in sanitizer builds (the fuzz targets): there libFuzzer bounds
+// memory, the child's allocations included (-malloc_limit_mb, which took a
+// 3.6 GB reservation for an ASCII array declaring 300 M values).
+#if defined(__SANITIZE_ADDRESS__)
+#define ARMATURE_FBX_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer)
+#define ARMATURE_FBX_SANITIZED 1
+#endif
+#endif
+#if defined(ARMATURE_FBX_SANITIZED)
+constexpr bool kTrialReadLimitsMemory = false;
+#else
+constexpr bool kTrialReadLimitsMemory = true;
+#endif
+Status TrialRead(std::string_view bytes, uint64_t memory_bytes);
+// The memory TrialRead gives assimp: twice max_decoded_bytes, for the
+// arrays CheckStructure counted and assimp's copies of them, and at least
+// kTrialReadMemoryFloor, for its own structures (a server with little room
+// left refuses the import for that room, naming its flag, not here).
+constexpr uint64_t kTrialReadMemoryFloor = uint64_t{64} << 20;
+uint64_t TrialReadMemory(const ImportLimits& limits);
 // INVALID_ARGUMENT when assimp would recurse through the file until the
 // stack overflows (its object-to-object connections form a cycle or a
 // chain over 1,000 deep, or its scopes nest over 1,000 deep), or when two
-// objects share an id (assimp leaks all but the last).
-Status CheckStructure(std::string_view bytes);
+// objects share an id (assimp leaks all but the last); RESOURCE_EXHAUSTED
+// when a binary file's arrays, inflated, pass limits.max_decoded_bytes.
+Status CheckStructure(std::string_view bytes, const ImportLimits& limits);
 
 Eigen::Matrix4d ToEigen(const aiMatrix4x4& m);
 

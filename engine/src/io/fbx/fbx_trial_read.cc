@@ -10,19 +10,30 @@
 // child too: the import is refused with the reason, and a read that takes
 // over kTrialReadSeconds is killed.
 //
+// Memory. The child's address space may grow by the read's memory
+// (TrialReadMemory) and no more: an allocation past it ends the child with
+// RESOURCE_EXHAUSTED. The in-process read after a good trial allocates as
+// the trial did, so the server's own read is bounded the same way. The
+// cap is on the address space's growth: memory the process had freed
+// before the fork is reused within it, uncounted.
+//
 // The cost is a second read of every good file. A failed read answers
 // with assimp's message, as the in-process read did.
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
+#include <new>
 #include <string>
 
 #include "fbx_importer.h"
@@ -44,15 +55,58 @@ void WriteAll(int fd, const char* data, size_t size) {
   }
 }
 
+// The child's report for an allocation past its limit, written by the new
+// handler, which ends the child (assimp would catch the bad_alloc and
+// answer with its own vaguer message). Set only in the child.
+int exhausted_fd = -1;
+const std::string* exhausted_report = nullptr;
+
+void ReportExhausted() {
+  WriteAll(exhausted_fd, exhausted_report->data(), exhausted_report->size());
+  ::_exit(0);
+}
+
+// The process's address space, from /proc/self/statm; 0 when unknown.
+uint64_t AddressSpaceBytes() {
+  const int fd = ::open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  char text[64] = {};
+  const ssize_t n = ::read(fd, text, sizeof text - 1);
+  ::close(fd);
+  if (n <= 0) return 0;
+  return std::strtoull(text, nullptr, 10) * static_cast<uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+// Lets the child's address space grow by `memory_bytes` from here (a lower
+// limit it inherited stays), and reports an allocation past it.
+void LimitMemory(uint64_t memory_bytes, int report_fd, const std::string& report) {
+  exhausted_fd = report_fd;
+  exhausted_report = &report;
+  std::set_new_handler(ReportExhausted);
+  if (!kTrialReadLimitsMemory) return;
+  const uint64_t now = AddressSpaceBytes();
+  rlimit limit{};
+  uint64_t cap = 0;
+  if (now == 0 || ::getrlimit(RLIMIT_AS, &limit) != 0 || __builtin_add_overflow(now, memory_bytes, &cap)) return;
+  if (limit.rlim_cur != RLIM_INFINITY && limit.rlim_cur <= cap) return;
+  limit.rlim_cur = cap;
+  ::setrlimit(RLIMIT_AS, &limit);
+}
+
 // The child: reads, reports, and leaves without running the parent's
 // exit handlers or destructors (its threads are not here). It holds none
 // of the parent's sockets and files, and dies with the parent's thread,
 // so a server that stops is not kept on its port by a reader.
-[[noreturn]] void ReadAndReport(std::string_view bytes, int report_fd, pid_t parent) {
+[[noreturn]] void ReadAndReport(std::string_view bytes, uint64_t memory_bytes, int report_fd, pid_t parent) {
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (::getppid() != parent) ::_exit(1);  // the parent died before the line above
   if (report_fd > 3) ::close_range(3, static_cast<unsigned>(report_fd) - 1, 0);
   ::close_range(static_cast<unsigned>(report_fd) + 1, ~0u, 0);
+  std::string exhausted(1, static_cast<char>(StatusCode::kResourceExhausted));
+  exhausted += "FBX: assimp's read of the file needs over " + std::to_string(memory_bytes) +
+               " bytes of memory, the most one FBX read may take (twice the import limit max_decoded_bytes, at "
+               "least 64 MB)";
+  LimitMemory(memory_bytes, report_fd, exhausted);
   Status status;
   {
     StatusOr<LoadedScene> loaded = Load(bytes);
@@ -91,7 +145,13 @@ int WaitFor(pid_t pid) {
 
 }  // namespace
 
-Status TrialRead(std::string_view bytes) {
+uint64_t TrialReadMemory(const ImportLimits& limits) {
+  uint64_t memory = 0;
+  if (__builtin_mul_overflow(limits.max_decoded_bytes, 2, &memory)) return UINT64_MAX;
+  return std::max(memory, kTrialReadMemoryFloor);
+}
+
+Status TrialRead(std::string_view bytes, uint64_t memory_bytes) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     return Status::Unavailable(std::string("FBX: could not start the reader's process (pipe: ") + std::strerror(errno) +
@@ -107,7 +167,7 @@ Status TrialRead(std::string_view bytes) {
   }
   if (pid == 0) {
     ::close(fds[0]);
-    ReadAndReport(bytes, fds[1], parent);
+    ReadAndReport(bytes, memory_bytes, fds[1], parent);
   }
   ::close(fds[1]);
   std::string report;

@@ -62,7 +62,7 @@ TEST(FbxTrialRead, ACrashInAssimpEndsOnlyTheReader) {
   const rlimit before = stack;
   if (stack.rlim_cur == RLIM_INFINITY || stack.rlim_cur > (rlim_t{8} << 20)) stack.rlim_cur = rlim_t{8} << 20;
   ASSERT_EQ(setrlimit(RLIMIT_STACK, &stack), 0);
-  const Status crashed = fbx_internal::TrialRead(braces);
+  const Status crashed = fbx_internal::TrialRead(braces, fbx_internal::TrialReadMemory(ImportLimits{}));
   setrlimit(RLIMIT_STACK, &before);
   ASSERT_FALSE(crashed.ok());
   EXPECT_EQ(crashed.code(), StatusCode::kInvalidArgument);
@@ -70,8 +70,40 @@ TEST(FbxTrialRead, ACrashInAssimpEndsOnlyTheReader) {
   // This process goes on: the next file reads.
   const auto pivots = test_util::ReadFileBytes(std::filesystem::path(ARMATURE_TEST_DIR) / "data/fbx/pivots.fbx");
   ASSERT_TRUE(pivots.has_value());
-  const Status read = fbx_internal::TrialRead(std::string(pivots->begin(), pivots->end()));
+  const Status read = fbx_internal::TrialRead(std::string(pivots->begin(), pivots->end()),
+                                              fbx_internal::TrialReadMemory(ImportLimits{}));
   EXPECT_TRUE(read.ok()) << read.message();
+}
+
+// The reader's memory is bounded: an allocation past what it may take
+// ends it with RESOURCE_EXHAUSTED (assimp would catch the bad_alloc), and
+// the same file reads with room to spare.
+TEST(FbxTrialRead, AReadPastItsMemoryIsRefused) {
+  if (!fbx_internal::kTrialReadLimitsMemory) GTEST_SKIP() << "a sanitizer's build: the reader's memory is not capped";
+  const auto pivots = test_util::ReadFileBytes(std::filesystem::path(ARMATURE_TEST_DIR) / "data/fbx/pivots.fbx");
+  ASSERT_TRUE(pivots.has_value());
+  std::string fbx(pivots->begin(), pivots->end());
+  // 600,000 vertices (3.6 MB of text): assimp's tokens for them take about
+  // 240 MB, far more than this process can hold freed (the cap is on the
+  // address space's growth, and freed memory is reused within it).
+  const std::string small = "Vertices: *9 {\n\t\t\ta: 0,0,0,1,0,0,0,1,0";
+  const size_t at = fbx.find(small);
+  ASSERT_NE(at, std::string::npos);
+  std::string big = "Vertices: *1800000 {\n\t\t\ta: 0,0,0,1,0,0,0,1,0";
+  for (int i = 3; i < 600000; ++i) big += ",0,0,0";
+  fbx.replace(at, small.size(), big);
+  const Status cramped = fbx_internal::TrialRead(fbx, uint64_t{8} << 20);
+  ASSERT_FALSE(cramped.ok());
+  EXPECT_EQ(cramped.code(), StatusCode::kResourceExhausted);
+  EXPECT_EQ(cramped.message(),
+            "FBX: assimp's read of the file needs over 8388608 bytes of memory, the most one FBX read may take (twice "
+            "the import limit max_decoded_bytes, at least 64 MB)");
+  const Status roomy = fbx_internal::TrialRead(fbx, fbx_internal::TrialReadMemory(ImportLimits{}));
+  EXPECT_TRUE(roomy.ok()) << roomy.message();
+  EXPECT_EQ(fbx_internal::TrialReadMemory(ImportLimits{}), uint64_t{2} << 30);
+  ImportLimits little;
+  little.max_decoded_bytes = 1000;
+  EXPECT_EQ(fbx_internal::TrialReadMemory(little), uint64_t{64} << 20);
 }
 
 }  // namespace
