@@ -55,8 +55,8 @@ constexpr size_t kMaxDepth = 1000;
 struct Arrays {
   uint64_t inflated = 0;  // bytes of all of them (saturating)
   uint64_t largest = 0, largest_stored = 0;
-  size_t largest_at = 0;  // the byte offset of its record
-  std::string largest_record;
+  size_t largest_at = 0;            // the byte offset of its record
+  std::string_view largest_record;  // its name, in the scanned bytes
 };
 
 // What assimp would recurse through: the connections, and how deep the
@@ -251,7 +251,7 @@ void BinaryArrays(std::string_view props, std::string_view name, size_t at, Arra
       if (!ReadLe(props, i, count) || !ReadLe(props, i + 8, stored) || props.size() - (i + 12) < stored) return;
       const uint64_t inflated = uint64_t{count} * element;
       if (__builtin_add_overflow(arrays.inflated, inflated, &arrays.inflated)) arrays.inflated = UINT64_MAX;
-      if (inflated > arrays.largest) arrays = {arrays.inflated, inflated, stored, at, std::string(name)};
+      if (inflated > arrays.largest) arrays = {arrays.inflated, inflated, stored, at, name};
       i += 12 + size_t{stored};
     } else if (type == 'S' || type == 'R') {
       uint32_t length = 0;

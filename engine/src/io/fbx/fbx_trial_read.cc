@@ -105,7 +105,8 @@ void LimitMemory(uint64_t memory_bytes, int report_fd, const std::string& report
   std::string exhausted(1, static_cast<char>(StatusCode::kResourceExhausted));
   exhausted += "FBX: assimp's read of the file needs over " + std::to_string(memory_bytes) +
                " bytes of memory, the most one FBX read may take (twice the import limit max_decoded_bytes, at "
-               "least 64 MB)";
+               "least " +
+               std::to_string(kTrialReadMemoryFloor >> 20) + " MB)";
   LimitMemory(memory_bytes, report_fd, exhausted);
   Status status;
   {
